@@ -1,0 +1,22 @@
+// A sequence of poses, with nanosecond stamps when the source has them (a KITTI pose file without a
+// times file has none, and is then associated by index).
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "odometry/types/se3.h"
+#include "odometry/types/stamp.h"
+
+namespace uf {
+
+struct Trajectory {
+  std::vector<Stamp> stamps;  // empty, or one per pose, strictly increasing
+  std::vector<SE3> poses;     // T_world_frame for each stamp
+
+  std::size_t size() const { return poses.size(); }
+  bool empty() const { return poses.empty(); }
+  bool has_stamps() const { return !stamps.empty(); }
+};
+
+}  // namespace uf
