@@ -1,0 +1,58 @@
+// Line-by-line reader for the numeric text tables that trajectory and times files are: fields separated by
+// whitespace or commas, blank lines and lines starting with '#' or '%' skipped. Every error it makes names the
+// file and the line.
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "odometry/types/stamp.h"
+#include "odometry/types/status.h"
+
+namespace uf {
+
+class TextTableReader {
+ public:
+  static Expected<TextTableReader> Open(const std::string& path);
+
+  // Advances to the next data row; false at the end of the file.
+  bool Next();
+
+  const std::string& path() const { return path_; }
+  int line_number() const { return line_number_; }
+  std::size_t columns() const { return fields_.size(); }
+  std::string_view field(std::size_t column) const { return fields_[column]; }
+  bool comma_separated() const { return comma_separated_; }
+
+  // "FILE:LINE: what"
+  Status Error(const std::string& what) const;
+  // Requires exactly `count` columns (or at least, with at_least).
+  Status ExpectColumns(std::size_t count, const char* layout, bool at_least = false) const;
+  // A finite decimal number in `column`; the error names the field and the text found.
+  Expected<double> Number(std::size_t column, const char* name) const;
+  // A stamp in seconds (exact to the nanosecond) or in integer nanoseconds.
+  Expected<Stamp> Seconds(std::size_t column, const char* name) const;
+  Expected<Stamp> Nanoseconds(std::size_t column, const char* name) const;
+
+ private:
+  std::string path_;
+  std::string text_;
+  std::size_t offset_ = 0;
+  int line_number_ = 0;
+  bool comma_separated_ = false;
+  std::vector<std::string_view> fields_;
+};
+
+// Checks that stamps increase strictly; names the line of the first duplicate or backwards stamp.
+class StampOrderCheck {
+ public:
+  Status Add(const TextTableReader& reader, Stamp stamp);
+
+ private:
+  bool has_previous_ = false;
+  Stamp previous_ = 0;
+  int previous_line_ = 0;
+};
+
+}  // namespace uf

@@ -1,0 +1,141 @@
+// Readers of TUM, KITTI and EuRoC trajectory files, and of KITTI-style times files.
+#include <cmath>
+
+#include "odometry/io/text_table.h"
+#include "odometry/io/trajectory_file.h"
+
+namespace uf {
+namespace {
+
+constexpr double kUnitTolerance = 1e-2;  // quaternion norm / rotation orthonormality accepted from files
+
+// Reads a quaternion from four columns in the given order of (w, x, y, z) positions.
+Expected<Eigen::Quaterniond> ReadQuaternion(const TextTableReader& in, std::size_t w, std::size_t x,
+                                            std::size_t y, std::size_t z) {
+  double q[4];
+  const std::size_t columns[4] = {w, x, y, z};
+  const char* names[4] = {"qw", "qx", "qy", "qz"};
+  for (int k = 0; k < 4; ++k) {
+    auto v = in.Number(columns[k], names[k]);
+    if (!v) return v.status();
+    q[k] = *v;
+  }
+  Eigen::Quaterniond quaternion(q[0], q[1], q[2], q[3]);
+  const double norm = quaternion.norm();
+  if (std::abs(norm - 1.0) > kUnitTolerance)
+    return in.Error("quaternion norm is " + std::to_string(norm) + ", not 1 (wrong column order or units?)");
+  return quaternion;
+}
+
+Expected<Eigen::Vector3d> ReadVector(const TextTableReader& in, std::size_t first) {
+  const char* names[3] = {"x", "y", "z"};
+  Eigen::Vector3d v;
+  for (int k = 0; k < 3; ++k) {
+    auto value = in.Number(first + k, names[k]);
+    if (!value) return value.status();
+    v[k] = *value;
+  }
+  return v;
+}
+
+Status EmptyCheck(const TextTableReader& in, const Trajectory& trajectory) {
+  if (trajectory.empty()) return Status::Error(in.path() + ": no poses in file");
+  return {};
+}
+
+}  // namespace
+
+Expected<Trajectory> ReadTumTrajectory(const std::string& path) {
+  auto opened = TextTableReader::Open(path);
+  if (!opened) return opened.status();
+  TextTableReader& in = *opened;
+  Trajectory trajectory;
+  StampOrderCheck order;
+  while (in.Next()) {
+    if (Status s = in.ExpectColumns(8, "TUM: t x y z qx qy qz qw"); !s.ok()) return s;
+    auto stamp = in.Seconds(0, "timestamp");
+    if (!stamp) return stamp.status();
+    if (Status s = order.Add(in, *stamp); !s.ok()) return s;
+    auto t = ReadVector(in, 1);
+    if (!t) return t.status();
+    auto q = ReadQuaternion(in, 7, 4, 5, 6);
+    if (!q) return q.status();
+    trajectory.stamps.push_back(*stamp);
+    trajectory.poses.emplace_back(SO3(*q), *t);
+  }
+  if (Status s = EmptyCheck(in, trajectory); !s.ok()) return s;
+  return trajectory;
+}
+
+Expected<Trajectory> ReadKittiTrajectory(const std::string& path) {
+  auto opened = TextTableReader::Open(path);
+  if (!opened) return opened.status();
+  TextTableReader& in = *opened;
+  Trajectory trajectory;
+  while (in.Next()) {
+    if (Status s = in.ExpectColumns(12, "KITTI: r11 r12 r13 tx r21 r22 r23 ty r31 r32 r33 tz"); !s.ok()) return s;
+    Eigen::Matrix4d T = Eigen::Matrix4d::Identity();
+    for (int k = 0; k < 12; ++k) {
+      auto v = in.Number(k, k % 4 == 3 ? "translation" : "rotation");
+      if (!v) return v.status();
+      T(k / 4, k % 4) = *v;
+    }
+    const Eigen::Matrix3d R = T.topLeftCorner<3, 3>();
+    const double deviation = (R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
+    if (deviation > kUnitTolerance || R.determinant() < 0)
+      return in.Error("the 3x3 block is not a rotation (|R^T R - I| = " + std::to_string(deviation) +
+                      ", det = " + std::to_string(R.determinant()) + ")");
+    trajectory.poses.push_back(SE3::FromMatrix(T));  // kept exactly as written, as evo keeps it
+  }
+  if (Status s = EmptyCheck(in, trajectory); !s.ok()) return s;
+  return trajectory;
+}
+
+Expected<Trajectory> ReadEurocTrajectory(const std::string& path) {
+  auto opened = TextTableReader::Open(path);
+  if (!opened) return opened.status();
+  TextTableReader& in = *opened;
+  Trajectory trajectory;
+  StampOrderCheck order;
+  while (in.Next()) {
+    if (Status s = in.ExpectColumns(8, "EuRoC: t[ns], x, y, z, qw, qx, qy, qz", true); !s.ok()) return s;
+    auto stamp = in.Nanoseconds(0, "timestamp [ns]");
+    if (!stamp) return stamp.status();
+    if (Status s = order.Add(in, *stamp); !s.ok()) return s;
+    auto t = ReadVector(in, 1);
+    if (!t) return t.status();
+    auto q = ReadQuaternion(in, 4, 5, 6, 7);
+    if (!q) return q.status();
+    trajectory.stamps.push_back(*stamp);
+    trajectory.poses.emplace_back(SO3(*q), *t);
+  }
+  if (Status s = EmptyCheck(in, trajectory); !s.ok()) return s;
+  return trajectory;
+}
+
+Expected<std::vector<Stamp>> ReadTimesFile(const std::string& path) {
+  auto opened = TextTableReader::Open(path);
+  if (!opened) return opened.status();
+  TextTableReader& in = *opened;
+  std::vector<Stamp> stamps;
+  StampOrderCheck order;
+  while (in.Next()) {
+    if (Status s = in.ExpectColumns(1, "one time in seconds per line"); !s.ok()) return s;
+    auto stamp = in.Seconds(0, "time");
+    if (!stamp) return stamp.status();
+    if (Status s = order.Add(in, *stamp); !s.ok()) return s;
+    stamps.push_back(*stamp);
+  }
+  if (stamps.empty()) return Status::Error(path + ": no times in file");
+  return stamps;
+}
+
+Status AttachStamps(Trajectory& trajectory, std::vector<Stamp> stamps, const std::string& times_path) {
+  if (stamps.size() != trajectory.size())
+    return Status::Error(times_path + ": " + std::to_string(stamps.size()) + " times for " +
+                         std::to_string(trajectory.size()) + " poses; the counts must agree");
+  trajectory.stamps = std::move(stamps);
+  return {};
+}
+
+}  // namespace uf
