@@ -98,7 +98,11 @@ Expected<Stamp> TextTableReader::Nanoseconds(std::size_t column, const char* nam
   return value;
 }
 
-Status StampOrderCheck::Add(const TextTableReader& reader, Stamp stamp) {
+Expected<bool> StampOrderCheck::Add(const TextTableReader& reader, Stamp stamp) {
+  if (has_previous_ && stamp == previous_ && skip_duplicates_) {
+    if (skipped_++ == 0) first_skipped_line_ = reader.line_number();
+    return false;
+  }
   if (has_previous_ && stamp <= previous_) {
     const std::string kind = stamp == previous_ ? "duplicate stamp " : "stamp goes backwards: ";
     return reader.Error(kind + FormatSeconds(stamp) + " s after " + FormatSeconds(previous_) + " s on line " +
@@ -107,7 +111,7 @@ Status StampOrderCheck::Add(const TextTableReader& reader, Stamp stamp) {
   has_previous_ = true;
   previous_ = stamp;
   previous_line_ = reader.line_number();
-  return {};
+  return true;
 }
 
 }  // namespace uf

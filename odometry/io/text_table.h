@@ -44,12 +44,20 @@ class TextTableReader {
   std::vector<std::string_view> fields_;
 };
 
-// Checks that stamps increase strictly; names the line of the first duplicate or backwards stamp.
+// Checks that stamps increase strictly; names the line of the first duplicate or backwards stamp. With
+// `skip_duplicates` a row repeating the previous stamp is reported as to be skipped (false) instead.
 class StampOrderCheck {
  public:
-  Status Add(const TextTableReader& reader, Stamp stamp);
+  explicit StampOrderCheck(bool skip_duplicates = false) : skip_duplicates_(skip_duplicates) {}
+  // True: keep the row; false: skip it (a duplicate, when allowed); an error otherwise.
+  Expected<bool> Add(const TextTableReader& reader, Stamp stamp);
+  std::size_t skipped() const { return skipped_; }
+  int first_skipped_line() const { return first_skipped_line_; }
 
  private:
+  bool skip_duplicates_;
+  std::size_t skipped_ = 0;
+  int first_skipped_line_ = 0;
   bool has_previous_ = false;
   Stamp previous_ = 0;
   int previous_line_ = 0;

@@ -15,6 +15,17 @@ namespace uf {
 
 enum class TrajectoryFormat { kAuto, kTum, kKitti, kEuroc };
 
+struct TrajectoryReadOptions {
+  // Keep the first pose of each run of equal stamps instead of failing (evo's association behaves so).
+  bool skip_duplicate_stamps = false;
+};
+
+struct TrajectoryReadReport {
+  TrajectoryFormat format = TrajectoryFormat::kAuto;  // the format read
+  std::size_t skipped_duplicates = 0;
+  int first_skipped_line = 0;
+};
+
 Expected<TrajectoryFormat> ParseTrajectoryFormat(std::string_view name);  // auto|tum|kitti|euroc
 const char* TrajectoryFormatName(TrajectoryFormat format);
 
@@ -22,10 +33,13 @@ const char* TrajectoryFormatName(TrajectoryFormat format);
 // KITTI, 8 columns -> TUM.
 Expected<TrajectoryFormat> DetectTrajectoryFormat(const std::string& path);
 
-Expected<Trajectory> ReadTrajectory(const std::string& path, TrajectoryFormat format = TrajectoryFormat::kAuto);
-Expected<Trajectory> ReadTumTrajectory(const std::string& path);
+Expected<Trajectory> ReadTrajectory(const std::string& path, TrajectoryFormat format = TrajectoryFormat::kAuto,
+                                    const TrajectoryReadOptions& options = {}, TrajectoryReadReport* report = nullptr);
+Expected<Trajectory> ReadTumTrajectory(const std::string& path, const TrajectoryReadOptions& options = {},
+                                       TrajectoryReadReport* report = nullptr);
 Expected<Trajectory> ReadKittiTrajectory(const std::string& path);  // no stamps
-Expected<Trajectory> ReadEurocTrajectory(const std::string& path);
+Expected<Trajectory> ReadEurocTrajectory(const std::string& path, const TrajectoryReadOptions& options = {},
+                                         TrajectoryReadReport* report = nullptr);
 
 // One stamp per line in seconds (KITTI times.txt); must increase strictly.
 Expected<std::vector<Stamp>> ReadTimesFile(const std::string& path);

@@ -36,16 +36,19 @@ Expected<TrajectoryFormat> DetectTrajectoryFormat(const std::string& path) {
                   "EuRoC CSV (t[ns], x, y, z, qw, qx, qy, qz, ...)");
 }
 
-Expected<Trajectory> ReadTrajectory(const std::string& path, TrajectoryFormat format) {
+Expected<Trajectory> ReadTrajectory(const std::string& path, TrajectoryFormat format,
+                                    const TrajectoryReadOptions& options, TrajectoryReadReport* report) {
   if (format == TrajectoryFormat::kAuto) {
     auto detected = DetectTrajectoryFormat(path);
     if (!detected) return detected.status();
     format = *detected;
   }
   switch (format) {
-    case TrajectoryFormat::kTum: return ReadTumTrajectory(path);
-    case TrajectoryFormat::kKitti: return ReadKittiTrajectory(path);
-    case TrajectoryFormat::kEuroc: return ReadEurocTrajectory(path);
+    case TrajectoryFormat::kTum: return ReadTumTrajectory(path, options, report);
+    case TrajectoryFormat::kEuroc: return ReadEurocTrajectory(path, options, report);
+    case TrajectoryFormat::kKitti:
+      if (report) report->format = format;
+      return ReadKittiTrajectory(path);
     case TrajectoryFormat::kAuto: break;
   }
   return Status::Error(path + ": no format");

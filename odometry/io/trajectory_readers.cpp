@@ -43,19 +43,29 @@ Status EmptyCheck(const TextTableReader& in, const Trajectory& trajectory) {
   return {};
 }
 
+void Report(const StampOrderCheck& order, TrajectoryFormat format, TrajectoryReadReport* report) {
+  if (!report) return;
+  report->format = format;
+  report->skipped_duplicates = order.skipped();
+  report->first_skipped_line = order.first_skipped_line();
+}
+
 }  // namespace
 
-Expected<Trajectory> ReadTumTrajectory(const std::string& path) {
+Expected<Trajectory> ReadTumTrajectory(const std::string& path, const TrajectoryReadOptions& options,
+                                       TrajectoryReadReport* report) {
   auto opened = TextTableReader::Open(path);
   if (!opened) return opened.status();
   TextTableReader& in = *opened;
   Trajectory trajectory;
-  StampOrderCheck order;
+  StampOrderCheck order(options.skip_duplicate_stamps);
   while (in.Next()) {
     if (Status s = in.ExpectColumns(8, "TUM: t x y z qx qy qz qw"); !s.ok()) return s;
     auto stamp = in.Seconds(0, "timestamp");
     if (!stamp) return stamp.status();
-    if (Status s = order.Add(in, *stamp); !s.ok()) return s;
+    auto keep = order.Add(in, *stamp);
+    if (!keep) return keep.status();
+    if (!*keep) continue;
     auto t = ReadVector(in, 1);
     if (!t) return t.status();
     auto q = ReadQuaternion(in, 7, 4, 5, 6);
@@ -64,6 +74,7 @@ Expected<Trajectory> ReadTumTrajectory(const std::string& path) {
     trajectory.poses.emplace_back(SO3(*q), *t);
   }
   if (Status s = EmptyCheck(in, trajectory); !s.ok()) return s;
+  Report(order, TrajectoryFormat::kTum, report);
   return trajectory;
 }
 
@@ -91,17 +102,20 @@ Expected<Trajectory> ReadKittiTrajectory(const std::string& path) {
   return trajectory;
 }
 
-Expected<Trajectory> ReadEurocTrajectory(const std::string& path) {
+Expected<Trajectory> ReadEurocTrajectory(const std::string& path, const TrajectoryReadOptions& options,
+                                       TrajectoryReadReport* report) {
   auto opened = TextTableReader::Open(path);
   if (!opened) return opened.status();
   TextTableReader& in = *opened;
   Trajectory trajectory;
-  StampOrderCheck order;
+  StampOrderCheck order(options.skip_duplicate_stamps);
   while (in.Next()) {
     if (Status s = in.ExpectColumns(8, "EuRoC: t[ns], x, y, z, qw, qx, qy, qz", true); !s.ok()) return s;
     auto stamp = in.Nanoseconds(0, "timestamp [ns]");
     if (!stamp) return stamp.status();
-    if (Status s = order.Add(in, *stamp); !s.ok()) return s;
+    auto keep = order.Add(in, *stamp);
+    if (!keep) return keep.status();
+    if (!*keep) continue;
     auto t = ReadVector(in, 1);
     if (!t) return t.status();
     auto q = ReadQuaternion(in, 4, 5, 6, 7);
@@ -110,6 +124,7 @@ Expected<Trajectory> ReadEurocTrajectory(const std::string& path) {
     trajectory.poses.emplace_back(SO3(*q), *t);
   }
   if (Status s = EmptyCheck(in, trajectory); !s.ok()) return s;
+  Report(order, TrajectoryFormat::kEuroc, report);
   return trajectory;
 }
 
@@ -123,7 +138,7 @@ Expected<std::vector<Stamp>> ReadTimesFile(const std::string& path) {
     if (Status s = in.ExpectColumns(1, "one time in seconds per line"); !s.ok()) return s;
     auto stamp = in.Seconds(0, "time");
     if (!stamp) return stamp.status();
-    if (Status s = order.Add(in, *stamp); !s.ok()) return s;
+    if (auto keep = order.Add(in, *stamp); !keep) return keep.status();
     stamps.push_back(*stamp);
   }
   if (stamps.empty()) return Status::Error(path + ": no times in file");

@@ -13,7 +13,9 @@ using Stamp = std::int64_t;
 
 constexpr Stamp kNanosecondsPerSecond = 1'000'000'000;
 
-constexpr double ToSeconds(Stamp t) { return static_cast<double>(t) * 1e-9; }
+// The double nearest to t / 1e9 (through long double, exact for |t| < 2^64), i.e. what parsing the decimal
+// text of the stamp as a float64 gives.
+constexpr double ToSeconds(Stamp t) { return static_cast<double>(static_cast<long double>(t) / 1e9L); }
 
 // Nearest nanosecond; callers check that |seconds| < ~9.2e9 (the int64 range).
 Stamp FromSeconds(double seconds);

@@ -111,6 +111,21 @@ INSTANTIATE_TEST_SUITE_P(
         BadFile{"empty", "# only a comment\n", "no poses in file"}),
     [](const auto& info) { return std::string(info.param.name); });
 
+TEST(TrajectoryFile, DuplicateStampsCanBeSkippedKeepingTheFirst) {
+  TempDir dir;
+  const std::string path = dir.Write("d.tum", "1 0 0 0 0 0 0 1\n2 1 0 0 0 0 0 1\n2 9 9 9 0 0 0 1\n3 2 0 0 0 0 0 1\n");
+  EXPECT_FALSE(ReadTumTrajectory(path));
+  TrajectoryReadReport report;
+  auto read = ReadTumTrajectory(path, {.skip_duplicate_stamps = true}, &report);
+  ASSERT_TRUE(read) << read.error();
+  ASSERT_EQ(read->size(), 3u);
+  EXPECT_EQ(read->poses[1].translation().x(), 1);  // the first of the two poses at t = 2 s
+  EXPECT_EQ(report.skipped_duplicates, 1u);
+  EXPECT_EQ(report.first_skipped_line, 3);
+  // Going backwards stays an error.
+  EXPECT_FALSE(ReadTumTrajectory(dir.Write("b.tum", "2 0 0 0 0 0 0 1\n1 0 0 0 0 0 0 1\n"), {.skip_duplicate_stamps = true}));
+}
+
 TEST(TrajectoryFile, KittiRejectsNonRotation) {
   TempDir dir;
   auto read = ReadKittiTrajectory(dir.Write("k.txt", "1 0 0 0 0 1 0 0 0 0 1 0\n2 0 0 0 0 1 0 0 0 0 1 0\n"));

@@ -1,0 +1,36 @@
+// What the estimator hands to mapping for each keyframe: the optimised state, the deskewed scan already in
+// the world frame, the images taken near the keyframe time, and how reliable each sensor was.
+#pragma once
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "odometry/types/measurements.h"
+#include "odometry/types/se3.h"
+#include "odometry/types/stamp.h"
+
+namespace uf {
+
+// Per-modality reliability score in [0, 1] (1 = fully trusted, 0 = ignored). The reliability scheduler
+// fills it later; until then every modality counts as fully trusted.
+struct Reliability {
+  double lidar = 1.0;
+  double imu = 1.0;
+  double camera = 1.0;
+  double wheel = 1.0;
+  double gnss = 1.0;
+};
+
+struct Keyframe {
+  Stamp stamp = 0;
+  SE3 T_world_body;                                     // body (imu) frame to world frame
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();   // of the body, in the world frame, m/s
+  Eigen::Vector3d bias_acc = Eigen::Vector3d::Zero();   // accelerometer bias, imu frame, m/s^2
+  Eigen::Vector3d bias_gyro = Eigen::Vector3d::Zero();  // gyroscope bias, imu frame, rad/s
+  std::vector<Eigen::Vector3f> scan_world;              // deskewed scan, world frame, m
+  std::vector<float> scan_intensity;  // one per point of scan_world, as the sensor reports it
+  std::vector<CameraFrame> images;    // frames taken near stamp, any cameras of the rig
+  Reliability reliability;
+};
+
+}  // namespace uf

@@ -1,0 +1,26 @@
+// Presenting an evaluation: console table, JSON file and PNG plots.
+#pragma once
+
+#include <ostream>
+#include <string>
+
+#include "odometry/eval/evaluation.h"
+
+namespace uf::app {
+
+struct EvalContext {
+  std::string reference_path, estimate_path;
+  std::size_t reference_poses, estimate_poses;
+  EvalOptions options;
+  std::string align_name, rpe_unit_name;
+};
+
+void PrintEvalTable(std::ostream& out, const EvalContext& context, const EvalResult& result);
+Status WriteEvalJson(const std::string& path, const EvalContext& context, const EvalResult& result);
+// ape_top_view.png, ape_over_time.png and, when there are RPE pairs, rpe_over_time.png.
+Status WriteEvalPlots(const std::string& folder, const EvalContext& context, const EvalResult& result);
+
+// Prints "ultrafusion: error: ..." to stderr and returns the data-error exit code.
+int ReportError(const Status& status);
+
+}  // namespace uf::app

@@ -1,0 +1,25 @@
+// ultrafusion: recorded multi-sensor data -> trajectory, map, splats. Each subcommand lives in its own file
+// and registers itself here. Exit codes: 0 ok, 1 runtime or data error, 2 usage error.
+#include <CLI/CLI.hpp>
+#include <iostream>
+
+#include "viewer/app/eval_command.h"
+#include "viewer/app/exit_codes.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"ultrafusion: multi-sensor odometry, mapping and Gaussian splatting"};
+  app.set_version_flag("--version", std::string("ultrafusion ") + UF_VERSION);
+  app.require_subcommand(1);
+  app.fallthrough(false);
+
+  auto eval = uf::app::AddEvalCommand(app);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);  // prints help, version or the usage error
+    return code == 0 ? uf::app::kExitOk : uf::app::kExitUsage;
+  }
+  if (app.got_subcommand(eval.command)) return eval.run();
+  return uf::app::kExitUsage;
+}
