@@ -1,6 +1,7 @@
 #include "odometry/eval/plots.h"
 
 #include <plplot.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -12,6 +13,7 @@
 #include <filesystem>
 #include <limits>
 #include <mutex>
+#include <utility>
 
 namespace uf {
 namespace {
@@ -19,7 +21,18 @@ namespace {
 constexpr PLINT kWidthPx = 1280, kHeightPx = 960;
 
 // Colour map 0 (PLplot's indexed colours); index 0 is the page background.
-enum Colour : PLINT { kBackground, kInk, kGrid, kReference, kEstimate, kSeries, kRmse, kMean, kMedian, kBand };
+enum Colour : PLINT {
+  kBackground,
+  kInk,
+  kGrid,
+  kReference,
+  kEstimate,
+  kSeries,
+  kRmse,
+  kMean,
+  kMedian,
+  kBand
+};
 constexpr std::array<std::array<PLINT, 3>, 10> kColours{{
     {255, 255, 255},  // background
     {30, 30, 30},     // axes and text
@@ -33,6 +46,7 @@ constexpr std::array<std::array<PLINT, 3>, 10> kColours{{
     {44, 160, 44},    // +-std band (drawn translucent)
 }};
 constexpr PLFLT kBandAlpha = 0.18;
+constexpr int kColourBarSteps = 256;
 
 // Colour map 1 (error -> colour): Google's Turbo, sampled at 9 points and interpolated linearly in RGB.
 constexpr std::array<std::array<PLFLT, 4>, 9> kTurbo{{
@@ -47,17 +61,19 @@ constexpr std::array<std::array<PLFLT, 4>, 9> kTurbo{{
     {1.000, 0.480, 0.016, 0.011},
 }};
 
-// Text sizes are relative to PLplot's default character height; lengths in the layout are in character heights.
+// Text sizes are relative to PLplot's default character height; lengths in the layout are in character
+// heights.
 constexpr PLFLT kTextScale = 0.95;
 constexpr PLFLT kTitleScale = 1.2;
 constexpr std::size_t kMaxTextChars = 120;     // titles and axis labels (shrunk to fit their edge)
 constexpr std::size_t kMaxBarLabelChars = 45;  // the colour bar label (drawn at full size)
-constexpr PLINT kAxisDigits = 12;              // tick labels keep this many digits before PLplot adds "(x10^k)"
-constexpr PLFLT kLegendTextScale = 0.9;      // relative to kTextScale
-constexpr PLFLT kLegendSample = 0.06;        // length of a legend's line sample, of the viewport width
-constexpr PLFLT kLegendRowFraction = 0.065;    // of the viewport height, kept free above the data per legend row
+constexpr PLINT kAxisDigits = 12;        // tick labels keep this many digits before PLplot adds "(x10^k)"
+constexpr PLFLT kLegendTextScale = 0.9;  // relative to kTextScale
+constexpr PLFLT kLegendSample = 0.06;    // length of a legend's line sample, of the viewport width
+// Of the viewport height, kept free above the data for each row of a legend.
+constexpr PLFLT kLegendRowFraction = 0.065;
 constexpr PLFLT kViewportBottom = 0.11, kViewportTop = 0.91;  // normalized page coordinates
-constexpr PLINT kLevelStyles[3] = {5, 1, 3};   // PLplot line styles of the rmse, mean and median lines
+constexpr PLINT kLevelStyles[3] = {5, 1, 3};  // PLplot line styles of the rmse, mean and median lines
 
 // A rectangle in world (data) or normalized coordinates.
 struct Box {
@@ -84,18 +100,39 @@ struct ErrorScene {
 // ---------------------------------------------------------------------------------------------------------
 // Input checks and text preparation
 
-Status CheckFinite(const std::string& png_path, const std::string& name, const std::vector<double>& values) {
-  for (std::size_t i = 0; i < values.size(); ++i)
-    if (!std::isfinite(values[i]))
-      return Status::Error("plot " + png_path + ": " + name + "[" + std::to_string(i) + "] is not finite");
+std::string FormatValue(double value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%.4g", value);
+  return buffer;
+}
+
+// Values beyond these magnitudes are refused: PLplot's tick labels (at most kAxisDigits digits) could not
+// tell the ticks of a metre-sized trajectory apart. Stamps may be larger, as the plot counts from the first.
+constexpr double kMaxValue = 1e9, kMaxSeconds = 1e12;
+
+Status CheckPlottable(const std::string& png_path, const std::string& name, double value, double limit) {
+  if (!std::isfinite(value)) return Status::Error("plot " + png_path + ": " + name + " is not finite");
+  if (std::abs(value) > limit)
+    return Status::Error("plot " + png_path + ": " + name + " = " + FormatValue(value) +
+                         " is too large to plot (limit " + FormatValue(limit) + ")");
   return Status();
 }
 
-Status CheckFinite(const std::string& png_path, const std::string& name,
-                   const std::vector<Eigen::Vector3d>& points) {
+Status CheckPlottable(const std::string& png_path, const std::string& name, const std::vector<double>& values,
+                      double limit) {
+  for (std::size_t i = 0; i < values.size(); ++i)
+    if (Status s = CheckPlottable(png_path, name + "[" + std::to_string(i) + "]", values[i], limit); !s.ok())
+      return s;
+  return Status();
+}
+
+Status CheckPlottable(const std::string& png_path, const std::string& name,
+                      const std::vector<Eigen::Vector3d>& points) {
   for (std::size_t i = 0; i < points.size(); ++i)
-    if (!points[i].allFinite())
-      return Status::Error("plot " + png_path + ": " + name + "[" + std::to_string(i) + "] is not finite");
+    for (int axis = 0; axis < 3; ++axis) {
+      const std::string field = name + "[" + std::to_string(i) + "]." + "xyz"[axis];
+      if (Status s = CheckPlottable(png_path, field, points[i][axis], kMaxValue); !s.ok()) return s;
+    }
   return Status();
 }
 
@@ -105,18 +142,22 @@ std::size_t Utf8Length(const std::string& s, std::size_t i) {
   const unsigned lead = byte(i);
   std::size_t n = 0;
   unsigned lo = 0x80, hi = 0xBF;  // allowed range of the second byte (excludes overlongs and surrogates)
-  if (lead >= 0xC2 && lead <= 0xDF) n = 2;
-  else if (lead >= 0xE0 && lead <= 0xEF) n = 3, lo = lead == 0xE0 ? 0xA0 : 0x80, hi = lead == 0xED ? 0x9F : 0xBF;
-  else if (lead >= 0xF0 && lead <= 0xF4) n = 4, lo = lead == 0xF0 ? 0x90 : 0x80, hi = lead == 0xF4 ? 0x8F : 0xBF;
-  else return 0;
+  if (lead >= 0xC2 && lead <= 0xDF)
+    n = 2;
+  else if (lead >= 0xE0 && lead <= 0xEF)
+    n = 3, lo = lead == 0xE0 ? 0xA0 : 0x80, hi = lead == 0xED ? 0x9F : 0xBF;
+  else if (lead >= 0xF0 && lead <= 0xF4)
+    n = 4, lo = lead == 0xF0 ? 0x90 : 0x80, hi = lead == 0xF4 ? 0x8F : 0xBF;
+  else
+    return 0;
   if (byte(i + 1) < lo || byte(i + 1) > hi) return 0;
   for (std::size_t k = 2; k < n; ++k)
     if (byte(i + k) < 0x80 || byte(i + k) > 0xBF) return 0;
   return n;
 }
 
-// Text as PLplot draws it literally: '#' starts a PLplot escape sequence, so it is doubled; control characters
-// and invalid UTF-8 become '?'; text longer than max_characters is cut and ends in an ellipsis.
+// Text as PLplot draws it literally: '#' starts a PLplot escape sequence, so it is doubled; control
+// characters and invalid UTF-8 become '?'; text longer than max_characters is cut and ends in an ellipsis.
 std::string PlplotText(const std::string& text, std::size_t max_characters) {
   std::string out;
   std::size_t i = 0;
@@ -136,12 +177,6 @@ std::string PlplotText(const std::string& text, std::size_t max_characters) {
   }
   if (i < text.size()) out += "\xE2\x80\xA6";  // U+2026 ellipsis
   return out;
-}
-
-std::string FormatValue(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.4g", value);
-  return buffer;
 }
 
 // ---------------------------------------------------------------------------------------------------------
@@ -169,8 +204,8 @@ void WidenIfFlat(double& lo, double& hi) {
 }
 
 // Equal axis scaling: one metre is as long in x as in y. The data box (padded by 5%) must fit the viewport
-// below its top `legend_fraction`: metres per pixel = max(span_x / w_px, span_y / (h_px (1 - legend_fraction))).
-// The data are centred in that area and the axis with room to spare is widened.
+// below its top `legend_fraction`: metres per pixel = max(span_x / w_px, span_y / (h_px (1 -
+// legend_fraction))). The data are centred in that area and the axis with room to spare is widened.
 Box EqualScaleWindow(Box data, const Box& viewport, double legend_fraction) {
   EnsureSpan(data.x0, data.x1, 1.0);
   EnsureSpan(data.y0, data.y1, 1.0);
@@ -187,20 +222,37 @@ Box EqualScaleWindow(Box data, const Box& viewport, double legend_fraction) {
 // Characters of the longest tick label on an axis spanning [lo, hi], over-estimated: PLplot puts 3 to 10
 // ticks on an axis and writes as many decimals as the tick spacing needs (at most span / 10).
 int TickLabelCharacters(double lo, double hi) {
-  const int decimals = std::max(0, -static_cast<int>(std::floor(std::log10((hi - lo) / 10))));
+  const double span = hi > lo ? hi - lo : std::max({std::abs(lo), std::abs(hi), 1.0});
+  const int decimals = std::clamp(-static_cast<int>(std::floor(std::log10(span / 10))), 0, 15);
   char buffer[64];
   return std::max(std::snprintf(buffer, sizeof(buffer), "%.*f", decimals, lo),
                   std::snprintf(buffer, sizeof(buffer), "%.*f", decimals, hi));
 }
 
+// Width of a tick label character in character heights (PLplot's unit of text size), measured for DejaVu
+// Sans digits drawn by the pngcairo device.
+constexpr PLFLT kDigitWidth = 0.85;
+
+// Spacing of the x ticks (PLplot's own choice ignores the label width): the smallest 1, 2 or 5 x 10^k that
+// gives at most 6 ticks and leaves 1.5 label widths per tick.
+PLFLT XTickSpacing(const Box& viewport, const Box& window, PLFLT char_px) {
+  const double span = window.x1 - window.x0;
+  const double label_px = kDigitWidth * char_px * TickLabelCharacters(window.x0, window.x1);
+  const double ticks = std::clamp((viewport.x1 - viewport.x0) * kWidthPx / (1.5 * label_px), 1.0, 6.0);
+  const double decade = std::pow(10.0, std::floor(std::log10(span / ticks)));
+  for (double multiple : {1.0, 2.0, 5.0})
+    if (multiple * decade >= span / ticks) return multiple * decade;
+  return 10.0 * decade;
+}
+
 // Horizontal layout, in character heights: the y label's distance from the left axis so that it clears tick
-// labels of `characters` digits (about 0.7 character heights each), and the width left of the y label.
-PLFLT YLabelDisplacement(int characters) { return 2.2 + 0.7 * characters; }
+// labels of `characters` digits, and the width left of the y label.
+PLFLT YLabelDisplacement(int characters) { return 1.9 + kDigitWidth * characters; }
 constexpr PLFLT kLeftOfYLabel = 0.9;
 
 // The colour bar right of the viewport, in character heights: gap, bar, tick labels, gap, label, page edge.
 constexpr PLFLT kBarGap = 1.0, kBarWidth = 1.5;
-PLFLT ColourBarMargin(int characters) { return kBarGap + kBarWidth + 0.8 + 0.7 * characters + 3.0; }
+PLFLT ColourBarMargin(int characters) { return kBarGap + kBarWidth + 0.8 + kDigitWidth * characters + 3.0; }
 
 // Character height in pixels (PLplot reports millimetres).
 PLFLT CharHeightPx() {
@@ -238,11 +290,12 @@ void EdgeText(const char* side, PLFLT displacement, const char* text, PLFLT scal
 // Text scale (relative to the current one) for a legend of `columns` columns whose line samples take
 // `sample_fraction` of the viewport: at most `preferred`, smaller if PLplot's columns, each as wide as the
 // longest entry plus sample and gaps, would not fit the viewport.
-PLFLT LegendTextScale(const char* const* text, int count, int columns, PLFLT sample_fraction, PLFLT viewport_px,
-                      PLFLT preferred) {
+PLFLT LegendTextScale(const char* const* text, int count, int columns, PLFLT sample_fraction,
+                      PLFLT viewport_px, PLFLT preferred) {
   PLFLT longest_px = 0;
   for (int i = 0; i < count; ++i) longest_px = std::max(longest_px, TextLengthPx(text[i]));
-  const PLFLT available_px = 0.95 * viewport_px / columns - sample_fraction * viewport_px - 2.5 * CharHeightPx();
+  const PLFLT available_px =
+      0.95 * viewport_px / columns - sample_fraction * viewport_px - 2.5 * CharHeightPx();
   return std::min(preferred, available_px / longest_px);
 }
 
@@ -254,20 +307,21 @@ void DrawDot(PLFLT x, PLFLT y, const Box& viewport, const Box& window, PLFLT rad
   plarc(x, y, a, b, 0.0, 360.0, 0.0, 1);
 }
 
-void DrawGrid(const Box& viewport, const Box& window) {
+void DrawGrid(const Box& viewport, const Box& window, PLFLT x_tick) {
   plvpor(viewport.x0, viewport.x1, viewport.y0, viewport.y1);
   plwind(window.x0, window.x1, window.y0, window.y1);
   plcol0(kGrid);
   plwidth(1.0);
-  plbox("g", 0.0, 0, "g", 0.0, 0);
+  plbox("g", x_tick, 0, "g", 0.0, 0);
 }
 
-void DrawAxes(const Box& viewport, PLFLT y_label_displacement, const char* x_label, const char* y_label,
-              const char* title) {
+void DrawAxes(const Box& viewport, PLFLT x_tick, PLFLT y_label_displacement, const char* x_label,
+              const char* y_label, const char* title) {
   plcol0(kInk);
   plwidth(1.5);
-  plbox("bcnst", 0.0, 0, "bcnstv", 0.0, 0);
-  const PLFLT width_px = (viewport.x1 - viewport.x0) * kWidthPx, height_px = (viewport.y1 - viewport.y0) * kHeightPx;
+  plbox("bcnst", x_tick, 0, "bcnstv", 0.0, 0);
+  const PLFLT width_px = (viewport.x1 - viewport.x0) * kWidthPx,
+              height_px = (viewport.y1 - viewport.y0) * kHeightPx;
   EdgeText("b", 3.0, x_label, kTextScale, width_px);
   EdgeText("l", y_label_displacement, y_label, kTextScale, height_px);
   EdgeText("t", 1.2, title, kTitleScale, width_px);
@@ -288,7 +342,8 @@ void DrawTopView(const void* data) {
     viewport.x0 = (y_label_displacement + kLeftOfYLabel) * char_px / kWidthPx;
     window = EqualScaleWindow(s.data, viewport, kLegendRowFraction);
   }
-  DrawGrid(viewport, window);
+  const PLFLT x_tick = XTickSpacing(viewport, window, char_px);
+  DrawGrid(viewport, window, x_tick);
 
   // Reference in grey, then the estimate segment by segment in the colour of its error.
   plcol0(kReference);
@@ -307,13 +362,16 @@ void DrawTopView(const void* data) {
     plcol1(s.colour[0]);
     DrawDot(s.est_x[0], s.est_y[0], viewport, window, 4.5);
   }
-  DrawAxes(viewport, y_label_displacement, "x [m]", "y [m]", s.title.c_str());
+  DrawAxes(viewport, x_tick, y_label_displacement, "x [m]", "y [m]", s.title.c_str());
 
-  // Colour bar right of the viewport: a gradient over [error_lo, error_hi] with its own axis and label.
+  // Colour bar right of the viewport over [error_lo, error_hi], with its own axis and label. It is an image
+  // of evenly spaced values, not a gradient: PLplot's cairo driver leaks every gradient fill.
   const PLFLT viewport_px = (viewport.x1 - viewport.x0) * kWidthPx;
-  const PLFLT range[2] = {s.error_lo, s.error_hi};
-  const PLFLT* values[1] = {range};
-  const PLINT n_values[1] = {2};
+  PLFLT steps[kColourBarSteps];
+  for (int i = 0; i < kColourBarSteps; ++i)
+    steps[i] = s.error_lo + (s.error_hi - s.error_lo) * i / (kColourBarSteps - 1);
+  const PLFLT* values[1] = {steps};
+  const PLINT n_values[1] = {kColourBarSteps};
   const char* axis_opts[1] = {"bcvtm"};
   const PLFLT ticks[1] = {0.0};
   const PLINT sub_ticks[1] = {0};
@@ -322,10 +380,10 @@ void DrawTopView(const void* data) {
   PLFLT bar_width = 0, bar_height = 0;
   plcol0(kInk);
   plwidth(1.0);
-  plcolorbar(&bar_width, &bar_height, PL_COLORBAR_GRADIENT, PL_POSITION_RIGHT | PL_POSITION_OUTSIDE |
-             PL_POSITION_VIEWPORT, kBarGap * char_px / viewport_px, 0.0, kBarWidth * char_px / viewport_px, 1.0,
-             kBackground, kInk, 1, 0.0, 0.0, kInk, 1.0, 1, label_opts, labels, 1, axis_opts, ticks, sub_ticks,
-             n_values, values);
+  plcolorbar(&bar_width, &bar_height, PL_COLORBAR_IMAGE,
+             PL_POSITION_RIGHT | PL_POSITION_OUTSIDE | PL_POSITION_VIEWPORT, kBarGap * char_px / viewport_px,
+             0.0, kBarWidth * char_px / viewport_px, 1.0, kBackground, kInk, 1, 0.0, 0.0, kInk, 1.0, 1,
+             label_opts, labels, 1, axis_opts, ticks, sub_ticks, n_values, values);
 
   // Legend in one row at the top, where the window leaves room above the data.
   const PLINT opts[2] = {PL_LEGEND_LINE, PL_LEGEND_LINE};
@@ -337,18 +395,21 @@ void DrawTopView(const void* data) {
   PLFLT legend_width = 0, legend_height = 0;
   pllegend(&legend_width, &legend_height, PL_LEGEND_BACKGROUND | PL_LEGEND_BOUNDING_BOX,
            PL_POSITION_TOP | PL_POSITION_RIGHT | PL_POSITION_INSIDE | PL_POSITION_VIEWPORT, 0.015, 0.015,
-           kLegendSample, kBackground, kGrid, 1, 1, 2, 2, opts, 0.8, 1.0, 2.0, 0.0, text_colours, text, nullptr, nullptr,
-           nullptr, nullptr, line_colours, line_styles, line_widths, nullptr, nullptr, nullptr, nullptr);
+           kLegendSample, kBackground, kGrid, 1, 1, 2, 2, opts, 0.8, 1.0, 2.0, 0.0, text_colours, text,
+           nullptr, nullptr, nullptr, nullptr, line_colours, line_styles, line_widths, nullptr, nullptr,
+           nullptr, nullptr);
 }
 
 void DrawErrorPlot(const void* data) {
   const ErrorScene& s = *static_cast<const ErrorScene*>(data);
 
   // Layout: the y tick labels set the left margin.
+  const PLFLT char_px = CharHeightPx();
   const PLFLT y_label_displacement = YLabelDisplacement(TickLabelCharacters(s.window.y0, s.window.y1));
-  const Box viewport{(y_label_displacement + kLeftOfYLabel) * CharHeightPx() / kWidthPx, 0.96, kViewportBottom,
+  const Box viewport{(y_label_displacement + kLeftOfYLabel) * char_px / kWidthPx, 0.96, kViewportBottom,
                      kViewportTop};
-  DrawGrid(viewport, s.window);
+  const PLFLT x_tick = XTickSpacing(viewport, s.window, char_px);
+  DrawGrid(viewport, s.window, x_tick);
 
   // +-std band around the mean across the whole time axis, the statistics as lines, the series on top.
   const PLFLT band_x[4] = {s.window.x0, s.window.x1, s.window.x1, s.window.x0};
@@ -370,12 +431,12 @@ void DrawErrorPlot(const void* data) {
     plline(static_cast<PLINT>(s.t.size()), s.t.data(), s.e.data());
   else
     DrawDot(s.t[0], s.e[0], viewport, s.window, 4.5);
-  DrawAxes(viewport, y_label_displacement, s.x_label.c_str(), s.y_label.c_str(), s.title.c_str());
+  DrawAxes(viewport, x_tick, y_label_displacement, s.x_label.c_str(), s.y_label.c_str(), s.title.c_str());
 
   // Legend in three rows at the top, where the window leaves room above the data.
   const PLINT opts[5] = {PL_LEGEND_LINE, PL_LEGEND_LINE, PL_LEGEND_LINE, PL_LEGEND_LINE, PL_LEGEND_COLOR_BOX};
-  const char* text[5] = {s.entries[0].c_str(), s.entries[1].c_str(), s.entries[2].c_str(), s.entries[3].c_str(),
-                         s.entries[4].c_str()};
+  const char* text[5] = {s.entries[0].c_str(), s.entries[1].c_str(), s.entries[2].c_str(),
+                         s.entries[3].c_str(), s.entries[4].c_str()};
   const PLINT text_colours[5] = {kInk, kInk, kInk, kInk, kInk};
   const PLINT line_colours[5] = {kSeries, kRmse, kMean, kMedian, kBackground};
   const PLINT line_styles[5] = {1, kLevelStyles[0], kLevelStyles[1], kLevelStyles[2], 1};
@@ -389,9 +450,9 @@ void DrawErrorPlot(const void* data) {
   PLFLT legend_width = 0, legend_height = 0;
   pllegend(&legend_width, &legend_height, PL_LEGEND_BACKGROUND | PL_LEGEND_BOUNDING_BOX | PL_LEGEND_ROW_MAJOR,
            PL_POSITION_TOP | PL_POSITION_RIGHT | PL_POSITION_INSIDE | PL_POSITION_VIEWPORT, 0.015, 0.015,
-           kLegendSample, kBackground, kGrid, 1, 3, 2, 5, opts, 0.8, text_scale, 2.0, 0.0, text_colours, text, box_colours,
-           box_patterns, box_scales, box_line_widths, line_colours, line_styles, line_widths, nullptr, nullptr,
-           nullptr, nullptr);
+           kLegendSample, kBackground, kGrid, 1, 3, 2, 5, opts, 0.8, text_scale, 2.0, 0.0, text_colours, text,
+           box_colours, box_patterns, box_scales, box_line_widths, line_colours, line_styles, line_widths,
+           nullptr, nullptr, nullptr, nullptr);
 }
 
 // ---------------------------------------------------------------------------------------------------------
@@ -433,9 +494,32 @@ bool PngDeviceAvailable() {
   return false;
 }
 
-// Opens a fresh PLplot stream writing a pngcairo PNG to `file` (PLplot closes it), draws the scene and ends
-// the stream. Returns false if PLplot failed (plplot_message says why). PLplot's fatal errors leave through
-// longjmp, so no object with a destructor may live between here and PLplot: the scene is prepared beforehand.
+// Sets up colours, page and axis style of a new stream, before and after plinit.
+void InitStream(std::FILE* file) {
+  plsdev("pngcairo");
+  plsfile(file);
+  plspage(0.0, 0.0, kWidthPx, kHeightPx, 0, 0);
+  PLINT r[kColours.size()], g[kColours.size()], b[kColours.size()];
+  for (std::size_t i = 0; i < kColours.size(); ++i)
+    r[i] = kColours[i][0], g[i] = kColours[i][1], b[i] = kColours[i][2];
+  plscmap0(r, g, b, static_cast<PLINT>(kColours.size()));
+  plscol0a(kBand, kColours[kBand][0], kColours[kBand][1], kColours[kBand][2], kBandAlpha);
+  plinit();
+  PLFLT position[kTurbo.size()], red[kTurbo.size()], green[kTurbo.size()], blue[kTurbo.size()];
+  for (std::size_t i = 0; i < kTurbo.size(); ++i)
+    position[i] = kTurbo[i][0], red[i] = kTurbo[i][1], green[i] = kTurbo[i][2], blue[i] = kTurbo[i][3];
+  plscmap1n(256);
+  plscmap1l(1, static_cast<PLINT>(kTurbo.size()), position, red, green, blue, nullptr);
+  plsxax(kAxisDigits, 0);
+  plsyax(kAxisDigits, 0);
+  SetTextScale(kTextScale);
+  pladv(0);
+}
+
+// Opens a fresh PLplot stream writing a pngcairo PNG to `file`, draws the scene and ends the stream; the file
+// is closed either way. Returns false if PLplot failed (plplot_message says why). PLplot's fatal errors leave
+// through longjmp, so no object with a destructor may live between here and PLplot: the scene is prepared
+// beforehand and only plain values are touched after setjmp.
 bool RenderGuarded(std::FILE* file, DrawFunction draw, const void* scene) {
   std::jmp_buf jump;
   fatal_jump = &jump;
@@ -443,38 +527,34 @@ bool RenderGuarded(std::FILE* file, DrawFunction draw, const void* scene) {
   plplot_message[0] = '\0';
   plsexit(OnPlplotExit);
   plsabort(OnPlplotAbort);
-  volatile bool ok = false;
+  plsError(&plplot_error_code, plplot_message);  // stream 0, current until plmkstrm: errors off stderr
+  volatile bool file_given = false, ok = false;
   if (setjmp(jump) == 0) {
     if (!PngDeviceAvailable()) {
-      RememberMessage("PLplot's pngcairo device is not installed (Debian: plplot-driver-cairo)");
+      if (plplot_message[0] == '\0')  // else PLplot's own message (say, no driver folder) tells more
+        RememberMessage("PLplot has no pngcairo device (Debian package plplot-driver-cairo)");
     } else {
       PLINT stream = 0;
       plmkstrm(&stream);
       plsError(&plplot_error_code, plplot_message);
-      plsdev("pngcairo");
-      plsfile(file);
-      plspage(0.0, 0.0, kWidthPx, kHeightPx, 0, 0);
-      PLINT r[kColours.size()], g[kColours.size()], b[kColours.size()];
-      for (std::size_t i = 0; i < kColours.size(); ++i) r[i] = kColours[i][0], g[i] = kColours[i][1], b[i] = kColours[i][2];
-      plscmap0(r, g, b, static_cast<PLINT>(kColours.size()));
-      plscol0a(kBand, kColours[kBand][0], kColours[kBand][1], kColours[kBand][2], kBandAlpha);
-      plinit();
-      PLFLT pos[kTurbo.size()], red[kTurbo.size()], green[kTurbo.size()], blue[kTurbo.size()];
-      for (std::size_t i = 0; i < kTurbo.size(); ++i)
-        pos[i] = kTurbo[i][0], red[i] = kTurbo[i][1], green[i] = kTurbo[i][2], blue[i] = kTurbo[i][3];
-      plscmap1n(256);
-      plscmap1l(1, static_cast<PLINT>(kTurbo.size()), pos, red, green, blue, nullptr);
-      plsxax(kAxisDigits, 0);
-      plsyax(kAxisDigits, 0);
-      SetTextScale(kTextScale);
-      pladv(0);
+      file_given = true;  // plend1 closes it once plinit ran
+      InitStream(file);
       draw(scene);
       plend1();
       ok = plplot_error_code == 0;
     }
   } else if (setjmp(jump) == 0) {
-    plend1();  // PLplot gave up part way: release the stream (a second failure lands in the branch below)
+    // PLplot gave up part way: take the file back if plinit never ran, then release the stream (a second
+    // failure lands in the branch above's else and ends here too).
+    PLINT level = 0;
+    plglevel(&level);
+    if (file_given && level == 0) {
+      plsfile(nullptr);
+      file_given = false;
+    }
+    plend1();
   }
+  if (!file_given) std::fclose(file);
   fatal_jump = nullptr;
   return ok;
 }
@@ -483,15 +563,16 @@ bool IsPngFile(const std::string& path) {
   std::FILE* file = std::fopen(path.c_str(), "rb");
   if (!file) return false;
   unsigned char signature[8] = {};
-  const bool ok = std::fread(signature, 1, 8, file) == 8 &&
-                  std::memcmp(signature, "\x89PNG\r\n\x1a\n", 8) == 0;
+  const bool ok =
+      std::fread(signature, 1, 8, file) == 8 && std::memcmp(signature, "\x89PNG\r\n\x1a\n", 8) == 0;
   std::fclose(file);
   return ok;
 }
 
-// Renders to "<png_path>.tmp" and renames it onto png_path once PLplot finished without error.
+// Renders to "<png_path>.tmp<pid>" and renames it onto png_path once PLplot finished without error.
 Status WritePng(const std::string& png_path, DrawFunction draw, const void* scene) {
-  const std::string tmp_path = png_path + ".tmp";
+  if (png_path.empty()) return Status::Error("plot: the PNG path is empty");
+  const std::string tmp_path = png_path + ".tmp" + std::to_string(::getpid());
   std::FILE* file = std::fopen(tmp_path.c_str(), "wb");
   if (!file)
     return Status::Error("plot " + png_path + ": cannot write " + tmp_path + ": " + std::strerror(errno));
@@ -502,6 +583,9 @@ Status WritePng(const std::string& png_path, DrawFunction draw, const void* scen
     rendered = RenderGuarded(file, draw, scene);
     message = plplot_message;
   }
+  // PLplot's messages come with newlines and ", aborting operation".
+  message.erase(0, message.find_first_not_of(" \n"));
+  message.erase(message.find_last_not_of(" \n") + 1);
   std::error_code ignored;
   if (!rendered || !IsPngFile(tmp_path)) {
     std::filesystem::remove(tmp_path, ignored);
@@ -530,11 +614,11 @@ Status WriteTopViewPlot(const std::string& png_path, const std::vector<Eigen::Ve
   if (error.size() != estimate.size())
     return Status::Error("plot " + png_path + ": " + std::to_string(error.size()) + " error values for " +
                          std::to_string(estimate.size()) + " estimated poses");
-  if (Status s = CheckFinite(png_path, "reference", reference); !s.ok()) return s;
-  if (Status s = CheckFinite(png_path, "estimate", estimate); !s.ok()) return s;
-  if (Status s = CheckFinite(png_path, "error", error); !s.ok()) return s;
+  if (Status s = CheckPlottable(png_path, "reference", reference); !s.ok()) return s;
+  if (Status s = CheckPlottable(png_path, "estimate", estimate); !s.ok()) return s;
+  if (Status s = CheckPlottable(png_path, "error", error, kMaxValue); !s.ok()) return s;
 
-  // Prepare the scene: coordinates, segment colours, equal-scale window, legend corner, text.
+  // Prepare the scene: coordinates, their bounding box, segment colours, text.
   TopViewScene scene;
   Box data{std::numeric_limits<double>::max(), std::numeric_limits<double>::lowest(),
            std::numeric_limits<double>::max(), std::numeric_limits<double>::lowest()};
@@ -557,7 +641,8 @@ Status WriteTopViewPlot(const std::string& png_path, const std::vector<Eigen::Ve
   const double to_unit = 1.0 / (scene.error_hi - scene.error_lo);
   const auto unit = [&](double e) { return std::clamp((e - scene.error_lo) * to_unit, 0.0, 1.0); };
   if (error.size() == 1) scene.colour.push_back(unit(error[0]));
-  for (std::size_t i = 0; i + 1 < error.size(); ++i) scene.colour.push_back(unit(0.5 * (error[i] + error[i + 1])));
+  for (std::size_t i = 0; i + 1 < error.size(); ++i)
+    scene.colour.push_back(unit(0.5 * (error[i] + error[i + 1])));
   scene.data = data;
   scene.title = PlplotText(title, kMaxTextChars);
   scene.error_label = PlplotText(error_label, kMaxBarLabelChars);
@@ -574,10 +659,12 @@ Status WriteErrorPlot(const std::string& png_path, const std::vector<double>& se
   if (seconds.size() != error.size())
     return Status::Error("plot " + png_path + ": " + std::to_string(seconds.size()) + " stamps for " +
                          std::to_string(error.size()) + " error values");
-  if (Status s = CheckFinite(png_path, "seconds", seconds); !s.ok()) return s;
-  if (Status s = CheckFinite(png_path, "error", error); !s.ok()) return s;
-  if (Status s = CheckFinite(png_path, "stats", {stats.rmse, stats.mean, stats.median, stats.std}); !s.ok())
-    return s;
+  if (Status s = CheckPlottable(png_path, "seconds", seconds, kMaxSeconds); !s.ok()) return s;
+  if (Status s = CheckPlottable(png_path, "error", error, kMaxValue); !s.ok()) return s;
+  for (const auto& [name, value] :
+       {std::pair{"stats.rmse", stats.rmse}, std::pair{"stats.mean", stats.mean},
+        std::pair{"stats.median", stats.median}, std::pair{"stats.std", stats.std}})
+    if (Status s = CheckPlottable(png_path, name, value, kMaxValue); !s.ok()) return s;
 
   // Prepare the scene: time from the first stamp, a window with room for the legend at the top, text.
   ErrorScene scene;
@@ -590,7 +677,7 @@ Status WriteErrorPlot(const std::string& png_path, const std::vector<double>& se
   const auto [t_lo, t_hi] = std::minmax_element(scene.t.begin(), scene.t.end());
   const auto [e_lo, e_hi] = std::minmax_element(error.begin(), error.end());
   double x0 = *t_lo, x1 = *t_hi;
-  EnsureSpan(x0, x1, 1.0);
+  WidenIfFlat(x0, x1);
   double y0 = std::min({0.0, *e_lo, stats.mean - stats.std, stats.rmse, stats.median});
   double y1 = std::max({*e_hi, stats.mean + stats.std, stats.rmse, stats.median});
   WidenIfFlat(y0, y1);
@@ -601,7 +688,8 @@ Status WriteErrorPlot(const std::string& png_path, const std::vector<double>& se
   scene.x_label = PlplotText(x_label, kMaxTextChars);
   scene.y_label = PlplotText(y_label, kMaxTextChars);
   scene.entries = {"error", "rmse = " + FormatValue(stats.rmse), "mean = " + FormatValue(stats.mean),
-                   "median = " + FormatValue(stats.median), "mean ± std (std = " + FormatValue(stats.std) + ")"};
+                   "median = " + FormatValue(stats.median),
+                   "mean ± std (std = " + FormatValue(stats.std) + ")"};
 
   // Render.
   return WritePng(png_path, DrawErrorPlot, &scene);

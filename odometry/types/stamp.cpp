@@ -1,6 +1,7 @@
 #include "stamp.h"
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 
 namespace uf {
@@ -74,11 +75,13 @@ std::optional<Stamp> ParseSeconds(std::string_view text) {
 
 std::string FormatSeconds(Stamp t) {
   const bool negative = t < 0;
+  // -(t + 1) + 1 avoids overflowing on INT64_MIN.
   const unsigned long long magnitude =
       negative ? static_cast<unsigned long long>(-(t + 1)) + 1ULL : static_cast<unsigned long long>(t);
-  std::string fraction = std::to_string(magnitude % kNanosecondsPerSecond);
-  fraction.insert(0, 9 - fraction.size(), '0');
-  return (negative ? "-" : "") + std::to_string(magnitude / kNanosecondsPerSecond) + "." + fraction;
+  char text[32];
+  std::snprintf(text, sizeof(text), "%s%llu.%09llu", negative ? "-" : "", magnitude / kNanosecondsPerSecond,
+                magnitude % kNanosecondsPerSecond);
+  return text;
 }
 
 }  // namespace uf
