@@ -6,8 +6,8 @@
 
 namespace uf {
 
-Expected<Similarity> Umeyama(const std::vector<Eigen::Vector3d>& source, const std::vector<Eigen::Vector3d>& target,
-                             bool with_scale) {
+Expected<Similarity> Umeyama(const std::vector<Eigen::Vector3d>& source,
+                             const std::vector<Eigen::Vector3d>& target, bool with_scale) {
   assert(source.size() == target.size());
   const std::size_t count = source.size();
   if (count < 3)

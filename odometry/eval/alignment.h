@@ -24,7 +24,7 @@ struct Similarity {
 };
 
 // Fails for fewer than 3 pairs or when the source points are degenerate (all on one line or one point).
-Expected<Similarity> Umeyama(const std::vector<Eigen::Vector3d>& source, const std::vector<Eigen::Vector3d>& target,
-                             bool with_scale);
+Expected<Similarity> Umeyama(const std::vector<Eigen::Vector3d>& source,
+                             const std::vector<Eigen::Vector3d>& target, bool with_scale);
 
 }  // namespace uf

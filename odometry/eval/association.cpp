@@ -32,8 +32,8 @@ Association AssociateByStamp(const std::vector<Stamp>& reference, const std::vec
   const bool estimate_longer = estimate.size() > reference.size();
   const double offset = ToSeconds(estimate_offset);
   const std::vector<double> shorter = Float64Seconds(estimate_longer ? reference : estimate, 0.0);
-  const std::vector<double> longer = Float64Seconds(estimate_longer ? estimate : reference,
-                                                    estimate_longer ? offset : -offset);
+  const std::vector<double> longer =
+      Float64Seconds(estimate_longer ? estimate : reference, estimate_longer ? offset : -offset);
   std::vector<std::size_t>& short_index = estimate_longer ? association.reference : association.estimate;
   std::vector<std::size_t>& long_index = estimate_longer ? association.estimate : association.reference;
   const double max_difference = ToSeconds(max_dt);

@@ -1,11 +1,13 @@
 #include "odometry/eval/evaluation.h"
 
 #include <cmath>
+#include <cstdio>
 
 namespace uf {
 namespace {
 
-Expected<Association> Associate(const Trajectory& reference, const Trajectory& estimate, const EvalOptions& options) {
+Expected<Association> Associate(const Trajectory& reference, const Trajectory& estimate,
+                                const EvalOptions& options) {
   if (reference.has_stamps() != estimate.has_stamps())
     return Status::Error(std::string("the ") + (reference.has_stamps() ? "estimate" : "reference") +
                          " has no stamps but the other has: give its times file (--ref-times/--est-times)");
@@ -22,7 +24,8 @@ std::vector<Eigen::Vector3d> Positions(const std::vector<SE3>& poses) {
 
 }  // namespace
 
-Expected<EvalResult> Evaluate(const Trajectory& reference, const Trajectory& estimate, const EvalOptions& options) {
+Expected<EvalResult> Evaluate(const Trajectory& reference, const Trajectory& estimate,
+                              const EvalOptions& options) {
   EvalResult result;
   // 1. Associate the poses.
   auto association = Associate(reference, estimate, options);
@@ -30,24 +33,29 @@ Expected<EvalResult> Evaluate(const Trajectory& reference, const Trajectory& est
   result.association = std::move(*association);
   result.stamped = estimate.has_stamps();
   const std::size_t matched = result.association.size();
-  if (matched < 2)
+  if (matched < 2 && !result.stamped)
+    return Status::Error("too few poses: " + std::to_string(matched) + " (need at least 2)");
+  if (matched < 2) {
+    char max_dt[32];
+    std::snprintf(max_dt, sizeof(max_dt), "%g", ToSeconds(options.max_dt));
     return Status::Error("too few matched pairs: " + std::to_string(matched) + " of " +
-                         std::to_string(estimate.size()) + " estimate poses lie within " +
-                         std::to_string(ToSeconds(options.max_dt)) +
+                         std::to_string(estimate.size()) + " estimate poses lie within " + max_dt +
                          " s of a reference stamp (check the time base, --max-dt or --t-offset)");
+  }
   for (std::size_t k = 0; k < matched; ++k) {
     const std::size_t i = result.association.reference[k], j = result.association.estimate[k];
     result.reference.push_back(reference.poses[i]);
     result.estimate.push_back(estimate.poses[j]);
-    result.seconds.push_back(estimate.has_stamps()
-                                 ? ToSeconds(estimate.stamps[j] - estimate.stamps[result.association.estimate[0]])
-                                 : static_cast<double>(k));
+    result.seconds.push_back(
+        estimate.has_stamps()
+            ? ToSeconds(estimate.stamps[j] - estimate.stamps[result.association.estimate[0]])
+            : static_cast<double>(k));
   }
 
   // 2. Align the estimate onto the reference (Umeyama on the matched positions).
   if (options.align != AlignMode::kNone) {
-    auto alignment = Umeyama(Positions(result.estimate), Positions(result.reference),
-                             options.align == AlignMode::kSim3);
+    auto alignment =
+        Umeyama(Positions(result.estimate), Positions(result.reference), options.align == AlignMode::kSim3);
     if (!alignment) return alignment.status();
     result.alignment = *alignment;
     for (SE3& pose : result.estimate) pose = result.alignment * pose;
@@ -55,7 +63,8 @@ Expected<EvalResult> Evaluate(const Trajectory& reference, const Trajectory& est
 
   // 3. Absolute translation error per matched pair.
   for (std::size_t k = 0; k < matched; ++k)
-    result.ape_errors.push_back((result.reference[k].translation() - result.estimate[k].translation()).norm());
+    result.ape_errors.push_back(
+        (result.reference[k].translation() - result.estimate[k].translation()).norm());
   result.ape = ComputeStats(result.ape_errors);
 
   // 4. Relative translation error over pairs chosen on the (aligned) estimate.

@@ -1,6 +1,6 @@
 // Trajectory accuracy of an estimate against a reference, as evo's evo_ape / evo_rpe compute it:
-// associate, align the estimate onto the reference, then absolute (APE) and relative (RPE) translation errors,
-// and optionally KITTI drift.
+// associate, align the estimate onto the reference, then absolute (APE) and relative (RPE) translation
+// errors, and optionally KITTI drift.
 #pragma once
 
 #include <optional>
@@ -28,18 +28,19 @@ struct EvalOptions {
 
 struct EvalResult {
   Association association;
-  Similarity alignment;                    // identity for AlignMode::kNone
-  std::vector<SE3> reference, estimate;    // matched poses; estimate aligned
-  bool stamped = true;                     // false when paired by index (stampless KITTI files)
-  std::vector<double> seconds;             // per matched pair, from the first (index when stampless)
-  std::vector<double> ape_errors;          // |t_ref - t_est| per matched pair, metres
+  Similarity alignment;                  // identity for AlignMode::kNone
+  std::vector<SE3> reference, estimate;  // matched poses; estimate aligned
+  bool stamped = true;                   // false when paired by index (stampless KITTI files)
+  std::vector<double> seconds;           // per matched pair, from the first (index when stampless)
+  std::vector<double> ape_errors;        // |t_ref - t_est| per matched pair, metres
   ErrorStats ape;
-  IndexPairs rpe_pairs;                    // into the matched poses
+  IndexPairs rpe_pairs;  // into the matched poses
   std::vector<double> rpe_errors;
-  std::optional<ErrorStats> rpe;           // absent when the delta leaves no pair
-  std::optional<KittiDrift> kitti_drift;   // when requested
+  std::optional<ErrorStats> rpe;          // absent when the delta leaves no pair
+  std::optional<KittiDrift> kitti_drift;  // when requested
 };
 
-Expected<EvalResult> Evaluate(const Trajectory& reference, const Trajectory& estimate, const EvalOptions& options);
+Expected<EvalResult> Evaluate(const Trajectory& reference, const Trajectory& estimate,
+                              const EvalOptions& options);
 
 }  // namespace uf

@@ -1,6 +1,6 @@
-// KITTI odometry drift as the KITTI devkit (evaluate_odometry.cpp) computes it: segments of 100, 200, ..., 800 m
-// measured along the reference path, one start every 10 frames; for each, the pose error
-// E = (P_first^-1 P_last)^-1 (Q_first^-1 Q_last) gives a translational error |t_E| / length and a rotational
+// KITTI odometry drift as the KITTI devkit (evaluate_odometry.cpp) computes it: segments of 100, 200, ...,
+// 800 m measured along the reference path, one start every 10 frames; for each, the pose error E =
+// (P_first^-1 P_last)^-1 (Q_first^-1 Q_last) gives a translational error |t_E| / length and a rotational
 // error angle(E) / length; the figures are their means, as a percentage and in degrees per 100 m.
 // The devkit computes in single precision; this uses double.
 #pragma once
@@ -13,9 +13,9 @@
 namespace uf {
 
 struct KittiDrift {
-  double t_pct = 0;            // mean translational error, % of segment length
-  double r_deg_per_100m = 0;   // mean rotational error, degrees per 100 m
-  std::size_t segments = 0;    // 0 when the reference path is shorter than 100 m: the figures are undefined
+  double t_pct = 0;           // mean translational error, % of segment length
+  double r_deg_per_100m = 0;  // mean rotational error, degrees per 100 m
+  std::size_t segments = 0;   // 0 when the reference path is shorter than 100 m: the figures are undefined
 };
 
 KittiDrift ComputeKittiDrift(const std::vector<SE3>& reference, const std::vector<SE3>& estimate);

@@ -27,8 +27,8 @@ IndexPairs PairsByPath(const std::vector<SE3>& poses, double delta) {
   return pairs;
 }
 
-std::vector<double> RelativeTranslationErrors(const std::vector<SE3>& reference, const std::vector<SE3>& estimate,
-                                              const IndexPairs& pairs) {
+std::vector<double> RelativeTranslationErrors(const std::vector<SE3>& reference,
+                                              const std::vector<SE3>& estimate, const IndexPairs& pairs) {
   std::vector<double> errors;
   errors.reserve(pairs.size());
   for (const auto& [i, j] : pairs) {

@@ -23,7 +23,7 @@ IndexPairs PairsByFrames(std::size_t count, std::size_t delta);
 IndexPairs PairsByPath(const std::vector<SE3>& poses, double delta);
 
 // Translation norm of (Q_i^-1 Q_j)^-1 (P_i^-1 P_j) for each pair.
-std::vector<double> RelativeTranslationErrors(const std::vector<SE3>& reference, const std::vector<SE3>& estimate,
-                                              const IndexPairs& pairs);
+std::vector<double> RelativeTranslationErrors(const std::vector<SE3>& reference,
+                                              const std::vector<SE3>& estimate, const IndexPairs& pairs);
 
 }  // namespace uf

@@ -1,9 +1,10 @@
 #include "odometry/io/atomic_file.h"
 
+#include <unistd.h>
+
 #include <cstdio>
 #include <filesystem>
 #include <system_error>
-#include <unistd.h>
 
 namespace uf {
 

@@ -1,6 +1,6 @@
 // Line-by-line reader for the numeric text tables that trajectory and times files are: fields separated by
-// whitespace or commas, blank lines and lines starting with '#' or '%' skipped. Every error it makes names the
-// file and the line.
+// whitespace or commas, blank lines and lines starting with '#' or '%' skipped. Every error it makes names
+// the file and the line.
 #pragma once
 
 #include <string>

@@ -1,6 +1,6 @@
 // Trajectory files: TUM (`t x y z qx qy qz qw`, seconds), KITTI (12 values of the 3x4 matrix [R|t] per line,
-// row-major; stamps from an optional times file) and EuRoC ground-truth CSV (`t[ns], x, y, z, qw, qx, qy, qz`,
-// further columns ignored). Readers validate every value and name file and line on error; writers keep
+// row-major; stamps from an optional times file) and EuRoC ground-truth CSV (`t[ns], x, y, z, qw, qx, qy,
+// qz`, further columns ignored). Readers validate every value and name file and line on error; writers keep
 // nanosecond-exact stamps and never leave a half-written file.
 #pragma once
 
@@ -33,8 +33,10 @@ const char* TrajectoryFormatName(TrajectoryFormat format);
 // KITTI, 8 columns -> TUM.
 Expected<TrajectoryFormat> DetectTrajectoryFormat(const std::string& path);
 
-Expected<Trajectory> ReadTrajectory(const std::string& path, TrajectoryFormat format = TrajectoryFormat::kAuto,
-                                    const TrajectoryReadOptions& options = {}, TrajectoryReadReport* report = nullptr);
+Expected<Trajectory> ReadTrajectory(const std::string& path,
+                                    TrajectoryFormat format = TrajectoryFormat::kAuto,
+                                    const TrajectoryReadOptions& options = {},
+                                    TrajectoryReadReport* report = nullptr);
 Expected<Trajectory> ReadTumTrajectory(const std::string& path, const TrajectoryReadOptions& options = {},
                                        TrajectoryReadReport* report = nullptr);
 Expected<Trajectory> ReadKittiTrajectory(const std::string& path);  // no stamps

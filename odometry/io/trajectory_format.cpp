@@ -14,10 +14,14 @@ Expected<TrajectoryFormat> ParseTrajectoryFormat(std::string_view name) {
 
 const char* TrajectoryFormatName(TrajectoryFormat format) {
   switch (format) {
-    case TrajectoryFormat::kTum: return "TUM";
-    case TrajectoryFormat::kKitti: return "KITTI";
-    case TrajectoryFormat::kEuroc: return "EuRoC";
-    case TrajectoryFormat::kAuto: break;
+    case TrajectoryFormat::kTum:
+      return "TUM";
+    case TrajectoryFormat::kKitti:
+      return "KITTI";
+    case TrajectoryFormat::kEuroc:
+      return "EuRoC";
+    case TrajectoryFormat::kAuto:
+      break;
   }
   return "auto";
 }
@@ -44,12 +48,15 @@ Expected<Trajectory> ReadTrajectory(const std::string& path, TrajectoryFormat fo
     format = *detected;
   }
   switch (format) {
-    case TrajectoryFormat::kTum: return ReadTumTrajectory(path, options, report);
-    case TrajectoryFormat::kEuroc: return ReadEurocTrajectory(path, options, report);
+    case TrajectoryFormat::kTum:
+      return ReadTumTrajectory(path, options, report);
+    case TrajectoryFormat::kEuroc:
+      return ReadEurocTrajectory(path, options, report);
     case TrajectoryFormat::kKitti:
       if (report) report->format = format;
       return ReadKittiTrajectory(path);
-    case TrajectoryFormat::kAuto: break;
+    case TrajectoryFormat::kAuto:
+      break;
   }
   return Status::Error(path + ": no format");
 }

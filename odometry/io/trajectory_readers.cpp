@@ -43,39 +43,61 @@ Status EmptyCheck(const TextTableReader& in, const Trajectory& trajectory) {
   return {};
 }
 
-void Report(const StampOrderCheck& order, TrajectoryFormat format, TrajectoryReadReport* report) {
-  if (!report) return;
-  report->format = format;
-  report->skipped_duplicates = order.skipped();
-  report->first_skipped_line = order.first_skipped_line();
-}
+// Where a stamped-pose format keeps its fields: the stamp in column 0, then x y z, then a quaternion.
+struct StampedPoseLayout {
+  TrajectoryFormat format;
+  const char* description;     // for the column-count error
+  bool extra_columns_allowed;  // EuRoC ground truth carries velocities and biases after the pose
+  bool stamp_in_nanoseconds;   // else seconds
+  std::size_t qw, qx, qy, qz;  // quaternion columns
+};
 
-}  // namespace
+constexpr StampedPoseLayout kTumLayout{
+    TrajectoryFormat::kTum, "TUM: t x y z qx qy qz qw", false, false, 7, 4, 5, 6};
+constexpr StampedPoseLayout kEurocLayout{
+    TrajectoryFormat::kEuroc, "EuRoC: t[ns], x, y, z, qw, qx, qy, qz", true, true, 4, 5, 6, 7};
 
-Expected<Trajectory> ReadTumTrajectory(const std::string& path, const TrajectoryReadOptions& options,
-                                       TrajectoryReadReport* report) {
+Expected<Trajectory> ReadStampedPoses(const std::string& path, const StampedPoseLayout& layout,
+                                      const TrajectoryReadOptions& options, TrajectoryReadReport* report) {
   auto opened = TextTableReader::Open(path);
   if (!opened) return opened.status();
   TextTableReader& in = *opened;
   Trajectory trajectory;
   StampOrderCheck order(options.skip_duplicate_stamps);
   while (in.Next()) {
-    if (Status s = in.ExpectColumns(8, "TUM: t x y z qx qy qz qw"); !s.ok()) return s;
-    auto stamp = in.Seconds(0, "timestamp");
+    if (Status s = in.ExpectColumns(8, layout.description, layout.extra_columns_allowed); !s.ok()) return s;
+    auto stamp =
+        layout.stamp_in_nanoseconds ? in.Nanoseconds(0, "timestamp [ns]") : in.Seconds(0, "timestamp");
     if (!stamp) return stamp.status();
     auto keep = order.Add(in, *stamp);
     if (!keep) return keep.status();
     if (!*keep) continue;
     auto t = ReadVector(in, 1);
     if (!t) return t.status();
-    auto q = ReadQuaternion(in, 7, 4, 5, 6);
+    auto q = ReadQuaternion(in, layout.qw, layout.qx, layout.qy, layout.qz);
     if (!q) return q.status();
     trajectory.stamps.push_back(*stamp);
     trajectory.poses.emplace_back(SO3(*q), *t);
   }
   if (Status s = EmptyCheck(in, trajectory); !s.ok()) return s;
-  Report(order, TrajectoryFormat::kTum, report);
+  if (report) {
+    report->format = layout.format;
+    report->skipped_duplicates = order.skipped();
+    report->first_skipped_line = order.first_skipped_line();
+  }
   return trajectory;
+}
+
+}  // namespace
+
+Expected<Trajectory> ReadTumTrajectory(const std::string& path, const TrajectoryReadOptions& options,
+                                       TrajectoryReadReport* report) {
+  return ReadStampedPoses(path, kTumLayout, options, report);
+}
+
+Expected<Trajectory> ReadEurocTrajectory(const std::string& path, const TrajectoryReadOptions& options,
+                                         TrajectoryReadReport* report) {
+  return ReadStampedPoses(path, kEurocLayout, options, report);
 }
 
 Expected<Trajectory> ReadKittiTrajectory(const std::string& path) {
@@ -84,7 +106,8 @@ Expected<Trajectory> ReadKittiTrajectory(const std::string& path) {
   TextTableReader& in = *opened;
   Trajectory trajectory;
   while (in.Next()) {
-    if (Status s = in.ExpectColumns(12, "KITTI: r11 r12 r13 tx r21 r22 r23 ty r31 r32 r33 tz"); !s.ok()) return s;
+    if (Status s = in.ExpectColumns(12, "KITTI: r11 r12 r13 tx r21 r22 r23 ty r31 r32 r33 tz"); !s.ok())
+      return s;
     Eigen::Matrix4d T = Eigen::Matrix4d::Identity();
     for (int k = 0; k < 12; ++k) {
       auto v = in.Number(k, k % 4 == 3 ? "translation" : "rotation");
@@ -99,32 +122,6 @@ Expected<Trajectory> ReadKittiTrajectory(const std::string& path) {
     trajectory.poses.push_back(SE3::FromMatrix(T));  // kept exactly as written, as evo keeps it
   }
   if (Status s = EmptyCheck(in, trajectory); !s.ok()) return s;
-  return trajectory;
-}
-
-Expected<Trajectory> ReadEurocTrajectory(const std::string& path, const TrajectoryReadOptions& options,
-                                       TrajectoryReadReport* report) {
-  auto opened = TextTableReader::Open(path);
-  if (!opened) return opened.status();
-  TextTableReader& in = *opened;
-  Trajectory trajectory;
-  StampOrderCheck order(options.skip_duplicate_stamps);
-  while (in.Next()) {
-    if (Status s = in.ExpectColumns(8, "EuRoC: t[ns], x, y, z, qw, qx, qy, qz", true); !s.ok()) return s;
-    auto stamp = in.Nanoseconds(0, "timestamp [ns]");
-    if (!stamp) return stamp.status();
-    auto keep = order.Add(in, *stamp);
-    if (!keep) return keep.status();
-    if (!*keep) continue;
-    auto t = ReadVector(in, 1);
-    if (!t) return t.status();
-    auto q = ReadQuaternion(in, 4, 5, 6, 7);
-    if (!q) return q.status();
-    trajectory.stamps.push_back(*stamp);
-    trajectory.poses.emplace_back(SO3(*q), *t);
-  }
-  if (Status s = EmptyCheck(in, trajectory); !s.ok()) return s;
-  Report(order, TrajectoryFormat::kEuroc, report);
   return trajectory;
 }
 

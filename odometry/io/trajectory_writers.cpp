@@ -13,7 +13,8 @@ Status CheckStamps(const std::string& path, const Trajectory& trajectory, const 
     return Status::Error(path + ": trajectory has " + std::to_string(trajectory.stamps.size()) +
                          " stamps for " + std::to_string(trajectory.size()) + " poses");
   if (!trajectory.has_stamps() && format != nullptr)
-    return Status::Error(path + ": the " + std::string(format) + " format needs stamps; this trajectory has none");
+    return Status::Error(path + ": the " + std::string(format) +
+                         " format needs stamps; this trajectory has none");
   return {};
 }
 
@@ -35,12 +36,14 @@ Status WriteLines(const std::string& path, const Trajectory& trajectory, const c
 
 Status WriteTumTrajectory(const std::string& path, const Trajectory& trajectory) {
   if (Status s = CheckStamps(path, trajectory, "TUM"); !s.ok()) return s;
-  return WriteLines(path, trajectory, "# timestamp tx ty tz qx qy qz qw\n", [&](char* b, std::size_t n, std::size_t i) {
-    const Eigen::Vector3d& t = trajectory.poses[i].translation();
-    const Eigen::Quaterniond q = trajectory.poses[i].so3().quaternion();
-    std::snprintf(b, n, "%s %.9f %.9f %.9f %.12f %.12f %.12f %.12f\n", FormatSeconds(trajectory.stamps[i]).c_str(),
-                  t.x(), t.y(), t.z(), q.x(), q.y(), q.z(), q.w());
-  });
+  return WriteLines(path, trajectory, "# timestamp tx ty tz qx qy qz qw\n",
+                    [&](char* b, std::size_t n, std::size_t i) {
+                      const Eigen::Vector3d& t = trajectory.poses[i].translation();
+                      const Eigen::Quaterniond q = trajectory.poses[i].so3().quaternion();
+                      std::snprintf(b, n, "%s %.9f %.9f %.9f %.12f %.12f %.12f %.12f\n",
+                                    FormatSeconds(trajectory.stamps[i]).c_str(), t.x(), t.y(), t.z(), q.x(),
+                                    q.y(), q.z(), q.w());
+                    });
 }
 
 Status WriteKittiTrajectory(const std::string& path, const Trajectory& trajectory) {
@@ -48,18 +51,21 @@ Status WriteKittiTrajectory(const std::string& path, const Trajectory& trajector
   return WriteLines(path, trajectory, nullptr, [&](char* b, std::size_t n, std::size_t i) {
     const Eigen::Matrix<double, 3, 4> T = trajectory.poses[i].matrix3x4();
     std::snprintf(b, n, "%.12e %.12e %.12e %.12e %.12e %.12e %.12e %.12e %.12e %.12e %.12e %.12e\n", T(0, 0),
-                  T(0, 1), T(0, 2), T(0, 3), T(1, 0), T(1, 1), T(1, 2), T(1, 3), T(2, 0), T(2, 1), T(2, 2), T(2, 3));
+                  T(0, 1), T(0, 2), T(0, 3), T(1, 0), T(1, 1), T(1, 2), T(1, 3), T(2, 0), T(2, 1), T(2, 2),
+                  T(2, 3));
   });
 }
 
 Status WriteEurocTrajectory(const std::string& path, const Trajectory& trajectory) {
   if (Status s = CheckStamps(path, trajectory, "EuRoC"); !s.ok()) return s;
-  const char* header = "#timestamp [ns],p_RS_R_x [m],p_RS_R_y [m],p_RS_R_z [m],q_RS_w [],q_RS_x [],q_RS_y [],q_RS_z []\n";
+  const char* header =
+      "#timestamp [ns],p_RS_R_x [m],p_RS_R_y [m],p_RS_R_z [m],q_RS_w [],q_RS_x [],q_RS_y [],q_RS_z []\n";
   return WriteLines(path, trajectory, header, [&](char* b, std::size_t n, std::size_t i) {
     const Eigen::Vector3d& t = trajectory.poses[i].translation();
     const Eigen::Quaterniond q = trajectory.poses[i].so3().quaternion();
     std::snprintf(b, n, "%lld,%.9f,%.9f,%.9f,%.12f,%.12f,%.12f,%.12f\n",
-                  static_cast<long long>(trajectory.stamps[i]), t.x(), t.y(), t.z(), q.w(), q.x(), q.y(), q.z());
+                  static_cast<long long>(trajectory.stamps[i]), t.x(), t.y(), t.z(), q.w(), q.x(), q.y(),
+                  q.z());
   });
 }
 

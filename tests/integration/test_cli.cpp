@@ -35,8 +35,8 @@ std::string Figure8(const testing::TempDir& dir, const std::string& name, double
   for (int i = 0; i < 200; ++i) {
     const double t = 0.1 * i;
     std::snprintf(line, sizeof(line), "%.9f %.9f %.9f %.9f 0 0 %.9f %.9f\n", 100 + t,
-                  10 * std::sin(0.3 * t) + drift_per_s * t, 5 * std::sin(0.6 * t), 0.1 * t, std::sin(0.05 * t),
-                  std::cos(0.05 * t));
+                  10 * std::sin(0.3 * t) + drift_per_s * t, 5 * std::sin(0.6 * t), 0.1 * t,
+                  std::sin(0.05 * t), std::cos(0.05 * t));
     text += line;
   }
   return dir.Write(name, text);
@@ -47,7 +47,7 @@ TEST(Cli, VersionHelpAndUsageErrors) {
   EXPECT_EQ(version.code, 0);
   EXPECT_NE(version.output.find("ultrafusion 0.1.0"), std::string::npos) << version.output;
   EXPECT_EQ(Ultrafusion("eval --help").code, 0);
-  EXPECT_EQ(Ultrafusion("").code, 2);                 // a subcommand is required
+  EXPECT_EQ(Ultrafusion("").code, 2);  // a subcommand is required
   EXPECT_EQ(Ultrafusion("no-such-command").code, 2);
   EXPECT_EQ(Ultrafusion("eval onlyone.txt").code, 2);  // ESTIMATE missing
   EXPECT_EQ(Ultrafusion("eval a b --align affine").code, 2);
@@ -59,8 +59,9 @@ TEST(Cli, EvalWritesFiguresJsonAndPlots) {
   testing::TempDir dir;
   const std::string reference = Figure8(dir, "ref.tum", 0);
   const std::string estimate = Figure8(dir, "est.tum", 0.01);
-  const CommandResult run = Ultrafusion("eval " + reference + " " + estimate + " --align none --json " + dir.File("e.json") +
-                              " --plot " + dir.File("plots") + " --rpe-delta 10");
+  const CommandResult run =
+      Ultrafusion("eval " + reference + " " + estimate + " --align none --json " + dir.File("e.json") +
+                  " --plot " + dir.File("plots") + " --rpe-delta 10");
   ASSERT_EQ(run.code, 0) << run.output;
   EXPECT_NE(run.output.find("matched:   200 pairs"), std::string::npos) << run.output;
   const auto json = nlohmann::json::parse(testing::ReadText(dir.File("e.json")));
@@ -74,11 +75,13 @@ TEST(Cli, EvalWritesFiguresJsonAndPlots) {
   for (const char* png : {"ape_top_view.png", "ape_over_time.png", "rpe_over_time.png"})
     EXPECT_GT(std::filesystem::file_size(dir.File(std::string("plots/") + png)), 10000u) << png;
 
-  // With se3 alignment, the best translation alone leaves the drift minus its mean, rmse = std of 0.001 i over
-  // i = 0..199 = 0.001 sqrt((200^2 - 1) / 12); the rotation of the alignment can only lower it further.
-  const CommandResult aligned = Ultrafusion("eval " + reference + " " + estimate + " --json " + dir.File("a.json"));
+  // With se3 alignment, the best translation alone leaves the drift minus its mean, rmse = std of 0.001 i
+  // over i = 0..199 = 0.001 sqrt((200^2 - 1) / 12); the rotation of the alignment can only lower it further.
+  const CommandResult aligned =
+      Ultrafusion("eval " + reference + " " + estimate + " --json " + dir.File("a.json"));
   ASSERT_EQ(aligned.code, 0) << aligned.output;
-  const double rmse = nlohmann::json::parse(testing::ReadText(dir.File("a.json")))["ape"]["rmse"].get<double>();
+  const double rmse =
+      nlohmann::json::parse(testing::ReadText(dir.File("a.json")))["ape"]["rmse"].get<double>();
   EXPECT_LE(rmse, 0.001 * std::sqrt((200.0 * 200.0 - 1) / 12) + 1e-12);
   EXPECT_GT(rmse, 0.04);  // a curved path: rotation cannot absorb a drift along world x
 }
@@ -89,7 +92,8 @@ TEST(Cli, DataErrorsNameTheFileAndExitOne) {
   const std::string bad = dir.Write("bad.tum", "1 0 0 0 0 0 0 1\n2 0 0 oops 0 0 0 1\n");
   CommandResult run = Ultrafusion("eval " + good + " " + bad);
   EXPECT_EQ(run.code, 1);
-  EXPECT_NE(run.output.find(bad + ":2: z (column 4) is not a number: 'oops'"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find(bad + ":2: z (column 4) is not a number: 'oops'"), std::string::npos)
+      << run.output;
 
   run = Ultrafusion("eval " + good + " " + dir.File("missing.tum"));
   EXPECT_EQ(run.code, 1);
@@ -102,7 +106,8 @@ TEST(Cli, DataErrorsNameTheFileAndExitOne) {
   EXPECT_NE(run.output.find("too few matched pairs: 0 of 3"), std::string::npos) << run.output;
 
   // All matched positions on one line: the alignment's rotation is undetermined.
-  const std::string line_ref = dir.Write("l1.tum", "1 0 0 0 0 0 0 1\n2 1 1 1 0 0 0 1\n3 2 2 2 0 0 0 1\n4 3 3 3 0 0 0 1\n");
+  const std::string line_ref =
+      dir.Write("l1.tum", "1 0 0 0 0 0 0 1\n2 1 1 1 0 0 0 1\n3 2 2 2 0 0 0 1\n4 3 3 3 0 0 0 1\n");
   run = Ultrafusion("eval " + line_ref + " " + line_ref);
   EXPECT_EQ(run.code, 1);
   EXPECT_NE(run.output.find("degenerate alignment"), std::string::npos) << run.output;
@@ -121,9 +126,10 @@ TEST(Cli, DataErrorsNameTheFileAndExitOne) {
 TEST(Cli, KittiWithTimesAndDrift) {
   const std::string data = testing::SharedData();
   if (data.empty()) GTEST_SKIP() << "../shared/data is absent: this test needs KITTI_00_gt.txt";
-  const std::string gt = data + "/trajectories/KITTI_00_gt.txt", times = data + "/trajectories/KITTI_00_gt_times.txt";
-  const CommandResult run = Ultrafusion("eval " + gt + " " + gt + " --ref-times " + times + " --est-times " + times +
-                              " --kitti-drift");
+  const std::string gt = data + "/trajectories/KITTI_00_gt.txt",
+                    times = data + "/trajectories/KITTI_00_gt_times.txt";
+  const CommandResult run = Ultrafusion("eval " + gt + " " + gt + " --ref-times " + times + " --est-times " +
+                                        times + " --kitti-drift");
   ASSERT_EQ(run.code, 0) << run.output;
   EXPECT_NE(run.output.find("matched:   4541 pairs"), std::string::npos) << run.output;
   EXPECT_NE(run.output.find("KITTI drift: 0.0000 % translation"), std::string::npos) << run.output;

@@ -58,7 +58,9 @@ Expected<EvalOptions> ToOptions(const EvalArguments& a) {
     return Status::Error("--t-offset must be a finite time in seconds, got " + std::to_string(a.t_offset));
   options.max_dt = FromSeconds(a.max_dt);
   options.estimate_offset = FromSeconds(a.t_offset);
-  options.align = a.align == "none" ? AlignMode::kNone : a.align == "sim3" ? AlignMode::kSim3 : AlignMode::kSe3;
+  options.align = a.align == "none"   ? AlignMode::kNone
+                  : a.align == "sim3" ? AlignMode::kSim3
+                                      : AlignMode::kSe3;
   options.rpe_unit = a.rpe_unit == "m" ? RpeUnit::kMetres : RpeUnit::kFrames;
   options.rpe_delta = a.rpe_delta;
   const bool whole = a.rpe_delta == std::floor(a.rpe_delta);
@@ -75,8 +77,8 @@ int RunEval(const EvalArguments& arguments) {
     std::cerr << "ultrafusion eval: " << options.error() << "\n";
     return kExitUsage;
   }
-  auto reference = LoadTrajectory(arguments.reference_path, arguments.reference_format, arguments.reference_times,
-                                  arguments.allow_duplicate_stamps);
+  auto reference = LoadTrajectory(arguments.reference_path, arguments.reference_format,
+                                  arguments.reference_times, arguments.allow_duplicate_stamps);
   if (!reference) return ReportError(reference.status());
   auto estimate = LoadTrajectory(arguments.estimate_path, arguments.estimate_format, arguments.estimate_times,
                                  arguments.allow_duplicate_stamps);
@@ -85,8 +87,9 @@ int RunEval(const EvalArguments& arguments) {
   auto result = Evaluate(*reference, *estimate, *options);
   if (!result) return ReportError(result.status());
 
-  const EvalContext context{arguments.reference_path, arguments.estimate_path, reference->size(), estimate->size(),
-                            *options, arguments.align, arguments.rpe_unit};
+  const EvalContext context{
+      arguments.reference_path, arguments.estimate_path, reference->size(), estimate->size(), *options,
+      arguments.align,          arguments.rpe_unit};
   PrintEvalTable(std::cout, context, *result);
   if (!arguments.json_path.empty())
     if (Status s = WriteEvalJson(arguments.json_path, context, *result); !s.ok()) return ReportError(s);
@@ -99,16 +102,25 @@ int RunEval(const EvalArguments& arguments) {
 
 Subcommand AddEvalCommand(CLI::App& app) {
   auto arguments = std::make_shared<EvalArguments>();
-  CLI::App* eval = app.add_subcommand("eval", "Trajectory accuracy against a reference (evo-compatible APE/RPE)");
-  eval->add_option("REFERENCE", arguments->reference_path, "Reference (ground-truth) trajectory file")->required();
+  CLI::App* eval =
+      app.add_subcommand("eval", "Trajectory accuracy against a reference (evo-compatible APE/RPE)");
+  eval->add_option("REFERENCE", arguments->reference_path, "Reference (ground-truth) trajectory file")
+      ->required();
   eval->add_option("ESTIMATE", arguments->estimate_path, "Estimated trajectory file")->required();
   const auto formats = CLI::IsMember({"auto", "tum", "kitti", "euroc"});
-  eval->add_option("--ref-format", arguments->reference_format, "Format of REFERENCE")->check(formats)->capture_default_str();
-  eval->add_option("--est-format", arguments->estimate_format, "Format of ESTIMATE")->check(formats)->capture_default_str();
-  eval->add_option("--ref-times", arguments->reference_times, "Times file (s per line) for a KITTI REFERENCE");
+  eval->add_option("--ref-format", arguments->reference_format, "Format of REFERENCE")
+      ->check(formats)
+      ->capture_default_str();
+  eval->add_option("--est-format", arguments->estimate_format, "Format of ESTIMATE")
+      ->check(formats)
+      ->capture_default_str();
+  eval->add_option("--ref-times", arguments->reference_times,
+                   "Times file (s per line) for a KITTI REFERENCE");
   eval->add_option("--est-times", arguments->estimate_times, "Times file (s per line) for a KITTI ESTIMATE");
-  eval->add_option("--max-dt", arguments->max_dt, "Largest |dt| [s] for associating stamps")->capture_default_str();
-  eval->add_option("--t-offset", arguments->t_offset, "Offset [s] added to the estimate's stamps")->capture_default_str();
+  eval->add_option("--max-dt", arguments->max_dt, "Largest |dt| [s] for associating stamps")
+      ->capture_default_str();
+  eval->add_option("--t-offset", arguments->t_offset, "Offset [s] added to the estimate's stamps")
+      ->capture_default_str();
   eval->add_option("--align", arguments->align, "Alignment of the estimate onto the reference (Umeyama)")
       ->check(CLI::IsMember({"se3", "sim3", "none"}))
       ->capture_default_str();

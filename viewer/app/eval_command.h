@@ -1,5 +1,5 @@
-// `ultrafusion eval REFERENCE ESTIMATE`: evo-compatible trajectory accuracy (APE, RPE, KITTI drift), printed as
-// a table and optionally written as JSON and PNG plots.
+// `ultrafusion eval REFERENCE ESTIMATE`: evo-compatible trajectory accuracy (APE, RPE, KITTI drift), printed
+// as a table and optionally written as JSON and PNG plots.
 #pragma once
 
 #include <CLI/CLI.hpp>

@@ -14,19 +14,20 @@ namespace {
 
 std::string Row(const char* name, const ErrorStats& s) {
   char line[256];
-  std::snprintf(line, sizeof(line), "%-18s %10.6f %10.6f %10.6f %10.6f %10.6f %10.6f %8zu\n", name, s.rmse, s.mean,
-                s.median, s.std, s.min, s.max, s.n);
+  std::snprintf(line, sizeof(line), "%-18s %10.6f %10.6f %10.6f %10.6f %10.6f %10.6f %8zu\n", name, s.rmse,
+                s.mean, s.median, s.std, s.min, s.max, s.n);
   return line;
 }
 
 nlohmann::json StatsJson(const ErrorStats& s) {
-  return {{"rmse", s.rmse}, {"mean", s.mean}, {"median", s.median}, {"std", s.std},
-          {"min", s.min},   {"max", s.max},   {"n", s.n}};
+  return {{"rmse", s.rmse}, {"mean", s.mean}, {"median", s.median}, {"std", s.std}, {"min", s.min},
+          {"max", s.max},   {"n", s.n}};
 }
 
 std::string RpeLabel(const EvalContext& context) {
   char label[64];
-  std::snprintf(label, sizeof(label), "RPE [m] (%g %s)", context.options.rpe_delta, context.rpe_unit_name.c_str());
+  std::snprintf(label, sizeof(label), "RPE [m] (%g %s)", context.options.rpe_delta,
+                context.rpe_unit_name.c_str());
   return label;
 }
 
@@ -53,8 +54,9 @@ void PrintEvalTable(std::ostream& out, const EvalContext& context, const EvalRes
     if (d.segments == 0)
       out << "KITTI drift: none (the reference path is shorter than 100 m)\n";
     else {
-      std::snprintf(line, sizeof(line), "KITTI drift: %.4f %% translation, %.4f deg/100 m rotation (%zu segments)\n",
-                    d.t_pct, d.r_deg_per_100m, d.segments);
+      std::snprintf(line, sizeof(line),
+                    "KITTI drift: %.4f %% translation, %.4f deg/100 m rotation (%zu segments)\n", d.t_pct,
+                    d.r_deg_per_100m, d.segments);
       out << line;
     }
   }
@@ -85,9 +87,10 @@ Status WriteEvalJson(const std::string& path, const EvalContext& context, const 
   if (result.kitti_drift) {
     const KittiDrift& d = *result.kitti_drift;
     const bool defined = d.segments > 0;
-    json["kitti_drift"] = {{"t_pct", defined ? nlohmann::json(d.t_pct) : nlohmann::json(nullptr)},
-                           {"r_deg_per_100m", defined ? nlohmann::json(d.r_deg_per_100m) : nlohmann::json(nullptr)},
-                           {"segments", d.segments}};
+    json["kitti_drift"] = {
+        {"t_pct", defined ? nlohmann::json(d.t_pct) : nlohmann::json(nullptr)},
+        {"r_deg_per_100m", defined ? nlohmann::json(d.r_deg_per_100m) : nlohmann::json(nullptr)},
+        {"segments", d.segments}};
   }
   AtomicFileWriter file(path);
   if (Status s = file.status(); !s.ok()) return s;
@@ -108,8 +111,8 @@ Status WriteEvalPlots(const std::string& folder, const EvalContext& context, con
                                   title + ": top view", "APE [m]");
       !s.ok())
     return s;
-  if (Status s = WriteErrorPlot(folder + "/ape_over_time.png", result.seconds, result.ape_errors, result.ape, title,
-                                time_label, "APE [m]");
+  if (Status s = WriteErrorPlot(folder + "/ape_over_time.png", result.seconds, result.ape_errors, result.ape,
+                                title, time_label, "APE [m]");
       !s.ok())
     return s;
   if (!result.rpe) return {};

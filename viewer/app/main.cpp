@@ -10,7 +10,6 @@ int main(int argc, char** argv) {
   CLI::App app{"ultrafusion: multi-sensor odometry, mapping and Gaussian splatting"};
   app.set_version_flag("--version", std::string("ultrafusion ") + UF_VERSION);
   app.require_subcommand(1);
-  app.fallthrough(false);
 
   auto eval = uf::app::AddEvalCommand(app);
 

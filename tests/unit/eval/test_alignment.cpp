@@ -46,7 +46,8 @@ TEST(Umeyama, AgreesWithEigenOnNoisyData) {
   Eigen::Matrix3Xd src(3, source.size()), dst(3, source.size());
   std::vector<Eigen::Vector3d> target;
   for (std::size_t i = 0; i < source.size(); ++i) {
-    target.push_back(0.7 * (R * source[i]) + Eigen::Vector3d(1, 2, 3) + Eigen::Vector3d(noise(random), noise(random), noise(random)));
+    target.push_back(0.7 * (R * source[i]) + Eigen::Vector3d(1, 2, 3) +
+                     Eigen::Vector3d(noise(random), noise(random), noise(random)));
     src.col(i) = source[i];
     dst.col(i) = target.back();
   }

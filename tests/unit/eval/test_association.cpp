@@ -1,5 +1,5 @@
-// Association against hand-worked cases of evo's rule: nearest stamp of the longer trajectory for each stamp of
-// the shorter one, first on ties, within max_dt.
+// Association against hand-worked cases of evo's rule: nearest stamp of the longer trajectory for each stamp
+// of the shorter one, first on ties, within max_dt.
 #include <gtest/gtest.h>
 
 #include "odometry/eval/association.h"

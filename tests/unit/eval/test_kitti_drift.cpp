@@ -14,8 +14,8 @@ TEST(KittiDrift, ScaleErrorIsTheTranslationalDrift) {
     estimate.emplace_back(SO3(), Eigen::Vector3d(1.01 * i, 0, 0));
   }
   const KittiDrift drift = ComputeKittiDrift(reference, estimate);
-  // Segment of length L from frame f ends at the first frame with distance > L: L + 1 frames, error 0.01 (L + 1).
-  // Mean over segments of 0.01 (L + 1) / L, in percent.
+  // Segment of length L from frame f ends at the first frame with distance > L: L + 1 frames, error 0.01 (L +
+  // 1). Mean over segments of 0.01 (L + 1) / L, in percent.
   double expected = 0;
   std::size_t segments = 0;
   for (int first = 0; first <= 1000; first += 10)

@@ -1,5 +1,4 @@
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -7,13 +6,13 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <limits>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "odometry/eval/plots.h"
+#include "tests/support/temp_dir.h"
 
 // Under AddressSanitizer (UF_SANITIZE) LeakSanitizer reports fontconfig's process-wide caches, which PLplot's
 // cairo driver fills through Pango; they are not leaks of ours. This is LeakSanitizer's documented hook.
@@ -28,8 +27,7 @@ namespace fs = std::filesystem;
 // text and data is several times that.
 constexpr std::uintmax_t kBlankPageBytes = 6 * 1024;
 
-// A spiral reference and an estimate pushed outwards by a known, growing offset: error[i] = 0.05 + 0.95 i /
-// n.
+// A spiral reference and an estimate pushed outwards by a known, growing offset (error[i] = 0.05 + 0.95 i/n).
 struct SpiralCase {
   std::vector<Eigen::Vector3d> reference, estimate;
   std::vector<double> error, seconds;
@@ -50,11 +48,6 @@ SpiralCase Spiral(int n) {
   return c;
 }
 
-std::string ReadBytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
 std::uint32_t BigEndian32(const std::string& bytes, std::size_t at) {
   std::uint32_t value = 0;
   for (std::size_t i = 0; i < 4; ++i) value = (value << 8) | static_cast<unsigned char>(bytes[at + i]);
@@ -62,8 +55,8 @@ std::uint32_t BigEndian32(const std::string& bytes, std::size_t at) {
 }
 
 // Checks the PNG signature and that the first chunk is IHDR with the given size (big-endian at bytes 16..23).
-void ExpectPng(const fs::path& path, std::uint32_t width, std::uint32_t height) {
-  const std::string bytes = ReadBytes(path);
+void ExpectPng(const std::string& path, std::uint32_t width, std::uint32_t height) {
+  const std::string bytes = testing::ReadText(path);
   ASSERT_GE(bytes.size(), 24u) << path;
   EXPECT_EQ(bytes.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8)) << path;
   EXPECT_EQ(bytes.substr(12, 4), "IHDR") << path;
@@ -73,25 +66,19 @@ void ExpectPng(const fs::path& path, std::uint32_t width, std::uint32_t height) 
 
 class PlotsTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("uf_test_plots_" + std::to_string(::getpid()));
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  std::string Path(const std::string& name) const { return (dir_ / name).string(); }
+  std::string Path(const std::string& name) const { return dir_.File(name); }
 
   // The folder holds exactly these file names (no temporary left over).
   void ExpectFolderHolds(std::vector<std::string> names) const {
     std::vector<std::string> found;
-    for (const auto& entry : fs::directory_iterator(dir_)) found.push_back(entry.path().filename().string());
+    for (const auto& entry : fs::directory_iterator(dir_.path()))
+      found.push_back(entry.path().filename().string());
     std::sort(found.begin(), found.end());
     std::sort(names.begin(), names.end());
     EXPECT_EQ(found, names);
   }
 
-  fs::path dir_;
+  testing::TempDir dir_;
 };
 
 TEST_F(PlotsTest, TopViewIsAPngOfTheRequestedSize) {
@@ -144,15 +131,15 @@ TEST_F(PlotsTest, PlotsAreNotBlankAndShowTheData) {
 TEST_F(PlotsTest, ReplacesAnExistingFileAndPrintsNothing) {
   std::ofstream(Path("top.png")) << "old";
   const SpiralCase c = Spiral(500);
-  testing::internal::CaptureStdout();
-  testing::internal::CaptureStderr();
+  ::testing::internal::CaptureStdout();
+  ::testing::internal::CaptureStderr();
   const Status top = WriteTopViewPlot(Path("top.png"), c.reference, c.estimate, c.error, "t", "e");
   const Status error =
       WriteErrorPlot(Path("error.png"), c.seconds, c.error, ComputeStats(c.error), "t", "x", "y");
   std::fflush(stdout);
   std::fflush(stderr);
-  EXPECT_EQ(testing::internal::GetCapturedStdout(), "");
-  EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
+  EXPECT_EQ(::testing::internal::GetCapturedStdout(), "");
+  EXPECT_EQ(::testing::internal::GetCapturedStderr(), "");
   ASSERT_TRUE(top.ok()) << top.message();
   ASSERT_TRUE(error.ok()) << error.message();
   ExpectPng(Path("top.png"), 1280, 960);
@@ -192,7 +179,7 @@ TEST_F(PlotsTest, BadInputIsAnErrorAndLeavesNoFile) {
   const auto expect_error = [&](const Status& status, const std::string& what) {
     EXPECT_FALSE(status.ok()) << what;
     EXPECT_NE(status.message().find(path), std::string::npos) << what << ": " << status.message();
-    EXPECT_TRUE(fs::is_empty(dir_)) << what;  // neither the PNG nor a temporary
+    EXPECT_TRUE(fs::is_empty(dir_.path())) << what;  // neither the PNG nor a temporary
   };
 
   std::vector<double> nan_error = c.error;
@@ -232,7 +219,7 @@ TEST_F(PlotsTest, FailureKeepsThePreviousFile) {
   std::vector<double> bad = c.error;
   bad[0] = std::numeric_limits<double>::quiet_NaN();
   EXPECT_FALSE(WriteTopViewPlot(Path("top.png"), c.reference, c.estimate, bad, "t", "e").ok());
-  EXPECT_EQ(ReadBytes(Path("top.png")), "previous");
+  EXPECT_EQ(testing::ReadText(Path("top.png")), "previous");
   ExpectFolderHolds({"top.png"});
 }
 

@@ -19,8 +19,8 @@ TEST(RelativePoseError, PairsByFrames) {
 }
 
 TEST(RelativePoseError, PairsByPathRestartTheCountAtEachEmittedIndex) {
-  // Steps 0.5, 0.5, 0.5, 1.25, 0.25, 1.0 (exact in binary). Delta 1: the path reaches 1.0 at index 2, restarts,
-  // reaches 1.75 at 4, restarts, reaches 1.25 at 6: emitted {2, 4, 6}. Delta 0.5: {1, 2, 3, 4, 6}.
+  // Steps 0.5, 0.5, 0.5, 1.25, 0.25, 1.0 (exact in binary). Delta 1: the path reaches 1.0 at index 2,
+  // restarts, reaches 1.75 at 4, restarts, reaches 1.25 at 6: emitted {2, 4, 6}. Delta 0.5: {1, 2, 3, 4, 6}.
   const auto poses = Line({0, 0.5, 1.0, 1.5, 2.75, 3.0, 4.0});
   EXPECT_EQ(PairsByPath(poses, 1.0), (IndexPairs{{2, 4}, {4, 6}}));
   EXPECT_EQ(PairsByPath(poses, 0.5), (IndexPairs{{1, 2}, {2, 3}, {3, 4}, {4, 6}}));

@@ -12,7 +12,7 @@ TEST(Statistics, EvenCountHandComputed) {
   const ErrorStats s = ComputeStats({4, 1, 3, 2});
   EXPECT_EQ(s.n, 4u);
   EXPECT_DOUBLE_EQ(s.mean, 2.5);
-  EXPECT_DOUBLE_EQ(s.median, 2.5);               // mean of the two middle values
+  EXPECT_DOUBLE_EQ(s.median, 2.5);                // mean of the two middle values
   EXPECT_DOUBLE_EQ(s.rmse, std::sqrt(30.0 / 4));  // (16 + 1 + 9 + 4) / 4
   EXPECT_DOUBLE_EQ(s.std, std::sqrt(1.25));       // population: (2.25 + 0.25 + 0.25 + 2.25) / 4
   EXPECT_DOUBLE_EQ(s.min, 1);

@@ -72,7 +72,8 @@ TEST(TrajectoryFile, KittiRoundTripWithTimesFile) {
 
 TEST(TrajectoryFile, ReadsCommentsCommasAndCrLf) {
   TempDir dir;
-  auto read = ReadTumTrajectory(dir.Write("t.tum", "# header\r\n\r\n1.5,1,2,3,0,0,0,1\r\n% other comment\n2.5 4 5 6 0 0 1 0\n"));
+  auto read = ReadTumTrajectory(
+      dir.Write("t.tum", "# header\r\n\r\n1.5,1,2,3,0,0,0,1\r\n% other comment\n2.5 4 5 6 0 0 1 0\n"));
   ASSERT_TRUE(read) << read.error();
   ASSERT_EQ(read->size(), 2u);
   EXPECT_EQ(read->stamps[1], 2'500'000'000);
@@ -113,7 +114,8 @@ INSTANTIATE_TEST_SUITE_P(
 
 TEST(TrajectoryFile, DuplicateStampsCanBeSkippedKeepingTheFirst) {
   TempDir dir;
-  const std::string path = dir.Write("d.tum", "1 0 0 0 0 0 0 1\n2 1 0 0 0 0 0 1\n2 9 9 9 0 0 0 1\n3 2 0 0 0 0 0 1\n");
+  const std::string path =
+      dir.Write("d.tum", "1 0 0 0 0 0 0 1\n2 1 0 0 0 0 0 1\n2 9 9 9 0 0 0 1\n3 2 0 0 0 0 0 1\n");
   EXPECT_FALSE(ReadTumTrajectory(path));
   TrajectoryReadReport report;
   auto read = ReadTumTrajectory(path, {.skip_duplicate_stamps = true}, &report);
@@ -123,7 +125,8 @@ TEST(TrajectoryFile, DuplicateStampsCanBeSkippedKeepingTheFirst) {
   EXPECT_EQ(report.skipped_duplicates, 1u);
   EXPECT_EQ(report.first_skipped_line, 3);
   // Going backwards stays an error.
-  EXPECT_FALSE(ReadTumTrajectory(dir.Write("b.tum", "2 0 0 0 0 0 0 1\n1 0 0 0 0 0 0 1\n"), {.skip_duplicate_stamps = true}));
+  EXPECT_FALSE(ReadTumTrajectory(dir.Write("b.tum", "2 0 0 0 0 0 0 1\n1 0 0 0 0 0 0 1\n"),
+                                 {.skip_duplicate_stamps = true}));
 }
 
 TEST(TrajectoryFile, KittiRejectsNonRotation) {

@@ -1,6 +1,6 @@
 // Bounded mutation fuzzing of the trajectory and times parsers: truncations, byte flips, inserted garbage and
-// spliced lines of valid files must give either a trajectory or an error that names the file, never a crash or
-// a hang. Run under AddressSanitizer/UBSan by scripts/test (build-asan).
+// spliced lines of valid files must give either a trajectory or an error that names the file, never a crash
+// or a hang. Run under AddressSanitizer/UBSan by scripts/test (build-asan).
 #include <gtest/gtest.h>
 
 #include <random>
@@ -12,7 +12,8 @@ namespace uf {
 namespace {
 
 const char* kSeeds[] = {
-    "# timestamp tx ty tz qx qy qz qw\n1305031102.160407 1.344379 0.627206 1.661754 0.658249 0.611043 -0.294444 "
+    "# timestamp tx ty tz qx qy qz qw\n1305031102.160407 1.344379 0.627206 1.661754 0.658249 0.611043 "
+    "-0.294444 "
     "-0.326553\n1305031102.194330 1.343641 0.626458 1.652408 0.657327 0.613265 -0.295150 -0.323593\n",
     "1.000000e+00 9.043680e-12 2.326809e-11 5.551115e-17 9.043683e-12 1.000000e+00 2.392370e-10 3.330669e-16 "
     "2.326810e-11 2.392370e-10 9.999999e-01 -4.440892e-16\n",
@@ -25,11 +26,21 @@ std::string Mutate(std::string text, std::mt19937& random) {
   const int kind = static_cast<int>(random() % 5);
   auto position = [&] { return text.empty() ? 0 : random() % text.size(); };
   switch (kind) {
-    case 0: text.resize(position()); break;                                     // truncation
-    case 1: if (!text.empty()) text[position()] = static_cast<char>(random()); break;  // byte flip
-    case 2: text.insert(position(), std::string(1 + random() % 8, static_cast<char>(random()))); break;
-    case 3: text += text.substr(position()); break;                             // splice
-    default: text.insert(position(), random() % 2 ? "nan" : "1e999"); break;    // special values
+    case 0:
+      text.resize(position());
+      break;  // truncation
+    case 1:
+      if (!text.empty()) text[position()] = static_cast<char>(random());
+      break;  // byte flip
+    case 2:
+      text.insert(position(), std::string(1 + random() % 8, static_cast<char>(random())));
+      break;
+    case 3:
+      text += text.substr(position());
+      break;  // splice
+    default:
+      text.insert(position(), random() % 2 ? "nan" : "1e999");
+      break;  // special values
   }
   return text;
 }
@@ -43,8 +54,8 @@ TEST(TrajectoryFuzz, MutatedFilesGiveAValueOrANamedError) {
     std::string text = kSeeds[iteration % 4];
     for (int m = 1 + static_cast<int>(random() % 4); m > 0; --m) text = Mutate(text, random);
     dir.Write("fuzz.txt", text);
-    for (TrajectoryFormat format :
-         {TrajectoryFormat::kAuto, TrajectoryFormat::kTum, TrajectoryFormat::kKitti, TrajectoryFormat::kEuroc}) {
+    for (TrajectoryFormat format : {TrajectoryFormat::kAuto, TrajectoryFormat::kTum, TrajectoryFormat::kKitti,
+                                    TrajectoryFormat::kEuroc}) {
       auto read = ReadTrajectory(path, format);
       if (read) {
         ++parsed;
