@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <numbers>
 #include <nlohmann/json.hpp>
 
 #include "odometry/eval/plots.h"
@@ -40,7 +41,7 @@ void PrintEvalTable(std::ostream& out, const EvalContext& context, const EvalRes
       << "matched:   " << result.association.size() << " pairs\n";
   char line[256];
   std::snprintf(line, sizeof(line), "alignment: %s, scale %.6f, rotation %.4f deg, translation %.4f m\n",
-                context.align_name.c_str(), a.scale, a.rotation.angle() * 180.0 / 3.14159265358979323846,
+                context.align_name.c_str(), a.scale, a.rotation.angle() * 180.0 / std::numbers::pi,
                 a.translation.norm());
   out << line;
   out << "\n                         rmse       mean     median        std        min        max        n\n";
