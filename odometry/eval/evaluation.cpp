@@ -15,13 +15,6 @@ Expected<Association> Associate(const Trajectory& reference, const Trajectory& e
   return AssociateByStamp(reference.stamps, estimate.stamps, options.max_dt, options.estimate_offset);
 }
 
-std::vector<Eigen::Vector3d> Positions(const std::vector<SE3>& poses) {
-  std::vector<Eigen::Vector3d> positions;
-  positions.reserve(poses.size());
-  for (const SE3& pose : poses) positions.push_back(pose.translation());
-  return positions;
-}
-
 }  // namespace
 
 Expected<EvalResult> Evaluate(const Trajectory& reference, const Trajectory& estimate,

@@ -1,6 +1,5 @@
 #include "odometry/eval/kitti_drift.h"
 
-#include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <numbers>
@@ -35,10 +34,7 @@ KittiDrift ComputeKittiDrift(const std::vector<SE3>& reference, const std::vecto
       const SE3 reference_delta = reference[first].inverse() * reference[last];
       const SE3 estimate_delta = estimate[first].inverse() * estimate[last];
       const SE3 error = estimate_delta.inverse() * reference_delta;
-      // Rotation angle from the trace, clamped as the devkit does.
-      const Eigen::Matrix3d& R = error.rotation();
-      const double cos_angle = std::clamp(0.5 * (R.trace() - 1.0), -1.0, 1.0);
-      sum_r += std::acos(cos_angle) / length;
+      sum_r += error.so3().angle() / length;  // acos of the clamped trace, as the devkit
       sum_t += error.translation().norm() / length;
       ++drift.segments;
     }

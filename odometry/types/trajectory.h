@@ -19,4 +19,12 @@ struct Trajectory {
   bool has_stamps() const { return !stamps.empty(); }
 };
 
+// The translation of each pose.
+inline std::vector<Eigen::Vector3d> Positions(const std::vector<SE3>& poses) {
+  std::vector<Eigen::Vector3d> positions;
+  positions.reserve(poses.size());
+  for (const SE3& pose : poses) positions.push_back(pose.translation());
+  return positions;
+}
+
 }  // namespace uf

@@ -3,8 +3,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
-#include <numbers>
 #include <nlohmann/json.hpp>
+#include <numbers>
 
 #include "odometry/eval/plots.h"
 #include "odometry/io/atomic_file.h"
@@ -103,9 +103,8 @@ Status WriteEvalPlots(const std::string& folder, const EvalContext& context, con
   std::error_code error;
   std::filesystem::create_directories(folder, error);
   if (error) return Status::Error(folder + ": cannot create the plot folder: " + error.message());
-  std::vector<Eigen::Vector3d> reference, estimate;
-  for (const SE3& pose : result.reference) reference.push_back(pose.translation());
-  for (const SE3& pose : result.estimate) estimate.push_back(pose.translation());
+  const std::vector<Eigen::Vector3d> reference = Positions(result.reference);
+  const std::vector<Eigen::Vector3d> estimate = Positions(result.estimate);
   const std::string title = "APE (" + context.align_name + " aligned)";
   const std::string time_label = result.stamped ? "t [s]" : "pose index";
   if (Status s = WriteTopViewPlot(folder + "/ape_top_view.png", reference, estimate, result.ape_errors,
