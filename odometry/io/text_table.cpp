@@ -3,12 +3,9 @@
 #include <charconv>
 #include <cmath>
 #include <fstream>
-#include <sstream>
 
 namespace uf {
-namespace {
-
-std::string Quoted(std::string_view text) {
+std::string QuotedForError(std::string_view text) {
   constexpr std::size_t kMax = 40;
   std::string shown(text.substr(0, kMax));
   for (char& c : shown)
@@ -16,26 +13,22 @@ std::string Quoted(std::string_view text) {
   return "'" + shown + (text.size() > kMax ? "...'" : "'");
 }
 
-}  // namespace
-
 Expected<TextTableReader> TextTableReader::Open(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return Status::Error(path + ": cannot open file");
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  if (in.bad()) return Status::Error(path + ": read error");
   TextTableReader reader;
   reader.path_ = path;
-  reader.text_ = std::move(buffer).str();
+  reader.in_ = std::make_unique<std::ifstream>(path, std::ios::binary);
+  if (!*reader.in_) return Status::Error(path + ": cannot open file");
   return reader;
 }
 
+Status TextTableReader::read_status() const {
+  if (in_->bad()) return Status::Error(path_ + ": read error after line " + std::to_string(line_number_));
+  return {};
+}
+
 bool TextTableReader::Next() {
-  while (offset_ < text_.size()) {
-    std::size_t end = text_.find('\n', offset_);
-    if (end == std::string::npos) end = text_.size();
-    std::string_view line(text_.data() + offset_, end - offset_);
-    offset_ = end + 1;
+  while (std::getline(*in_, line_)) {
+    std::string_view line(line_);
     ++line_number_;
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
     fields_.clear();
@@ -75,17 +68,17 @@ Expected<double> TextTableReader::Number(std::size_t column, const char* name) c
   auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
   const std::string where = std::string(name) + " (column " + std::to_string(column + 1) + ")";
   if (error == std::errc::result_out_of_range)
-    return Error(where + " is out of the range of a double: " + Quoted(fields_[column]));
+    return Error(where + " is out of the range of a double: " + QuotedForError(fields_[column]));
   if (error != std::errc() || end != text.data() + text.size())
-    return Error(where + " is not a number: " + Quoted(fields_[column]));
-  if (!std::isfinite(value)) return Error(where + " is not finite: " + Quoted(fields_[column]));
+    return Error(where + " is not a number: " + QuotedForError(fields_[column]));
+  if (!std::isfinite(value)) return Error(where + " is not finite: " + QuotedForError(fields_[column]));
   return value;
 }
 
 Expected<Stamp> TextTableReader::Seconds(std::size_t column, const char* name) const {
   if (auto stamp = ParseSeconds(fields_[column])) return *stamp;
   return Error(std::string(name) + " (column " + std::to_string(column + 1) +
-               ") is not a time in seconds: " + Quoted(fields_[column]));
+               ") is not a time in seconds: " + QuotedForError(fields_[column]));
 }
 
 Expected<Stamp> TextTableReader::Nanoseconds(std::size_t column, const char* name) const {
@@ -94,7 +87,7 @@ Expected<Stamp> TextTableReader::Nanoseconds(std::size_t column, const char* nam
   auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
   if (error != std::errc() || end != text.data() + text.size())
     return Error(std::string(name) + " (column " + std::to_string(column + 1) +
-                 ") is not an integer time in nanoseconds: " + Quoted(text));
+                 ") is not an integer time in nanoseconds: " + QuotedForError(text));
   return value;
 }
 

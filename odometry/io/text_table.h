@@ -1,8 +1,11 @@
-// Line-by-line reader for the numeric text tables that trajectory and times files are: fields separated by
-// whitespace or commas, blank lines and lines starting with '#' or '%' skipped. Every error it makes names
-// the file and the line.
+// Line-by-line reader for the numeric text tables that trajectory, times and sensor CSV files are: fields
+// separated by whitespace or commas, blank lines and lines starting with '#' or '%' skipped. Only the current
+// line is held in memory (sensor CSVs of long recordings run to hundreds of megabytes). Every error it makes
+// names the file and the line.
 #pragma once
 
+#include <fstream>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -16,8 +19,10 @@ class TextTableReader {
  public:
   static Expected<TextTableReader> Open(const std::string& path);
 
-  // Advances to the next data row; false at the end of the file.
+  // Advances to the next data row; false at the end of the file (or on a read error: see read_status()).
   bool Next();
+  // An error when reading the file failed (an I/O error, not a format error); ok otherwise.
+  Status read_status() const;
 
   const std::string& path() const { return path_; }
   int line_number() const { return line_number_; }
@@ -37,8 +42,8 @@ class TextTableReader {
 
  private:
   std::string path_;
-  std::string text_;
-  std::size_t offset_ = 0;
+  std::unique_ptr<std::ifstream> in_;  // behind a pointer so the reader moves cheaply
+  std::string line_;
   int line_number_ = 0;
   bool comma_separated_ = false;
   std::vector<std::string_view> fields_;
@@ -62,5 +67,8 @@ class StampOrderCheck {
   Stamp previous_ = 0;
   int previous_line_ = 0;
 };
+
+// Renders text for an error message: at most 40 characters, control bytes as '?', in quotes.
+std::string QuotedForError(std::string_view text);
 
 }  // namespace uf

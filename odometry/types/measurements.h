@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "odometry/types/stamp.h"
@@ -30,7 +31,8 @@ struct LidarScan {
   Stamp end = 0;    // scan end (>= stamp); the last point time, or stamp + sweep period when unknown
   std::vector<LidarPoint> points;
   bool has_point_times = false;  // false: offset_ns is meaningless and the scan cannot be deskewed per point
-  bool has_ring = false;         // false: ring is meaningless
+  bool point_times_from_azimuth = false;  // offset_ns was derived from each point's azimuth, not measured
+  bool has_ring = false;                  // false: ring is meaningless
 };
 
 // An 8-bit image, rows top to bottom, pixels left to right, channels interleaved (gray, or R G B).
@@ -43,10 +45,21 @@ struct Image {
   bool empty() const { return pixels.empty(); }
 };
 
+// An image still in its file encoding (PNG, JPEG, ...) or a raw ROS encoding; decoded only when needed.
+struct EncodedImage {
+  std::string format;         // "png", "jpeg", or a raw sensor_msgs/Image encoding ("mono8", "bgr8", ...)
+  int width = 0, height = 0;  // raw encodings only (compressed formats carry their own size)
+  int row_step = 0;           // raw encodings only: bytes per row
+  std::vector<std::uint8_t> bytes;  // the encoded data
+
+  bool empty() const { return bytes.empty(); }
+};
+
 struct CameraFrame {
-  Stamp stamp = 0;  // mid-exposure time
-  int camera = 0;   // index of the camera in the rig (the configuration's camera list)
-  Image image;
+  Stamp stamp = 0;       // mid-exposure time
+  int camera = 0;        // index of the camera in the rig (the configuration's camera list)
+  Image image;           // decoded pixels; empty until decoded (see uf::DecodeCameraFrame in odometry/io)
+  EncodedImage encoded;  // the bytes as read; readers fill this and leave `image` empty (lazy decoding)
 };
 
 // Wheel (or vehicle) odometry, expressed in the wheel odometry frame (the vehicle base frame; its pose

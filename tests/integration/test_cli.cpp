@@ -1,32 +1,20 @@
 // The ultrafusion executable as a user meets it: exit codes (0 ok, 1 data error, 2 usage error), messages
 // that name file and line, and the JSON and PNG outputs of `eval`.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <array>
 #include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
+#include "tests/support/cli_runner.h"
 #include "tests/support/temp_dir.h"
 
 namespace uf {
 namespace {
 
-struct CommandResult {
-  int code;
-  std::string output;  // stdout and stderr together
-};
-
-CommandResult Ultrafusion(const std::string& arguments) {
-  const std::string command = std::string(UF_EXECUTABLE) + " " + arguments + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  std::string output;
-  std::array<char, 4096> buffer;
-  while (std::size_t n = std::fread(buffer.data(), 1, buffer.size(), pipe)) output.append(buffer.data(), n);
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
-}
+using test::CommandResult;
+using test::Ultrafusion;
 
 // A 20 s figure-eight at 10 Hz and an estimate with a known offset and noise-free drift along x.
 std::string Figure8(const testing::TempDir& dir, const std::string& name, double drift_per_s) {

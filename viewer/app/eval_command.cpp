@@ -8,6 +8,7 @@
 #include "odometry/io/trajectory_file.h"
 #include "viewer/app/eval_report.h"
 #include "viewer/app/exit_codes.h"
+#include "viewer/app/subcommand.h"
 
 namespace uf::app {
 namespace {

@@ -2,15 +2,9 @@
 // as a table and optionally written as JSON and PNG plots.
 #pragma once
 
-#include <CLI/CLI.hpp>
-#include <functional>
+#include "viewer/app/subcommand.h"
 
 namespace uf::app {
-
-struct Subcommand {
-  CLI::App* command;
-  std::function<int()> run;  // returns the process exit code
-};
 
 Subcommand AddEvalCommand(CLI::App& app);
 

@@ -122,9 +122,4 @@ Status WriteEvalPlots(const std::string& folder, const EvalContext& context, con
                         RpeLabel(context), time_label, "RPE [m]");
 }
 
-int ReportError(const Status& status) {
-  std::cerr << "ultrafusion: error: " << status.message() << "\n";
-  return kExitError;
-}
-
 }  // namespace uf::app

@@ -20,7 +20,4 @@ Status WriteEvalJson(const std::string& path, const EvalContext& context, const 
 // ape_top_view.png, ape_over_time.png and, when there are RPE pairs, rpe_over_time.png.
 Status WriteEvalPlots(const std::string& folder, const EvalContext& context, const EvalResult& result);
 
-// Prints "ultrafusion: error: ..." to stderr and returns the data-error exit code.
-int ReportError(const Status& status);
-
 }  // namespace uf::app

@@ -5,6 +5,7 @@
 
 #include "viewer/app/eval_command.h"
 #include "viewer/app/exit_codes.h"
+#include "viewer/app/info_command.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"ultrafusion: multi-sensor odometry, mapping and Gaussian splatting"};
@@ -12,6 +13,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
 
   auto eval = uf::app::AddEvalCommand(app);
+  auto info = uf::app::AddInfoCommand(app);
 
   try {
     app.parse(argc, argv);
@@ -20,5 +22,6 @@ int main(int argc, char** argv) {
     return code == 0 ? uf::app::kExitOk : uf::app::kExitUsage;
   }
   if (app.got_subcommand(eval.command)) return eval.run();
+  if (app.got_subcommand(info.command)) return info.run();
   return uf::app::kExitUsage;
 }

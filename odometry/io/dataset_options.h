@@ -1,0 +1,42 @@
+// How to open a dataset: the format (normally detected from the path) and per-sensor overrides. Filled
+// from the `dataset:` section of the configuration by viewer/app; the defaults suit every documented layout.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "odometry/io/measurement.h"
+
+namespace uf {
+
+enum class DatasetFormat { kAuto, kRosBag, kKittiFolder, kEuroc, kUltrafusion };
+
+std::string_view DatasetFormatName(
+    DatasetFormat format);  // "auto", "rosbag", "kitti", "euroc", "ultrafusion"
+
+// Unit of sensor_msgs/Imu linear_acceleration. kAuto: the reader looks at the first second of samples and
+// takes g when the median norm is near 1 (0.5..1.5), m/s^2 when it is near 9.81 (5..15), else reports an
+// error.
+enum class ImuAccelUnit { kAuto, kMetersPerSecond2, kStandardGravity };
+
+// A ROS topic to read as a given kind of sensor, whatever its message type allows.
+struct TopicSelection {
+  std::string topic;
+  SensorKind kind = SensorKind::kImu;
+};
+
+struct DatasetOptions {
+  DatasetFormat format = DatasetFormat::kAuto;
+  // ROS bags: when non-empty, read exactly these topics (and no others); otherwise every topic whose
+  // message type the reader understands is read, its kind found from the type.
+  std::vector<TopicSelection> topics;
+  ImuAccelUnit imu_accel_unit = ImuAccelUnit::kAuto;
+  // Spinning LiDARs without per-point time: derive offsets from azimuth (flagged in the scan) when true,
+  // else deliver the scan without point times.
+  bool derive_point_times_from_azimuth = true;
+  // Sweep period for spinning LiDARs whose scans do not say when they end (KITTI .bin/.pcd folders): used
+  // for LidarScan::end and for azimuth-derived point times. Seconds.
+  double lidar_sweep_period_s = 0.1;
+};
+
+}  // namespace uf

@@ -1,0 +1,188 @@
+// The project's own dataset format (described in ultrafusion_dataset_writer.h): dataset.yaml names the
+// streams; the per-stream files are merged by stamp.
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <set>
+
+#include "odometry/io/folders/csv_sources.h"
+#include "odometry/io/folders/folder_common.h"
+#include "odometry/io/folders/folder_readers.h"
+#include "odometry/io/folders/lidar_record_file.h"
+#include "odometry/io/folders/ultrafusion_format.h"
+
+namespace uf {
+namespace {
+
+namespace fs = std::filesystem;
+
+// lidar.bin, one record per Advance().
+class LidarRecordSource : public StreamSource {
+ public:
+  LidarRecordSource(LidarRecordReader reader, std::string stream)
+      : reader_(std::move(reader)), stream_(std::move(stream)) {}
+
+  Expected<bool> Advance() override {
+    const std::uint64_t offset = reader_.offset();
+    auto scan = reader_.Next();
+    if (!scan) return scan.status();
+    if (!*scan) return false;
+    if (std::string order = order_.Check((*scan)->stamp); !order.empty())
+      return Status::Error(stream_ + ": byte offset " + std::to_string(offset) + ": " + order);
+    scan_ = std::move(**scan);
+    return true;
+  }
+  Stamp stamp() const override { return scan_.stamp; }
+
+  Expected<std::optional<MeasurementData>> Load(StreamInfo& info, WarningLog& warnings) override {
+    const std::size_t before = scan_.points.size();
+    std::erase_if(scan_.points, [](const LidarPoint& p) {
+      return !std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z) || !std::isfinite(p.intensity);
+    });
+    if (scan_.points.size() != before)
+      warnings.Add(info.name, "points with NaN/Inf values dropped",
+                   static_cast<std::int64_t>(before - scan_.points.size()));
+    if (first_) {
+      info.point_time = scan_.point_times_from_azimuth ? PointTimeConvention::kAzimuth
+                        : scan_.has_point_times        ? PointTimeConvention::kRelativeNanoseconds
+                                                       : PointTimeConvention::kNone;
+      info.point_time_field = scan_.has_point_times ? "offset_ns" : "";
+      first_ = false;
+    }
+    return std::optional<MeasurementData>(std::move(scan_));
+  }
+
+ private:
+  LidarRecordReader reader_;
+  std::string stream_;  // the file, for errors
+  IncreasingStamps order_;
+  LidarScan scan_;
+  bool first_ = true;
+};
+
+Status CheckKeys(const YAML::Node& map, const std::set<std::string>& known, const std::string& where) {
+  for (const auto& entry : map) {
+    const std::string key = entry.first.as<std::string>();
+    if (!known.contains(key)) return Status::Error(where + ": unknown key '" + key + "'");
+  }
+  return {};
+}
+
+Expected<std::unique_ptr<StreamSource>> OpenSource(const fs::path& folder, const StreamInfo& info,
+                                                   const fs::path& file) {
+  const fs::path path = folder / file;
+  switch (info.kind) {
+    case SensorKind::kImu:
+      return OpenImuCsv(path);
+    case SensorKind::kWheel:
+      return OpenWheelCsv(path);
+    case SensorKind::kGnss:
+      return OpenGnssCsv(path);
+    case SensorKind::kCamera:
+      return OpenCameraCsv(path, path.parent_path(), info.camera, info.name);
+    case SensorKind::kLidar: {
+      auto reader = LidarRecordReader::Open(path);
+      if (!reader) return reader.status();
+      return std::unique_ptr<StreamSource>(
+          std::make_unique<LidarRecordSource>(std::move(*reader), path.string()));
+    }
+  }
+  return Status::Error(path.string() + ": unknown stream kind");
+}
+
+// One entry of `streams:`.
+Expected<StreamInfo> ParseStream(const YAML::Node& node, const std::string& where, fs::path& file) {
+  if (!node.IsMap()) return Status::Error(where + ": not a mapping");
+  if (Status s = CheckKeys(node, {"name", "kind", "file", "camera", "rate_hz", "T_body_sensor"}, where);
+      !s.ok())
+    return s;
+  for (const char* key : {"name", "kind", "file"})
+    if (!node[key]) return Status::Error(where + ": missing key '" + key + "'");
+  StreamInfo info;
+  info.name = node["name"].as<std::string>();
+  const std::string kind = node["kind"].as<std::string>();
+  const std::optional<SensorKind> parsed = ultrafusion_format::ParseKind(kind);
+  if (!parsed) return Status::Error(where + ": kind '" + kind + "' is not imu, lidar, camera, wheel or gnss");
+  info.kind = *parsed;
+  info.message_type = "ultrafusion " + kind;
+  file = fs::path(node["file"].as<std::string>());
+  if (!IsInsideFolder(file))
+    return Status::Error(where + ": file '" + file.string() + "' is not inside the folder");
+  if (info.kind == SensorKind::kCamera) {
+    if (!node["camera"]) return Status::Error(where + ": camera stream without 'camera' index");
+    info.camera = node["camera"].as<int>();
+    if (info.camera < 0)
+      return Status::Error(where + ": camera index " + std::to_string(info.camera) + " < 0");
+  } else if (node["camera"]) {
+    return Status::Error(where + ": 'camera' given for a " + kind + " stream");
+  }
+  if (info.kind == SensorKind::kImu) info.imu_accel_unit = "m/s^2";
+  if (node["rate_hz"]) {
+    info.nominal_rate_hz = node["rate_hz"].as<double>();
+    if (!(info.nominal_rate_hz > 0 && std::isfinite(info.nominal_rate_hz)))
+      return Status::Error(where + ": rate_hz must be positive");
+  }
+  if (node["T_body_sensor"]) {
+    auto transform =
+        TransformFromRowMajor(node["T_body_sensor"].as<std::vector<double>>(), where + ": T_body_sensor");
+    if (!transform) return transform.status();
+    info.T_body_sensor = *transform;
+  }
+  return info;
+}
+
+}  // namespace
+
+Expected<std::unique_ptr<DatasetReader>> OpenUltrafusionFolder(const fs::path& path, const DatasetOptions&) {
+  const fs::path yaml_path = path / ultrafusion_format::kDescriptionFile;
+  const std::string where = yaml_path.string();
+  std::error_code error;
+  if (!fs::is_regular_file(yaml_path, error))
+    return Status::Error(where + ": missing; not an ultrafusion dataset folder");
+  DatasetDescription description;
+  description.path = path;
+  description.format = DatasetFormat::kUltrafusion;
+  std::vector<std::unique_ptr<StreamSource>> sources;
+  try {
+    const YAML::Node root = YAML::LoadFile(yaml_path.string());
+    if (!root.IsMap()) return Status::Error(where + ": not a YAML mapping");
+    if (Status s = CheckKeys(root, {"format", "version", "streams", "ground_truth"}, where); !s.ok())
+      return s;
+    if (!root["format"] || root["format"].as<std::string>() != ultrafusion_format::kFormat)
+      return Status::Error(where + ": format must be '" + std::string(ultrafusion_format::kFormat) + "'");
+    if (!root["version"] || root["version"].as<int>() != ultrafusion_format::kVersion)
+      return Status::Error(where + ": version must be " + std::to_string(ultrafusion_format::kVersion) +
+                           " (this reader knows no other)");
+    const YAML::Node streams = root["streams"];
+    if (!streams || !streams.IsSequence() || streams.size() == 0)
+      return Status::Error(where + ": streams must be a non-empty list");
+    std::set<std::string> names;
+    for (std::size_t i = 0; i < streams.size(); ++i) {
+      const std::string stream_where = where + ": streams[" + std::to_string(i) + "]";
+      fs::path file;
+      auto info = ParseStream(streams[i], stream_where, file);
+      if (!info) return info.status();
+      if (!names.insert(info->name).second)
+        return Status::Error(stream_where + ": stream name '" + info->name + "' used twice");
+      if (!fs::is_regular_file(path / file, error))
+        return Status::Error((path / file).string() + ": missing (named by " + stream_where + ")");
+      auto source = OpenSource(path, *info, file);
+      if (!source) return source.status();
+      description.streams.push_back(std::move(*info));
+      sources.push_back(std::move(*source));
+    }
+    if (const YAML::Node ground_truth = root["ground_truth"]) {
+      const fs::path file(ground_truth.as<std::string>());
+      if (!IsInsideFolder(file) || !fs::is_regular_file(path / file, error))
+        return Status::Error(where + ": ground_truth '" + file.string() + "' is not a file in the folder");
+      description.ground_truth = path / file;
+    }
+  } catch (const YAML::Exception& e) {
+    return Status::Error(where + ": " + e.what());
+  }
+  auto reader = MergedStreamsReader::Create(std::move(description), std::move(sources));
+  if (!reader) return reader.status();
+  return std::unique_ptr<DatasetReader>(std::move(*reader));
+}
+
+}  // namespace uf

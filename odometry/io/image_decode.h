@@ -1,0 +1,17 @@
+// Decoding of camera images, done lazily: readers keep the bytes as read (CameraFrame::encoded) and the
+// consumer decodes the frames it actually uses. Output is 8-bit gray or RGB (see uf::Image).
+#pragma once
+
+#include "odometry/types/measurements.h"
+#include "odometry/types/status.h"
+
+namespace uf {
+
+// PNG/JPEG (any format OpenCV reads; 16-bit scaled to 8-bit, alpha dropped) or a raw ROS encoding:
+// mono8, 8UC1, mono16, 16UC1, rgb8, bgr8, 8UC3 (taken as bgr, OpenCV's order), rgba8, bgra8.
+Expected<Image> DecodeImage(const EncodedImage& encoded);
+
+// Decodes frame.encoded into frame.image (no-op when the image is already decoded) and frees the bytes.
+Status DecodeCameraFrame(CameraFrame& frame);
+
+}  // namespace uf

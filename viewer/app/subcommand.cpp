@@ -1,0 +1,14 @@
+#include "viewer/app/subcommand.h"
+
+#include <iostream>
+
+#include "viewer/app/exit_codes.h"
+
+namespace uf::app {
+
+int ReportError(const Status& status) {
+  std::cerr << "ultrafusion: error: " << status.message() << "\n";
+  return kExitError;
+}
+
+}  // namespace uf::app
