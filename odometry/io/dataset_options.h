@@ -19,6 +19,8 @@ std::string_view DatasetFormatName(
 // error.
 enum class ImuAccelUnit { kAuto, kMetersPerSecond2, kStandardGravity };
 
+enum class ScanStampPosition { kSweepMiddle, kSweepStart };
+
 // A ROS topic to read as a given kind of sensor, whatever its message type allows.
 struct TopicSelection {
   std::string topic;
@@ -37,6 +39,10 @@ struct DatasetOptions {
   // Sweep period for spinning LiDARs whose scans do not say when they end (KITTI .bin/.pcd folders): used
   // for LidarScan::end and for azimuth-derived point times. Seconds.
   double lidar_sweep_period_s = 0.1;
+  // KITTI-style folders: where in the sweep the times.txt stamp of a scan lies. KITTI stamps the instant
+  // the head faced forward (the camera trigger), half-way through the sweep, so the scan starts half a
+  // sweep earlier; folders converted from other sources may stamp the sweep start.
+  ScanStampPosition folder_scan_stamp = ScanStampPosition::kSweepMiddle;
 };
 
 }  // namespace uf

@@ -12,6 +12,7 @@
 
 #include "odometry/io/dataset_options.h"
 #include "odometry/io/measurement.h"
+#include "odometry/types/camera_model.h"
 #include "odometry/types/se3.h"
 #include "odometry/types/status.h"
 
@@ -41,9 +42,10 @@ struct StreamInfo {
   PointTimeConvention point_time = PointTimeConvention::kNone;
   // IMU: the acceleration unit the data was found in ("m/s^2" or "g"); samples are always delivered in m/s^2.
   std::string imu_accel_unit;
-  // Calibration that came with the data (EuRoC sensor.yaml, the project's calibration.yaml), if any.
+  // Calibration that came with the data (EuRoC sensor.yaml, the project's dataset.yaml), if any.
   std::optional<SE3> T_body_sensor;
-  double nominal_rate_hz = 0;  // from the calibration file, 0 when unknown
+  std::shared_ptr<const CameraModel> camera_model;  // camera streams: intrinsics and distortion
+  double nominal_rate_hz = 0;                       // from the calibration file, 0 when unknown
 };
 
 // Damage the reader recovered from by skipping data: shown as a warning with the number of messages lost.

@@ -97,6 +97,14 @@ Status ParseDatasetSection(const Section& section, const YAML::Node& node, Datas
       if (!period) return period.status();
       if (*period <= 0) return section.Error(value, key, "must be positive, got '" + Scalar(value) + "'");
       config.reader.lidar_sweep_period_s = ToSeconds(*period);
+    } else if (key == "folder_scan_stamp") {
+      const std::string position = Scalar(value);
+      if (position == "sweep_middle")
+        config.reader.folder_scan_stamp = ScanStampPosition::kSweepMiddle;
+      else if (position == "sweep_start")
+        config.reader.folder_scan_stamp = ScanStampPosition::kSweepStart;
+      else
+        return section.Error(value, key, "expected sweep_middle or sweep_start, got '" + position + "'");
     } else if (key == "time_offsets_s") {
       if (!value.IsMap())
         return section.Error(value, key, "expected a map of stream name or kind to seconds");
@@ -115,7 +123,7 @@ Status ParseDatasetSection(const Section& section, const YAML::Node& node, Datas
       return section.Error(
           kv.first, key,
           "unknown key (expected format, topics, imu_accel_unit, derive_point_times_from_azimuth, "
-          "lidar_sweep_period_s, time_offsets_s, reorder_window_s)");
+          "lidar_sweep_period_s, folder_scan_stamp, time_offsets_s, reorder_window_s)");
     }
   }
   return {};

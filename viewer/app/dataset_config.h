@@ -8,6 +8,7 @@
 //     imu_accel_unit: auto        # auto | m/s^2 | g
 //     derive_point_times_from_azimuth: true
 //     lidar_sweep_period_s: 0.1
+//     folder_scan_stamp: sweep_middle   # KITTI-style folders: times.txt stamps sweep_middle | sweep_start
 //     time_offsets_s: {lidar: -0.012, /fix: 0.2}   # added to the stamps, by stream name or sensor kind
 //     reorder_window_s: 1.0
 #pragma once

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <tuple>
 
+#include "odometry/io/folders/camera_calibration.h"
 #include "odometry/io/folders/csv_sources.h"
 #include "odometry/io/folders/folder_common.h"
 #include "odometry/io/folders/folder_readers.h"
@@ -28,8 +29,8 @@ std::optional<int> SensorIndex(const std::string& name, std::string_view prefix)
   return index;
 }
 
-// sensor.yaml: T_BS {rows: 4, cols: 4, data: [16 row-major numbers]} and rate_hz; the other keys (camera
-// intrinsics, noise densities) are not part of a StreamInfo and are left to the configuration.
+// sensor.yaml: T_BS {rows: 4, cols: 4, data: [16 row-major numbers]}, rate_hz and, for cameras, the
+// intrinsics (camera_calibration.h); the IMU noise densities are left to the configuration.
 Status ReadSensorYaml(const fs::path& path, StreamInfo& stream) {
   std::ifstream in(path, std::ios::binary);
   if (!in) return {};  // optional
@@ -49,6 +50,11 @@ Status ReadSensorYaml(const fs::path& path, StreamInfo& stream) {
       auto transform = TransformFromRowMajor(T["data"].as<std::vector<double>>(), name + ": T_BS");
       if (!transform) return transform.status();
       stream.T_body_sensor = *transform;
+    }
+    if (stream.kind == SensorKind::kCamera && root["intrinsics"]) {
+      auto camera = ParseCameraCalibration(root, name);
+      if (!camera) return camera.status();
+      stream.camera_model = *camera;
     }
     if (const YAML::Node rate = root["rate_hz"]) {
       stream.nominal_rate_hz = rate.as<double>();

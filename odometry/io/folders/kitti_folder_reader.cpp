@@ -24,7 +24,8 @@ class KittiScanSource : public StreamSource {
         stamps_(std::move(stamps)),
         stream_(std::move(stream)),
         sweep_period_(FromSeconds(options.lidar_sweep_period_s)),
-        derive_times_(options.derive_point_times_from_azimuth) {}
+        derive_times_(options.derive_point_times_from_azimuth),
+        stamp_at_middle_(options.folder_scan_stamp == ScanStampPosition::kSweepMiddle) {}
 
   Expected<bool> Advance() override { return ++next_ <= files_.size(); }
   Stamp stamp() const override { return stamps_[next_ - 1]; }
@@ -46,8 +47,8 @@ class KittiScanSource : public StreamSource {
         scan->end += stamp();
         break;
       default:
-        scan->stamp = stamp();
-        scan->end = stamp() + sweep_period_;
+        scan->stamp = stamp() - (stamp_at_middle_ ? sweep_period_ / 2 : 0);  // the sweep start
+        scan->end = scan->stamp + sweep_period_;
         if (derive_times_) DerivePointTimesFromAzimuth(*scan, sweep_period_);
         file_info.point_time = derive_times_ ? PointTimeConvention::kAzimuth : PointTimeConvention::kNone;
         break;
@@ -65,6 +66,7 @@ class KittiScanSource : public StreamSource {
   std::string stream_;
   Stamp sweep_period_;
   bool derive_times_;
+  bool stamp_at_middle_;  // times.txt stamps the middle of the sweep (KITTI), not its start
   std::size_t next_ = 0;  // files_[next_ - 1] is the current record
 };
 

@@ -47,8 +47,9 @@ Expected<LidarScan> ReadKittiBin(const std::filesystem::path& path, PointCloudFi
 // + 1)), and a check on ../shared/data/kitti00-keyframes: deskewing consecutive keyframes with the ground
 // truth this way lowers the mean point-to-plane distance between them (0.0259 -> 0.0231 m at keyframe 10),
 // while counter-clockwise raises it (0.0306 m). Note the order of the points in KITTI files (azimuth
-// increasing) is not the acquisition order, and KITTI's times.txt stamps the instant the head faced
-// forward (the camera trigger), i.e. about half a sweep after the scan start this model assumes.
+// increasing) is not the acquisition order. KITTI's times.txt stamps the instant the head faced forward
+// (the camera trigger), half a sweep after the scan start: the KITTI reader sets the scan stamp accordingly
+// (DatasetOptions::folder_scan_stamp).
 void DerivePointTimesFromAzimuth(LidarScan& scan, Stamp sweep_period);
 
 }  // namespace uf

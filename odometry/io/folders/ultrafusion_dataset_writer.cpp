@@ -7,6 +7,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "odometry/io/atomic_file.h"
+#include "odometry/io/folders/camera_calibration.h"
 #include "odometry/io/folders/csv_sources.h"
 #include "odometry/io/folders/folder_common.h"
 #include "odometry/io/folders/lidar_record_file.h"
@@ -234,6 +235,11 @@ Status UltrafusionDatasetWriter::State::WriteDescription() {
       yaml << YAML::Key << "T_body_sensor" << YAML::Value << YAML::Flow << YAML::BeginSeq;
       for (double value : RowMajor(*info.T_body_sensor)) yaml << FormatNumber(value);
       yaml << YAML::EndSeq;
+    }
+    if (info.kind == SensorKind::kCamera && info.camera_model) {
+      yaml << YAML::Key << "calibration" << YAML::Value << YAML::BeginMap;
+      EmitCameraCalibration(yaml, *info.camera_model);
+      yaml << YAML::EndMap;
     }
     yaml << YAML::EndMap;
   }

@@ -16,6 +16,11 @@
 //         camera: 0                  # camera streams only: index of the camera in the rig
 //         rate_hz: 200               # optional nominal rate
 //         T_body_sensor: [16 numbers]  # optional 4x4 transform, row-major, last row 0 0 0 1
+//         calibration:               # optional, camera streams: intrinsics (camera_calibration.h)
+//           distortion_model: radial-tangential     # or equidistant
+//           intrinsics: [fx, fy, cx, cy]
+//           distortion_coefficients: [k1, k2, p1, p2, k3]   # equidistant: [k1, k2, k3, k4]
+//           resolution: [width, height]
 //     ground_truth: groundtruth.tum  # optional
 //   Unknown keys are an error.
 //
@@ -55,7 +60,8 @@ namespace uf {
 class UltrafusionDatasetWriter {
  public:
   // Starts a dataset in `folder` (created if needed) with these streams; Measurement::stream indexes them.
-  // Uses each StreamInfo's name, kind, camera (-1: numbered in order), T_body_sensor and nominal_rate_hz.
+  // Uses each StreamInfo's name, kind, camera (-1: numbered in order), T_body_sensor, camera_model and
+  // nominal_rate_hz.
   static Expected<UltrafusionDatasetWriter> Create(const std::filesystem::path& folder,
                                                    std::vector<StreamInfo> streams);
 

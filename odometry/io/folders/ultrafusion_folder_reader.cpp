@@ -5,6 +5,7 @@
 #include <cmath>
 #include <set>
 
+#include "odometry/io/folders/camera_calibration.h"
 #include "odometry/io/folders/csv_sources.h"
 #include "odometry/io/folders/folder_common.h"
 #include "odometry/io/folders/folder_readers.h"
@@ -93,7 +94,8 @@ Expected<std::unique_ptr<StreamSource>> OpenSource(const fs::path& folder, const
 // One entry of `streams:`.
 Expected<StreamInfo> ParseStream(const YAML::Node& node, const std::string& where, fs::path& file) {
   if (!node.IsMap()) return Status::Error(where + ": not a mapping");
-  if (Status s = CheckKeys(node, {"name", "kind", "file", "camera", "rate_hz", "T_body_sensor"}, where);
+  if (Status s = CheckKeys(
+          node, {"name", "kind", "file", "camera", "rate_hz", "T_body_sensor", "calibration"}, where);
       !s.ok())
     return s;
   for (const char* key : {"name", "kind", "file"})
@@ -115,6 +117,19 @@ Expected<StreamInfo> ParseStream(const YAML::Node& node, const std::string& wher
       return Status::Error(where + ": camera index " + std::to_string(info.camera) + " < 0");
   } else if (node["camera"]) {
     return Status::Error(where + ": 'camera' given for a " + kind + " stream");
+  }
+  if (const YAML::Node calibration = node["calibration"]) {
+    if (info.kind != SensorKind::kCamera)
+      return Status::Error(where + ": 'calibration' given for a " + kind + " stream");
+    if (!calibration.IsMap()) return Status::Error(where + ": calibration: not a mapping");
+    if (Status s = CheckKeys(calibration,
+                             {"distortion_model", "intrinsics", "distortion_coefficients", "resolution"},
+                             where + ": calibration");
+        !s.ok())
+      return s;
+    auto camera = ParseCameraCalibration(calibration, where + ": calibration");
+    if (!camera) return camera.status();
+    info.camera_model = *camera;
   }
   if (info.kind == SensorKind::kImu) info.imu_accel_unit = "m/s^2";
   if (node["rate_hz"]) {

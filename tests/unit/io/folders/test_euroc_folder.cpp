@@ -100,6 +100,16 @@ TEST(EurocFolder, DescribesStreamsWithCalibration) {
     ASSERT_TRUE(description.streams[1].T_body_sensor);
     EXPECT_DOUBLE_EQ(description.streams[1].T_body_sensor->translation().y(), -0.064676986768);
     EXPECT_DOUBLE_EQ(description.streams[1].T_body_sensor->rotation()(0, 1), -0.999880929698);
+    EXPECT_EQ(description.streams[0].camera_model, nullptr);
+    const auto* camera = dynamic_cast<const PinholeRadtan*>(description.streams[1].camera_model.get());
+    ASSERT_NE(camera, nullptr);
+    EXPECT_EQ(camera->width(), 752);
+    EXPECT_EQ(camera->height(), 480);
+    EXPECT_EQ(camera->intrinsics().fx, 458.654);
+    EXPECT_EQ(camera->intrinsics().cy, 248.375);
+    EXPECT_EQ(camera->intrinsics().k1, -0.28340811);
+    EXPECT_EQ(camera->intrinsics().p2, 1.76187114e-05);
+    EXPECT_EQ(camera->intrinsics().k3, 0);
     ASSERT_TRUE(description.ground_truth);
     EXPECT_EQ(*description.ground_truth, mav / "state_groundtruth_estimate0" / "data.csv");
   }
@@ -174,7 +184,9 @@ TEST(EurocFolder, DamagedFilesGiveNamedErrors) {
     testing::WriteBytes(mav / "imu0" / "data.csv", "1403636579758555392,1,2,3,4,5\n");
     auto reader = OpenEurocFolder(dir.path());
     ASSERT_FALSE(reader.ok());
-    EXPECT_NE(reader.error().find("data.csv:1: expected 7 columns (stamp_ns, gx, gy, gz, ax, ay, az), found 6"), std::string::npos);
+    EXPECT_NE(
+        reader.error().find("data.csv:1: expected 7 columns (stamp_ns, gx, gy, gz, ax, ay, az), found 6"),
+        std::string::npos);
   }
   {
     TempDir dir;
@@ -203,6 +215,16 @@ TEST(EurocFolder, DamagedFilesGiveNamedErrors) {
                   .error()
                   .find("sensor.yaml: T_BS: a 4x4 transform needs 16 numbers, found 3"),
               std::string::npos);
+    std::string fisheye_lens(kCamYaml);
+    fisheye_lens.replace(fisheye_lens.find("radial-tangential"), 17, "fov");
+    testing::WriteBytes(mav / "cam0" / "sensor.yaml", fisheye_lens);
+    EXPECT_NE(OpenEurocFolder(dir.path()).error().find("cam0/sensor.yaml: distortion_model 'fov' is not"),
+              std::string::npos);
+    std::string off_centre(kCamYaml);
+    off_centre.replace(off_centre.find("367.215"), 7, "900.000");
+    testing::WriteBytes(mav / "cam0" / "sensor.yaml", off_centre);
+    EXPECT_NE(OpenEurocFolder(dir.path()).error().find("cam0/sensor.yaml: "), std::string::npos);
+    EXPECT_NE(OpenEurocFolder(dir.path()).error().find("900"), std::string::npos);
     testing::WriteBytes(mav / "cam0" / "sensor.yaml", "T_BS: [unclosed\n");
     EXPECT_NE(OpenEurocFolder(dir.path()).error().find("cam0/sensor.yaml: "), std::string::npos);
   }

@@ -49,13 +49,14 @@ TEST(KittiFolder, StampsScansFromTimesTxtExactly) {
   EXPECT_FALSE(description.ground_truth);
   const std::vector<LidarScan> scans = ReadAll(**reader);
   ASSERT_EQ(scans.size(), 3u);
-  EXPECT_EQ(scans[0].stamp, 0);
-  EXPECT_EQ(scans[1].stamp, 103735900);
-  EXPECT_EQ(scans[2].stamp, 2072000000);
-  EXPECT_EQ(scans[2].end, Stamp{2'072'000'000} + 100'000'000);
+  // times.txt stamps the middle of each 100 ms sweep (KITTI's convention): scans start 50 ms earlier.
+  EXPECT_EQ(scans[0].stamp, -50'000'000);
+  EXPECT_EQ(scans[1].stamp, 103'735'900 - 50'000'000);
+  EXPECT_EQ(scans[2].stamp, 2'072'000'000 - 50'000'000);
+  EXPECT_EQ(scans[2].end, Stamp{2'072'000'000} + 50'000'000);
   EXPECT_EQ(scans[2].points[1].intensity, 2);
   EXPECT_TRUE(scans[0].point_times_from_azimuth);
-  EXPECT_EQ(scans[0].points[0].offset_ns, 50'000'000);  // forward: half a sweep
+  EXPECT_EQ(scans[0].points[0].offset_ns, 50'000'000);  // forward: half a sweep, at the times.txt stamp
   EXPECT_EQ(scans[0].points[1].offset_ns, 25'000'000);  // left: a quarter
   EXPECT_TRUE((*reader)->warnings().empty());
 }
@@ -72,7 +73,12 @@ TEST(KittiFolder, OptionsTurnOffAzimuthTimesAndSetTheSweep) {
   const std::vector<LidarScan> scans = ReadAll(**reader);
   ASSERT_EQ(scans.size(), 1u);
   EXPECT_FALSE(scans[0].has_point_times);
-  EXPECT_EQ(scans[0].end, 5'050'000'000);
+  EXPECT_EQ(scans[0].stamp, 4'975'000'000);
+  EXPECT_EQ(scans[0].end, 5'025'000'000);
+  options.folder_scan_stamp = ScanStampPosition::kSweepStart;
+  const std::vector<LidarScan> from_start = ReadAll(**OpenKittiFolder(dir.path(), options));
+  EXPECT_EQ(from_start[0].stamp, 5'000'000'000);
+  EXPECT_EQ(from_start[0].end, 5'050'000'000);
   options.lidar_sweep_period_s = 0;
   EXPECT_NE(OpenKittiFolder(dir.path(), options).error().find("lidar_sweep_period_s"), std::string::npos);
 }
@@ -92,7 +98,7 @@ TEST(KittiFolder, ReadsPcdScansAndFindsGroundTruth) {
   const std::vector<LidarScan> scans = ReadAll(**reader);
   ASSERT_EQ(scans.size(), 2u);
   EXPECT_EQ(scans[0].points.size(), 1u);
-  EXPECT_EQ(scans[1].stamp, 100'600'000'000);
+  EXPECT_EQ(scans[1].stamp, 100'550'000'000);
   const ReadWarning* warning = testing::FindWarning(**reader, "NaN");
   ASSERT_NE(warning, nullptr);
   EXPECT_EQ(warning->count, 1);
@@ -177,7 +183,8 @@ TEST(KittiFolder, ReadsTheRecordedKittiKeyframes) {
     if (!*next) break;
     const LidarScan& scan = std::get<LidarScan>((*next)->data);
     ASSERT_LT(count, times->size());
-    EXPECT_EQ(scan.stamp, (*times)[count]) << "scan " << count;
+    EXPECT_EQ(scan.stamp, (*times)[count] - 50'000'000) << "scan " << count;  // times.txt: mid-sweep
+    EXPECT_EQ(scan.end, (*times)[count] + 50'000'000) << "scan " << count;
     EXPECT_GE(scan.points.size(), 101'000u) << "scan " << count;
     EXPECT_LE(scan.points.size(), 127'000u) << "scan " << count;
     EXPECT_TRUE(scan.point_times_from_azimuth);

@@ -28,6 +28,10 @@ std::vector<StreamInfo> Streams() {
   streams[1].T_body_sensor =
       SE3(SO3::Exp(Eigen::Vector3d(0.1, -0.2, 0.3)), Eigen::Vector3d(0.5, 1.0 / 3, -2));
   streams[5].camera = 3;
+  streams[2].camera_model = std::make_shared<PinholeRadtan>(
+      640, 480, PinholeRadtanIntrinsics{400.5, 401.25, 319.5, 239.75, -0.28, 0.07, 1e-4, -2e-5, 0.01});
+  streams[5].camera_model = std::make_shared<Equidistant>(
+      1280, 1024, EquidistantIntrinsics{350, 350.5, 640.1, 511.9, 0.1, -0.02, 3e-3, -1e-4});
   return streams;
 }
 
@@ -145,6 +149,22 @@ TEST(UltrafusionDataset, RoundTripsEveryMeasurementKindExactly) {
   EXPECT_EQ(description.streams[0].nominal_rate_hz, 200);
   ASSERT_TRUE(description.streams[1].T_body_sensor);
   EXPECT_EQ(description.streams[1].T_body_sensor->matrix(), written[1].T_body_sensor->matrix());
+  // Camera calibrations come back exactly: same model, same numbers, same size.
+  const auto* radtan = dynamic_cast<const PinholeRadtan*>(description.streams[2].camera_model.get());
+  ASSERT_NE(radtan, nullptr);
+  const PinholeRadtanIntrinsics& k = radtan->intrinsics();
+  const PinholeRadtanIntrinsics& k_written =
+      dynamic_cast<const PinholeRadtan&>(*written[2].camera_model).intrinsics();
+  EXPECT_EQ(std::vector<double>({k.fx, k.fy, k.cx, k.cy, k.k1, k.k2, k.p1, k.p2, k.k3}),
+            std::vector<double>({k_written.fx, k_written.fy, k_written.cx, k_written.cy, k_written.k1,
+                                 k_written.k2, k_written.p1, k_written.p2, k_written.k3}));
+  EXPECT_EQ(radtan->width(), 640);
+  const auto* fisheye = dynamic_cast<const Equidistant*>(description.streams[5].camera_model.get());
+  ASSERT_NE(fisheye, nullptr);
+  EXPECT_EQ(fisheye->intrinsics().k4, -1e-4);
+  EXPECT_EQ(fisheye->intrinsics().cx, 640.1);
+  EXPECT_EQ(fisheye->height(), 1024);
+  EXPECT_EQ(description.streams[0].camera_model, nullptr);
   ASSERT_TRUE(description.ground_truth);
   auto ground_truth = ReadTumTrajectory(description.ground_truth->string());
   ASSERT_TRUE(ground_truth.ok()) << ground_truth.error();
