@@ -1,6 +1,8 @@
 // `ultrafusion info` on the recorded data in ../shared/data and on bad input.
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 
 #include "tests/support/cli_runner.h"
@@ -101,6 +103,35 @@ TEST(CliInfo, KittiKeyframeFolder) {
   EXPECT_GE((*lidar)["points_per_scan"]["min"].get<int>(), 101000);
   EXPECT_LE((*lidar)["points_per_scan"]["max"].get<int>(), 127999);
   EXPECT_NE(info["ground_truth"].get<std::string>().find("groundtruth_velodyne.tum"), std::string::npos);
+}
+
+// The small multi-sensor bag of the fuzz seeds (written by librosbag, lz4 chunks): every sensor kind, and the
+// LiDAR time conventions named.
+TEST(CliInfo, EveryKindOfStreamInABag) {
+  const nlohmann::json info = InfoJson(UF_SOURCE_DIR "/tests/fuzz/corpus/rosbag/mixed_lz4.bag");
+  ASSERT_FALSE(info.is_discarded());
+  ASSERT_EQ(info["streams"].size(), 8u);
+  for (const char* kind : {"imu", "lidar", "camera", "wheel", "gnss"})
+    EXPECT_NE(StreamOfKind(info, kind), nullptr) << kind;
+  const nlohmann::json* points = StreamOfKind(info, "lidar");
+  EXPECT_EQ((*points)["name"], "/points");
+  EXPECT_EQ((*points)["point_time_field"], "time");
+  EXPECT_EQ((*points)["point_time"], "float32 s relative to the scan stamp");
+  EXPECT_EQ((*StreamOfKind(info, "imu"))["count"], 6);
+  EXPECT_EQ((*StreamOfKind(info, "imu"))["verdict"], "ok");
+}
+
+TEST(CliInfo, TruncatedBagIsAnErrorNamingFileAndOffset) {
+  testing::TempDir dir;
+  std::ifstream in(UF_SOURCE_DIR "/tests/fuzz/corpus/rosbag/mixed_lz4.bag", std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_GT(bytes.size(), 5000u);
+  const std::string cut = dir.Write("cut.bag", bytes.substr(0, 5000));
+  const CommandResult result = Ultrafusion("info " + cut);
+  EXPECT_EQ(result.code, 1);
+  EXPECT_NE(result.output.find(cut + ": "), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("5000 bytes"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("truncated"), std::string::npos) << result.output;
 }
 
 TEST(CliInfo, MissingDatasetIsADataError) {

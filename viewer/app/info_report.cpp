@@ -53,11 +53,11 @@ void PrintDatasetTable(std::ostream& out, const DatasetSummary& summary) {
   out << "dataset: " << d.path.string() << " (" << DatasetFormatName(d.format) << ", "
       << Fixed(summary.bytes / 1e6, 1) << " MB read in " << Fixed(summary.read_seconds, 2) << " s)\n";
   out << "ground truth: " << (d.ground_truth ? d.ground_truth->string() : "none found") << "\n\n";
-  out << Cell("stream", 34) << Cell("kind", 7) << Cell("type", 26) << Cell("count", 8) << Cell("rate Hz", 9)
+  out << Cell("stream", 34) << Cell("kind", 7) << Cell("type", 30) << Cell("count", 8) << Cell("rate Hz", 9)
       << Cell("first [s]", 22) << Cell("last [s]", 22) << "verdict\n";
   for (const StreamSummary& s : summary.streams) {
     out << Cell(s.info.name, 34) << Cell(std::string(SensorKindName(s.info.kind)), 7)
-        << Cell(s.info.message_type, 26) << Cell(std::to_string(s.time.count), 8)
+        << Cell(s.info.message_type, 30) << Cell(std::to_string(s.time.count), 8)
         << Cell(Fixed(s.time.rate_hz, 2), 9) << Cell(s.time.count ? FormatSeconds(s.time.first) : "-", 22)
         << Cell(s.time.count ? FormatSeconds(s.time.last) : "-", 22) << StreamVerdictName(s.time.verdict)
         << "\n";
