@@ -4,16 +4,6 @@
 
 namespace uf {
 
-void WarningLog::Add(const std::string& stream, const std::string& what, std::int64_t count) {
-  for (ReadWarning& warning : entries_) {
-    if (warning.stream == stream && warning.what == what) {
-      warning.count += count;
-      return;
-    }
-  }
-  entries_.push_back({stream, what, count});
-}
-
 std::string IncreasingStamps::Check(Stamp stamp) {
   if (has_previous_ && stamp <= previous_)
     return "stamp " + std::to_string(stamp) + " ns is not after the previous stamp " +

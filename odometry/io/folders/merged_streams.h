@@ -9,18 +9,9 @@
 #include <vector>
 
 #include "odometry/io/dataset_reader.h"
+#include "odometry/io/warning_log.h"
 
 namespace uf {
-
-// Recoverable damage, one entry per (stream, what) with a running count.
-class WarningLog {
- public:
-  void Add(const std::string& stream, const std::string& what, std::int64_t count = 1);
-  const std::vector<ReadWarning>& entries() const { return entries_; }
-
- private:
-  std::vector<ReadWarning> entries_;
-};
 
 // One stream's file, read record by record in increasing stamp order.
 class StreamSource {

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <deque>
-#include <map>
 #include <optional>
 #include <string>
 #include <unordered_map>
@@ -14,6 +13,7 @@
 #include "odometry/io/rosbag/bag_message_decode.h"
 #include "odometry/io/rosbag/bag_streams.h"
 #include "odometry/io/rosbag/imu_unit.h"
+#include "odometry/io/warning_log.h"
 
 namespace uf {
 namespace {
@@ -25,7 +25,7 @@ class RosBagReader final : public DatasetReader {
 
   const DatasetDescription& description() const override { return description_; }
   Expected<std::optional<Measurement>> Next() override;
-  const std::vector<ReadWarning>& warnings() const override { return warnings_; }
+  const std::vector<ReadWarning>& warnings() const override { return warnings_.entries(); }
 
   // Settles the unit of every IMU stream with imu_accel_unit kAuto from the first second of its samples, by
   // a second pass over the start of the bag, so that Next() can then deliver everything in record order.
@@ -49,8 +49,7 @@ class RosBagReader final : public DatasetReader {
 
   std::deque<Measurement> ready_;
   std::vector<ImuSample> imu_ready_;  // scratch for the gates
-  std::vector<ReadWarning> warnings_;
-  std::map<std::pair<int, std::string>, std::size_t> warning_index_;
+  WarningLog warnings_;
   Status failure_;
   bool ended_ = false;
 };
@@ -210,10 +209,7 @@ void RosBagReader::EmitReadyImu(int stream) {
 // One warning per (stream, kind of damage): the kind is the text before the parenthesised values of the
 // first message that showed it, which stay in `what` as an example.
 void RosBagReader::Warn(int stream, const std::string& what, std::int64_t count) {
-  const std::string kind = what.substr(0, what.find(" ("));
-  const auto [entry, added] = warning_index_.emplace(std::make_pair(stream, kind), warnings_.size());
-  if (added) warnings_.push_back(ReadWarning{description_.streams[stream].name, what, 0});
-  warnings_[entry->second].count += count;
+  warnings_.Add(description_.streams[stream].name, what, count);
 }
 
 }  // namespace
