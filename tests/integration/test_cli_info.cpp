@@ -1,6 +1,7 @@
 // `ultrafusion info` on the recorded data in ../shared/data and on bad input.
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <nlohmann/json.hpp>
@@ -132,6 +133,34 @@ TEST(CliInfo, TruncatedBagIsAnErrorNamingFileAndOffset) {
   EXPECT_NE(result.output.find(cut + ": "), std::string::npos) << result.output;
   EXPECT_NE(result.output.find("5000 bytes"), std::string::npos) << result.output;
   EXPECT_NE(result.output.find("truncated"), std::string::npos) << result.output;
+}
+
+// A EuRoC folder whose camera has a calibration in sensor.yaml and whose image files are missing: the
+// intrinsics are shown, and the missing images are a counted warning, not an error.
+TEST(CliInfo, EurocCalibrationAndMissingImages) {
+  testing::TempDir dir;
+  std::filesystem::create_directories(dir.path() / "mav0/imu0");
+  std::filesystem::create_directories(dir.path() / "mav0/cam0/data");
+  dir.Write("mav0/imu0/data.csv",
+            "#timestamp [ns],wx,wy,wz,ax,ay,az\n1000000000,0,0,0,0,0,9.81\n1005000000,0,0,0,0,0,9.81\n");
+  dir.Write("mav0/cam0/data.csv", "#timestamp [ns],filename\n1000000000,a.png\n1050000000,b.png\n");
+  dir.Write("mav0/cam0/sensor.yaml",
+            "camera_model: pinhole\nintrinsics: [458.654, 457.296, 367.215, 248.375]\n"
+            "distortion_model: radial-tangential\ndistortion_coefficients: [-0.28, 0.07, 0.0002, 1.8e-05]\n"
+            "resolution: [752, 480]\n");
+  const nlohmann::json info = InfoJson(dir.path().string());
+  ASSERT_FALSE(info.is_discarded());
+  EXPECT_EQ(info["format"], "euroc");
+  const nlohmann::json* camera = StreamOfKind(info, "camera");
+  ASSERT_NE(camera, nullptr);
+  EXPECT_EQ((*camera)["calibration"]["model"], "radial-tangential");
+  EXPECT_EQ((*camera)["calibration"]["width"], 752);
+  EXPECT_EQ((*camera)["calibration"]["intrinsics"][0].get<double>(), 458.654);
+  EXPECT_EQ((*camera)["calibration"]["distortion"][1].get<double>(), 0.07);
+  EXPECT_EQ((*camera)["count"], 0);  // both frames skipped
+  ASSERT_EQ(info["warnings"].size(), 1u);
+  EXPECT_EQ(info["warnings"][0]["count"], 2);
+  EXPECT_EQ((*StreamOfKind(info, "imu"))["count"], 2);
 }
 
 TEST(CliInfo, MissingDatasetIsADataError) {

@@ -7,6 +7,31 @@
 namespace uf::app {
 namespace {
 
+// A camera calibration as JSON, and as one line: "radial-tangential 752x480, fx fy cx cy [...], distortion [...]".
+nlohmann::json CameraJson(const CameraModel& camera) {
+  nlohmann::json j = {{"width", camera.width()}, {"height", camera.height()}};
+  if (const auto* radtan = dynamic_cast<const PinholeRadtan*>(&camera)) {
+    const PinholeRadtanIntrinsics& k = radtan->intrinsics();
+    j["model"] = "radial-tangential";
+    j["intrinsics"] = {k.fx, k.fy, k.cx, k.cy};
+    j["distortion"] = {k.k1, k.k2, k.p1, k.p2, k.k3};
+  } else if (const auto* fisheye = dynamic_cast<const Equidistant*>(&camera)) {
+    const EquidistantIntrinsics& k = fisheye->intrinsics();
+    j["model"] = "equidistant";
+    j["intrinsics"] = {k.fx, k.fy, k.cx, k.cy};
+    j["distortion"] = {k.k1, k.k2, k.k3, k.k4};
+  }
+  return j;
+}
+
+std::string CameraLine(const CameraModel& camera) {
+  const nlohmann::json j = CameraJson(camera);
+  std::string line = j.value("model", "camera") + " " + std::to_string(camera.width()) + "x" +
+                     std::to_string(camera.height()) + ", fx fy cx cy " + j["intrinsics"].dump() +
+                     ", distortion " + j["distortion"].dump();
+  return line;
+}
+
 std::string Fixed(double value, int decimals) {
   char buffer[64];
   std::snprintf(buffer, sizeof buffer, "%.*f", decimals, value);
@@ -34,6 +59,7 @@ void PrintStreamDetails(std::ostream& out, const StreamSummary& s) {
           << " (mean " << Fixed(s.points_per_scan->mean, 0) << ")\n";
     }
   }
+  if (s.info.camera_model) out << indent << "calibration: " << CameraLine(*s.info.camera_model) << "\n";
   if (s.info.kind == SensorKind::kImu && !s.info.imu_accel_unit.empty()) {
     out << indent << "acceleration unit: " << s.info.imu_accel_unit
         << (s.info.imu_accel_unit == "g" ? " (converted to m/s^2)" : "") << "\n";
@@ -100,6 +126,7 @@ void PrintDatasetJson(std::ostream& out, const DatasetSummary& summary) {
       }
     }
     if (s.info.kind == SensorKind::kImu) j["imu_accel_unit"] = s.info.imu_accel_unit;
+    if (s.info.camera_model) j["calibration"] = CameraJson(*s.info.camera_model);
     if (s.info.kind == SensorKind::kCamera) j["camera"] = s.info.camera;
     if (s.info.nominal_rate_hz > 0) j["nominal_rate_hz"] = s.info.nominal_rate_hz;
     streams.push_back(std::move(j));
