@@ -31,6 +31,14 @@ std::string_view SensorKindName(SensorKind kind) {
   return "unknown";
 }
 
+std::optional<SensorKind> ParseSensorKind(std::string_view name) {
+  for (SensorKind kind :
+       {SensorKind::kImu, SensorKind::kLidar, SensorKind::kCamera, SensorKind::kWheel, SensorKind::kGnss}) {
+    if (SensorKindName(kind) == name) return kind;
+  }
+  return std::nullopt;
+}
+
 std::string_view DatasetFormatName(DatasetFormat format) {
   switch (format) {
     case DatasetFormat::kAuto:

@@ -2,6 +2,7 @@
 // MeasurementStream hands to the estimator.
 #pragma once
 
+#include <optional>
 #include <string_view>
 #include <variant>
 
@@ -12,7 +13,9 @@ namespace uf {
 
 enum class SensorKind { kImu, kLidar, kCamera, kWheel, kGnss };
 
-std::string_view SensorKindName(SensorKind kind);  // "imu", "lidar", "camera", "wheel", "gnss"
+// "imu", "lidar", "camera", "wheel", "gnss": the names configs and dataset files use, so they stay fixed.
+std::string_view SensorKindName(SensorKind kind);
+std::optional<SensorKind> ParseSensorKind(std::string_view name);  // inverse of SensorKindName
 
 using MeasurementData = std::variant<ImuSample, LidarScan, CameraFrame, WheelSample, GnssFix>;
 

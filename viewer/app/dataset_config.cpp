@@ -26,14 +26,6 @@ std::string Scalar(const YAML::Node& node) {
   return node.IsScalar() ? node.Scalar() : std::string("<not a scalar>");
 }
 
-Expected<SensorKind> ParseKind(const std::string& name) {
-  for (SensorKind kind :
-       {SensorKind::kImu, SensorKind::kLidar, SensorKind::kCamera, SensorKind::kWheel, SensorKind::kGnss}) {
-    if (SensorKindName(kind) == name) return kind;
-  }
-  return Status::Error("unknown sensor kind '" + name + "' (imu, lidar, camera, wheel, gnss)");
-}
-
 Expected<Stamp> ParseSecondsNode(const Section& section, const YAML::Node& node, const std::string& key) {
   std::optional<Stamp> value = node.IsScalar() ? ParseSeconds(node.Scalar()) : std::nullopt;
   if (!value) return section.Error(node, key, "expected a number of seconds, got '" + Scalar(node) + "'");
@@ -52,8 +44,12 @@ Status ParseTopics(const Section& section, const YAML::Node& node, DatasetOption
       if (key == "topic") {
         selection.topic = Scalar(kv.second);
       } else if (key == "kind") {
-        Expected<SensorKind> kind = ParseKind(Scalar(kv.second));
-        if (!kind) return at.Error(kv.second, key, kind.error());
+        const std::optional<SensorKind> kind = ParseSensorKind(Scalar(kv.second));
+        if (!kind) {
+          return at.Error(
+              kv.second, key,
+              "unknown sensor kind '" + Scalar(kv.second) + "' (imu, lidar, camera, wheel, gnss)");
+        }
         selection.kind = *kind;
       } else {
         return at.Error(kv.first, key, "unknown key (expected topic, kind)");

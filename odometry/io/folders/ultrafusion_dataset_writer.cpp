@@ -104,7 +104,7 @@ Expected<UltrafusionDatasetWriter> UltrafusionDatasetWriter::Create(const fs::pa
   std::map<std::string, int> files_of_kind;
   std::vector<int> cameras;
   for (StreamInfo& info : streams) {
-    std::string base = std::string(ultrafusion_format::KindName(info.kind));
+    std::string base = std::string(SensorKindName(info.kind));
     if (info.kind == SensorKind::kCamera) {
       if (info.camera < 0) info.camera = static_cast<int>(cameras.size());
       if (std::find(cameras.begin(), cameras.end(), info.camera) != cameras.end())
@@ -141,8 +141,8 @@ Status UltrafusionDatasetWriter::Write(const Measurement& measurement) {
   const SensorKind kind = KindOf(measurement.data);
   if (kind != stream.info.kind)
     return state.Error("stream '" + stream.info.name + "' holds " +
-                       std::string(ultrafusion_format::KindName(stream.info.kind)) + ", not " +
-                       std::string(ultrafusion_format::KindName(kind)));
+                       std::string(SensorKindName(stream.info.kind)) + ", not " +
+                       std::string(SensorKindName(kind)));
   const Stamp stamp = StampOf(measurement.data);
   if (stream.has_last && stamp <= stream.last)
     return state.Error("stream '" + stream.info.name + "': stamp " + std::to_string(stamp) +
@@ -226,7 +226,7 @@ Status UltrafusionDatasetWriter::State::WriteDescription() {
     const StreamInfo& info = stream.info;
     yaml << YAML::BeginMap;
     yaml << YAML::Key << "name" << YAML::Value << info.name;
-    yaml << YAML::Key << "kind" << YAML::Value << std::string(ultrafusion_format::KindName(info.kind));
+    yaml << YAML::Key << "kind" << YAML::Value << std::string(SensorKindName(info.kind));
     yaml << YAML::Key << "file" << YAML::Value << stream.file;
     if (info.kind == SensorKind::kCamera) yaml << YAML::Key << "camera" << YAML::Value << info.camera;
     if (info.nominal_rate_hz > 0)

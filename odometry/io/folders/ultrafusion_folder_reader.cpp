@@ -103,7 +103,7 @@ Expected<StreamInfo> ParseStream(const YAML::Node& node, const std::string& wher
   StreamInfo info;
   info.name = node["name"].as<std::string>();
   const std::string kind = node["kind"].as<std::string>();
-  const std::optional<SensorKind> parsed = ultrafusion_format::ParseKind(kind);
+  const std::optional<SensorKind> parsed = ParseSensorKind(kind);
   if (!parsed) return Status::Error(where + ": kind '" + kind + "' is not imu, lidar, camera, wheel or gnss");
   info.kind = *parsed;
   info.message_type = "ultrafusion " + kind;
