@@ -120,4 +120,18 @@ Status DecodeCameraFrame(CameraFrame& frame) {
   return {};
 }
 
+Expected<std::vector<std::uint8_t>> EncodePng(const Image& image, const std::string& where) {
+  if (image.width <= 0 || image.height <= 0 || (image.channels != 1 && image.channels != 3) ||
+      image.pixels.size() != static_cast<std::size_t>(image.width) * image.height * image.channels)
+    return Status::Error(where + ": the decoded image is inconsistent (width, height, channels, pixels)");
+  cv::Mat mat(image.height, image.width, image.channels == 1 ? CV_8UC1 : CV_8UC3);
+  std::copy(image.pixels.begin(), image.pixels.end(), mat.data);
+  if (image.channels == 3)  // OpenCV wants BGR
+    for (std::size_t i = 0; i < image.pixels.size(); i += 3) std::swap(mat.data[i], mat.data[i + 2]);
+  std::vector<std::uint8_t> png;
+  if (!cv::imencode(".png", mat, png, {cv::IMWRITE_PNG_COMPRESSION, 1}))
+    return Status::Error(where + ": PNG encoding failed");
+  return png;
+}
+
 }  // namespace uf

@@ -1,6 +1,11 @@
-// Decoding of camera images, done lazily: readers keep the bytes as read (CameraFrame::encoded) and the
-// consumer decodes the frames it actually uses. Output is 8-bit gray or RGB (see uf::Image).
+// Encoding and decoding of camera images. Decoding is done lazily: readers keep the bytes as read
+// (CameraFrame::encoded) and the consumer decodes the frames it actually uses. Output is 8-bit gray or RGB
+// (see uf::Image).
 #pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
 
 #include "odometry/types/measurements.h"
 #include "odometry/types/status.h"
@@ -13,5 +18,8 @@ Expected<Image> DecodeImage(const EncodedImage& encoded);
 
 // Decodes frame.encoded into frame.image (no-op when the image is already decoded) and frees the bytes.
 Status DecodeCameraFrame(CameraFrame& frame);
+
+// PNG bytes of an 8-bit gray or RGB image, with fast (level 1) compression; errors start with `where`.
+Expected<std::vector<std::uint8_t>> EncodePng(const Image& image, const std::string& where);
 
 }  // namespace uf

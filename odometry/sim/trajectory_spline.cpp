@@ -40,4 +40,21 @@ TrajectorySpline::State TrajectorySpline::Evaluate(Stamp t) const {
   return state;
 }
 
+SE3 TrajectorySpline::Pose(Stamp t) const {
+  // p(u) = c_0 + sum_{j=1..3} lambda_j(u) (c_j - c_{j-1}),
+  // R(u) = R_0 prod_{j=1..3} Exp(lambda_j(u) Log(R_{j-1}^T R_j))   (cumulative_spline.h)
+  assert(Contains(t));
+  const spline::SegmentCoordinate where = spline::LocateSegment(t, begin_, knot_spacing_, segments());
+  const Eigen::Vector4d lambda = spline::CumulativeBasisAt(where.u).value;
+  Eigen::Vector3d position = control_points_[where.index].translation();
+  SO3 rotation = control_points_[where.index].so3();
+  for (int j = 1; j < 4; ++j) {
+    const SE3& previous = control_points_[where.index + j - 1];
+    const SE3& current = control_points_[where.index + j];
+    position += lambda(j) * (current.translation() - previous.translation());
+    rotation = rotation * SO3::Exp(lambda(j) * (previous.so3().inverse() * current.so3()).Log());
+  }
+  return SE3(rotation, position);
+}
+
 }  // namespace uf

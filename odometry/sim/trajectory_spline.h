@@ -51,6 +51,10 @@ class TrajectorySpline {
   // The pose and its derivatives at t; asserts begin() <= t <= end().
   State Evaluate(Stamp t) const;
 
+  // The pose T_world_body(t) alone (no derivatives): what sensors that sample poses densely need, e.g. the
+  // LiDAR once per firing. Same maths as Evaluate; asserts begin() <= t <= end().
+  SE3 Pose(Stamp t) const;
+
  private:
   TrajectorySpline(Stamp begin, Stamp knot_spacing, std::vector<SE3> control_points);
 

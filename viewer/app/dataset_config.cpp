@@ -2,6 +2,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "viewer/app/config_sections.h"
+
 namespace uf::app {
 namespace {
 
@@ -150,8 +152,11 @@ Expected<DatasetConfig> LoadDatasetConfig(const std::filesystem::path& file) {
   try {
     for (const auto& kv : root) {
       const std::string key = kv.first.as<std::string>();
-      if (key != "dataset")
-        return Status::Error(file.string() + ": unknown top-level key '" + key + "' (expected dataset)");
+      if (key != "dataset") {
+        if (IsKnownConfigSection(key)) continue;  // another reader's section
+        return Status::Error(file.string() + ": unknown top-level key '" + key + "' (expected " +
+                             KnownConfigSectionsList() + ")");
+      }
       if (Status s = ParseDatasetSection(Section(file.string(), "dataset"), kv.second, config); !s.ok())
         return s;
     }

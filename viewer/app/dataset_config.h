@@ -25,8 +25,8 @@ struct DatasetConfig {
   MeasurementStreamOptions stream;
 };
 
-// Reads the file's `dataset:` section (other top-level sections are left to their own readers, which
-// are not written yet: any other top-level key is reported as unknown).
+// Reads the file's `dataset:` section. The other known sections (config_sections.h: sim, calibration) are
+// left to their own readers; any other top-level key is reported as unknown.
 Expected<DatasetConfig> LoadDatasetConfig(const std::filesystem::path& file);
 
 // "rosbag", "kitti", ... as accepted by the config and the --format option.

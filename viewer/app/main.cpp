@@ -6,6 +6,7 @@
 #include "viewer/app/eval_command.h"
 #include "viewer/app/exit_codes.h"
 #include "viewer/app/info_command.h"
+#include "viewer/app/sim_command.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"ultrafusion: multi-sensor odometry, mapping and Gaussian splatting"};
@@ -14,6 +15,7 @@ int main(int argc, char** argv) {
 
   auto eval = uf::app::AddEvalCommand(app);
   auto info = uf::app::AddInfoCommand(app);
+  auto sim = uf::app::AddSimCommand(app);
 
   try {
     app.parse(argc, argv);
@@ -23,5 +25,6 @@ int main(int argc, char** argv) {
   }
   if (app.got_subcommand(eval.command)) return eval.run();
   if (app.got_subcommand(info.command)) return info.run();
+  if (app.got_subcommand(sim.command)) return sim.run();
   return uf::app::kExitUsage;
 }

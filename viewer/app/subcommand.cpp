@@ -11,4 +11,9 @@ int ReportError(const Status& status) {
   return kExitError;
 }
 
+int ReportUsageError(const Status& status) {
+  ReportError(status);
+  return kExitUsage;
+}
+
 }  // namespace uf::app

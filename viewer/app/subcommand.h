@@ -15,5 +15,7 @@ struct Subcommand {
 
 // Prints "ultrafusion: error: ..." to stderr and returns the data-error exit code.
 int ReportError(const Status& status);
+// The same message, returning the usage-error exit code (bad options or configuration).
+int ReportUsageError(const Status& status);
 
 }  // namespace uf::app

@@ -3,10 +3,9 @@
 #include <yaml-cpp/yaml.h>
 
 #include <map>
-#include <opencv2/core.hpp>
-#include <opencv2/imgcodecs.hpp>
 
 #include "odometry/io/atomic_file.h"
+#include "odometry/io/image_decode.h"
 #include "odometry/io/folders/camera_calibration.h"
 #include "odometry/io/folders/csv_sources.h"
 #include "odometry/io/folders/folder_common.h"
@@ -56,20 +55,6 @@ std::string Row(Stamp stamp, const Vectors&... vectors) {
   };
   (append(vectors), ...);
   return row;
-}
-
-// PNG bytes of a decoded 8-bit gray or RGB image (OpenCV wants BGR).
-Expected<std::vector<std::uint8_t>> EncodePng(const Image& image, const std::string& where) {
-  if (image.width <= 0 || image.height <= 0 || (image.channels != 1 && image.channels != 3) ||
-      image.pixels.size() != static_cast<std::size_t>(image.width) * image.height * image.channels)
-    return Status::Error(where + ": the decoded image is inconsistent (width, height, channels, pixels)");
-  cv::Mat mat(image.height, image.width, image.channels == 1 ? CV_8UC1 : CV_8UC3);
-  std::copy(image.pixels.begin(), image.pixels.end(), mat.data);
-  if (image.channels == 3)
-    for (std::size_t i = 0; i < image.pixels.size(); i += 3) std::swap(mat.data[i], mat.data[i + 2]);
-  std::vector<std::uint8_t> png;
-  if (!cv::imencode(".png", mat, png)) return Status::Error(where + ": PNG encoding failed");
-  return png;
 }
 
 }  // namespace

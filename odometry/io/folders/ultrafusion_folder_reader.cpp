@@ -11,6 +11,7 @@
 #include "odometry/io/folders/folder_readers.h"
 #include "odometry/io/folders/lidar_record_file.h"
 #include "odometry/io/folders/ultrafusion_format.h"
+#include "odometry/io/folders/yaml_keys.h"
 
 namespace uf {
 namespace {
@@ -60,14 +61,6 @@ class LidarRecordSource : public StreamSource {
   LidarScan scan_;
   bool first_ = true;
 };
-
-Status CheckKeys(const YAML::Node& map, const std::set<std::string>& known, const std::string& where) {
-  for (const auto& entry : map) {
-    const std::string key = entry.first.as<std::string>();
-    if (!known.contains(key)) return Status::Error(where + ": unknown key '" + key + "'");
-  }
-  return {};
-}
 
 Expected<std::unique_ptr<StreamSource>> OpenSource(const fs::path& folder, const StreamInfo& info,
                                                    const fs::path& file) {

@@ -1,0 +1,27 @@
+// The ground-truth motion of a simulated sequence: the scene's default trajectory or a recorded one
+// (TUM, EuRoC or KITTI pose file), resampled into a C2 spline so that the IMU sees continuous acceleration.
+//
+// Frames: the simulator's world is z-up and its body frame x forward, y left, z up. TUM and EuRoC files are
+// taken to be in that convention already. KITTI pose files are in the KITTI camera convention (x right,
+// y down, z forward) for both the world and the moving frame, so they are converted:
+//   T_world_body = C T_kitti C^T,  C = [[0, 0, 1], [-1, 0, 0], [0, -1, 0]]   (body axes from camera axes)
+// and, having no stamps, get start_stamp + k / kitti_rate_hz.
+#pragma once
+
+#include "odometry/sim/sequence/simulation_config.h"
+#include "odometry/sim/trajectory_spline.h"
+#include "odometry/types/trajectory.h"
+
+namespace uf::sim {
+
+struct SimulationTrajectory {
+  Trajectory poses;          // the samples the spline was fitted to (the scene is laid out along them)
+  TrajectorySpline spline;   // T_world_body(t)
+  Stamp begin = 0, end = 0;  // the simulated span: first and last pose stamp
+};
+
+// Fails with a message naming the file for an unreadable file, fewer than 4 poses (after cutting to
+// duration_s), bad stamps or poses the spline cannot follow.
+Expected<SimulationTrajectory> MakeSimulationTrajectory(const SimulationConfig& config);
+
+}  // namespace uf::sim
