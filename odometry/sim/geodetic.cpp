@@ -6,14 +6,10 @@
 #include <sstream>
 #include <string>
 
+#include "odometry/sim/sampling.h"
+
 namespace uf::sim {
 namespace {
-
-std::string Number(double value) {
-  std::ostringstream text;
-  text << value;
-  return text.str();
-}
 
 // The ENU frame at the origin on the WGS84 ellipsoid (GeographicLib's default).
 GeographicLib::LocalCartesian EnuFrame(const GeodeticOrigin& origin) {
@@ -25,13 +21,14 @@ GeographicLib::LocalCartesian EnuFrame(const GeodeticOrigin& origin) {
 
 Status ValidateGeodeticOrigin(const GeodeticOrigin& origin) {
   if (!std::isfinite(origin.latitude_deg) || std::abs(origin.latitude_deg) > 90.0) {
-    return Status::Error("origin.latitude_deg: must be in [-90, 90], got " + Number(origin.latitude_deg));
+    return Status::Error("origin.latitude_deg: must be in [-90, 90], got " + NumberText(origin.latitude_deg));
   }
   if (!std::isfinite(origin.longitude_deg) || std::abs(origin.longitude_deg) > 180.0) {
-    return Status::Error("origin.longitude_deg: must be in [-180, 180], got " + Number(origin.longitude_deg));
+    return Status::Error("origin.longitude_deg: must be in [-180, 180], got " +
+                         NumberText(origin.longitude_deg));
   }
   if (!std::isfinite(origin.altitude_m)) {
-    return Status::Error("origin.altitude_m: must be finite, got " + Number(origin.altitude_m));
+    return Status::Error("origin.altitude_m: must be finite, got " + NumberText(origin.altitude_m));
   }
   return Status();
 }

@@ -8,20 +8,15 @@
 #include <string>
 #include <utility>
 
+#include "odometry/sim/sampling.h"
+
 namespace uf::sim {
 namespace {
 
-constexpr long double kMaxSamples = 1e8;  // more is a mistaken rate or range
 // Indexed by the enum's value.
 constexpr GnssQuality kQualities[] = {GnssQuality::kRtkFixed, GnssQuality::kRtkFloat, GnssQuality::kSingle};
 static_assert(static_cast<int>(GnssQuality::kRtkFixed) == 0 &&
               static_cast<int>(GnssQuality::kRtkFloat) == 1 && static_cast<int>(GnssQuality::kSingle) == 2);
-
-std::string Number(double value) {
-  std::ostringstream text;
-  text << value;
-  return text.str();
-}
 
 bool IsQuality(GnssQuality quality) {
   return quality == GnssQuality::kRtkFixed || quality == GnssQuality::kRtkFloat ||
@@ -40,7 +35,7 @@ Status CheckNoise(const std::string& name, const GnssNoise& noise) {
                                                    {"correlation_time_s", noise.correlation_time_s}};
   for (const auto& [field, value] : values) {
     if (!std::isfinite(value) || value < 0.0) {
-      return Status::Error(name + "." + field + ": must be finite and >= 0, got " + Number(value));
+      return Status::Error(name + "." + field + ": must be finite and >= 0, got " + NumberText(value));
     }
   }
   return Status();
@@ -84,7 +79,7 @@ GnssQuality GnssConfig::QualityAt(Stamp t) const {
 
 Status GnssConfig::Validate() const {
   if (!std::isfinite(rate_hz) || rate_hz <= 0.0 || rate_hz > 1000.0) {
-    return Status::Error("gnss.rate_hz: must be in (0, 1000], got " + Number(rate_hz));
+    return Status::Error("gnss.rate_hz: must be in (0, 1000], got " + NumberText(rate_hz));
   }
   if (!IsQuality(quality)) {
     return Status::Error("gnss.quality: unknown value " + std::to_string(static_cast<int>(quality)));
@@ -107,8 +102,8 @@ Status GnssConfig::Validate() const {
     if (Status status = CheckWindow(name + ".window", multipath[i].first); !status.ok()) return status;
     if (!multipath[i].second.allFinite()) {
       const Eigen::Vector3d& offset = multipath[i].second;
-      return Status::Error(name + ".offset: must be finite, got (" + Number(offset.x()) + ", " +
-                           Number(offset.y()) + ", " + Number(offset.z()) + ")");
+      return Status::Error(name + ".offset: must be finite, got (" + NumberText(offset.x()) + ", " +
+                           NumberText(offset.y()) + ", " + NumberText(offset.z()) + ")");
     }
   }
   const std::pair<const char*, const GnssNoise*> noises[] = {
@@ -144,20 +139,9 @@ Eigen::Vector3d GnssSimulator::TrueAntennaEnu(Stamp t) const {
 }
 
 Expected<SimulatedGnss> GnssSimulator::Generate(Stamp begin, Stamp end) const {
-  if (begin > end) {
-    return Status::Error("gnss simulation interval is empty: begin " + FormatSeconds(begin) +
-                         " s is after end " + FormatSeconds(end) + " s");
-  }
-  if (!trajectory_.Contains(begin) || !trajectory_.Contains(end)) {
-    return Status::Error("gnss simulation interval [" + FormatSeconds(begin) + ", " + FormatSeconds(end) +
-                         "] s is not inside the trajectory [" + FormatSeconds(trajectory_.begin()) + ", " +
-                         FormatSeconds(trajectory_.end()) + "] s");
-  }
+  if (Status s = sim::CheckSampleInterval("gnss", trajectory_, begin, end, config_.rate_hz); !s.ok())
+    return s;
   const long double period_ns = 1e9L / static_cast<long double>(config_.rate_hz);
-  if (static_cast<long double>(end - begin) / period_ns >= kMaxSamples) {
-    return Status::Error("gnss simulation at " + Number(config_.rate_hz) + " Hz over " +
-                         FormatSeconds(end - begin) + " s would give more than 1e8 fixes");
-  }
 
   // One unit-variance Gauss-Markov state per quality (index as in kQualities), all stepped at every sample
   // with draws in a fixed order (quality by quality, east, north, up), so outages, quality changes and
@@ -169,7 +153,7 @@ Expected<SimulatedGnss> GnssSimulator::Generate(Stamp begin, Stamp end) const {
   Stamp previous_stamp = begin;
   for (std::int64_t k = 0;; ++k) {
     // Each stamp rounded on its own, so a period that is not a whole number of ns does not drift.
-    const Stamp stamp = begin + std::llround(static_cast<long double>(k) * period_ns);
+    const Stamp stamp = GridStamp(begin, period_ns, k);
     if (stamp > end) break;
     for (std::size_t q = 0; q < state.size(); ++q) {
       const double tau = config_.Noise(kQualities[q]).correlation_time_s;

@@ -8,20 +8,16 @@
 #include <string>
 #include <utility>
 
+#include "odometry/sim/sampling.h"
+
 namespace uf {
 namespace {
 
-constexpr long double kMaxSamples = 1e8;  // ~10 GB of samples and biases; more is a mistaken rate or range
-
-std::string Number(double value) {
-  std::ostringstream text;
-  text << value;
-  return text.str();
-}
+using sim::NumberText;
 
 Status CheckNonNegative(const std::string& name, double value) {
   if (std::isfinite(value) && value >= 0.0) return Status();
-  return Status::Error("imu " + name + " must be finite and >= 0, got " + Number(value));
+  return Status::Error("imu " + name + " must be finite and >= 0, got " + NumberText(value));
 }
 
 // Standard normal numbers from std::mt19937_64 by the Box-Muller transform, written out because
@@ -71,7 +67,7 @@ Expected<ImuSimulator> ImuSimulator::Create(TrajectorySpline trajectory, const S
                                             double gravity) {
   if (!std::isfinite(rate_hz) || rate_hz <= 0.0 || rate_hz > 1e9) {
     return Status::Error("imu rate must be > 0 Hz and at most 1e9 Hz (one sample per ns), got " +
-                         Number(rate_hz));
+                         NumberText(rate_hz));
   }
   const std::pair<const char*, double> non_negative[] = {
       {"accel_noise_density", noise.accel_noise_density},
@@ -130,23 +126,10 @@ ImuSample ImuSimulator::IdealSample(Stamp t) const {
 }
 
 Expected<SimulatedImu> ImuSimulator::Generate(Stamp begin, Stamp end) const {
-  if (begin > end) {
-    return Status::Error("imu simulation interval is empty: begin " + FormatSeconds(begin) +
-                         " s is after end " + FormatSeconds(end) + " s");
-  }
-  if (!trajectory_.Contains(begin) || !trajectory_.Contains(end)) {
-    return Status::Error("imu simulation interval [" + FormatSeconds(begin) + ", " + FormatSeconds(end) +
-                         "] s is not inside the trajectory [" + FormatSeconds(trajectory_.begin()) + ", " +
-                         FormatSeconds(trajectory_.end()) + "] s");
-  }
-  // Sample k is at begin + round(k * period), so it is inside when k * period < span + 1/2 (halves round up).
+  if (Status s = sim::CheckSampleInterval("imu", trajectory_, begin, end, rate_hz_); !s.ok()) return s;
   const long double period_ns = 1e9L / static_cast<long double>(rate_hz_);
   const Stamp span = end - begin;
   const auto inside = [&](std::int64_t k) { return static_cast<long double>(k) * period_ns < span + 0.5L; };
-  if (static_cast<long double>(span) / period_ns >= kMaxSamples) {
-    return Status::Error("imu simulation at " + Number(rate_hz_) + " Hz over " + FormatSeconds(span) +
-                         " s would give more than 1e8 samples");
-  }
   auto count = static_cast<std::int64_t>(std::ceil((span + 0.5L) / period_ns));  // k = 0 .. count - 1
   while (count > 1 && !inside(count - 1)) --count;  // whatever the rounding of the division
   while (inside(count)) ++count;
@@ -166,7 +149,7 @@ Expected<SimulatedImu> ImuSimulator::Generate(Stamp begin, Stamp end) const {
   out.biases.reserve(static_cast<std::size_t>(count));
   for (std::int64_t k = 0; k < count; ++k) {
     // Each stamp rounded on its own, so a period that is not a whole number of ns does not drift.
-    const Stamp stamp = begin + std::llround(static_cast<long double>(k) * period_ns);
+    const Stamp stamp = sim::GridStamp(begin, period_ns, k);
     ImuSample sample = IdealSample(stamp);
     // Draws in a fixed order (accel noise, gyro noise, accel walk, gyro walk), even for zero densities, so
     // switching one noise source on or off leaves the others' sequences unchanged.

@@ -10,16 +10,10 @@
 #include <string>
 #include <utility>
 
+#include "odometry/sim/sampling.h"
+
 namespace uf::sim {
 namespace {
-
-constexpr long double kMaxSamples = 1e8;  // more is a mistaken rate or range
-
-std::string Number(double value) {
-  std::ostringstream text;
-  text << value;
-  return text.str();
-}
 
 Status CheckWindow(const std::string& name, const TimeWindow& window) {
   if (window.end >= window.begin) return Status();
@@ -27,30 +21,26 @@ Status CheckWindow(const std::string& name, const TimeWindow& window) {
                        FormatSeconds(window.begin) + " s");
 }
 
-// Stamp of sample k (any integer k) of the grid begin + round(k * period_ns); each stamp is rounded on its
-// own, so a period that is not a whole number of ns does not drift.
-Stamp GridStamp(Stamp begin, long double period_ns, std::int64_t k) {
-  return begin + std::llround(static_cast<long double>(k) * period_ns);
-}
-
 }  // namespace
 
 Status WheelConfig::Validate() const {
   if (!std::isfinite(rate_hz) || rate_hz <= 0.0 || rate_hz > 10000.0) {
-    return Status::Error("wheel.rate_hz: must be in (0, 10000], got " + Number(rate_hz));
+    return Status::Error("wheel.rate_hz: must be in (0, 10000], got " + NumberText(rate_hz));
   }
   const std::pair<const char*, double> positive[] = {{"wheel_radius_m", wheel_radius_m},
                                                      {"baseline_m", baseline_m}};
   for (const auto& [name, value] : positive) {
     if (!std::isfinite(value) || value <= 0.0) {
-      return Status::Error(std::string("wheel.") + name + ": must be finite and > 0, got " + Number(value));
+      return Status::Error(std::string("wheel.") + name + ": must be finite and > 0, got " +
+                           NumberText(value));
     }
   }
   const std::pair<const char*, double> relative[] = {{"radius_error", radius_error},
                                                      {"baseline_error", baseline_error}};
   for (const auto& [name, value] : relative) {
     if (!std::isfinite(value) || value <= -1.0) {
-      return Status::Error(std::string("wheel.") + name + ": must be finite and > -1, got " + Number(value));
+      return Status::Error(std::string("wheel.") + name + ": must be finite and > -1, got " +
+                           NumberText(value));
     }
   }
   const std::pair<const char*, double> non_negative[] = {
@@ -58,14 +48,15 @@ Status WheelConfig::Validate() const {
       {"wheel_speed_noise_std", wheel_speed_noise_std}};
   for (const auto& [name, value] : non_negative) {
     if (!std::isfinite(value) || value < 0.0) {
-      return Status::Error(std::string("wheel.") + name + ": must be finite and >= 0, got " + Number(value));
+      return Status::Error(std::string("wheel.") + name + ": must be finite and >= 0, got " +
+                           NumberText(value));
     }
   }
   for (std::size_t i = 0; i < slips.size(); ++i) {
     const std::string name = "wheel.slips[" + std::to_string(i) + "]";
     if (Status status = CheckWindow(name + ".window", slips[i].first); !status.ok()) return status;
     if (!std::isfinite(slips[i].second) || slips[i].second < -1.0) {
-      return Status::Error(name + ".ratio: must be finite and >= -1, got " + Number(slips[i].second));
+      return Status::Error(name + ".ratio: must be finite and >= -1, got " + NumberText(slips[i].second));
     }
   }
   for (std::size_t i = 0; i < floats.size(); ++i) {
@@ -116,20 +107,9 @@ Eigen::Vector2d WheelSimulator::WheelRates(Stamp t) const {
 }
 
 Expected<SimulatedWheel> WheelSimulator::Generate(Stamp begin, Stamp end) const {
-  if (begin > end) {
-    return Status::Error("wheel simulation interval is empty: begin " + FormatSeconds(begin) +
-                         " s is after end " + FormatSeconds(end) + " s");
-  }
-  if (!trajectory_.Contains(begin) || !trajectory_.Contains(end)) {
-    return Status::Error("wheel simulation interval [" + FormatSeconds(begin) + ", " + FormatSeconds(end) +
-                         "] s is not inside the trajectory [" + FormatSeconds(trajectory_.begin()) + ", " +
-                         FormatSeconds(trajectory_.end()) + "] s");
-  }
+  if (Status s = sim::CheckSampleInterval("wheel", trajectory_, begin, end, config_.rate_hz); !s.ok())
+    return s;
   const long double period_ns = 1e9L / static_cast<long double>(config_.rate_hz);
-  if (static_cast<long double>(end - begin) / period_ns >= kMaxSamples) {
-    return Status::Error("wheel simulation at " + Number(config_.rate_hz) + " Hz over " +
-                         FormatSeconds(end - begin) + " s would give more than 1e8 samples");
-  }
 
   // The frozen rates of float window i: those of the last grid sample before the window (k may be negative:
   // the grid extended backwards), clamped to the start of the trajectory. Computed when first needed.

@@ -1,0 +1,45 @@
+// The measurements of a simulated sequence: the simulators built on its trajectory and scene, the order in
+// which their measurements are stamped, and the measurement of each event. Internal to the generator.
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include "odometry/io/measurement.h"
+#include "odometry/sim/sensors/ray_caster.h"
+#include "odometry/sim/sequence/sequence_streams.h"
+#include "odometry/sim/sequence/sim_trajectory.h"
+
+namespace uf::sim {
+
+// Every simulator of the sequence, built on its trajectory and scene (which must outlive it). The small
+// streams are generated up front; sweeps and frames when their turn comes.
+struct Simulators {
+  std::optional<SimulatedImu> imu;
+  std::optional<LidarSimulator> lidar;
+  std::optional<CameraRenderer> camera;
+  std::vector<WheelSample> wheel;
+  std::vector<GnssFix> gnss;
+};
+
+// Each sensor gets its own seed, derived from config.seed.
+Expected<Simulators> MakeSimulators(const SimulationConfig& config, const SimulationTrajectory& motion,
+                                    const RayCaster& caster);
+
+// One measurement to produce: its stream, its true time and, for streams generated up front, its index.
+struct Event {
+  Stamp stamp = 0;  // as stamped by the sensor (true time + stamp delay)
+  int stream = 0;
+  Stamp true_time = 0;
+  std::size_t index = 0;
+};
+
+// Every event of the sequence in stamp order (ties in stream order). LiDAR: whole sweeps inside the span.
+std::vector<Event> Schedule(const std::vector<SequenceStream>& streams, const Simulators& simulators,
+                            const SimulationTrajectory& motion);
+
+// The measurement of an event, stamped by its sensor; camera frames carry PNG bytes, not pixels.
+Expected<MeasurementData> Produce(const Event& event, const SequenceStream& stream,
+                                  const Simulators& simulators);
+
+}  // namespace uf::sim
