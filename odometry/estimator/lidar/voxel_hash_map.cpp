@@ -1,0 +1,178 @@
+#include "odometry/estimator/lidar/voxel_hash_map.h"
+
+#include <cassert>
+#include <string>
+
+namespace uf::estimator {
+namespace {
+
+Status FieldError(const std::string& field, const std::string& rule, double value) {
+  return Status::Error("lidar_map." + field + ": must be " + rule + ", got " + std::to_string(value));
+}
+
+// Block offset o = 9 (dx + 1) + 3 (dy + 1) + (dz + 1) and back.
+VoxelIndex OffsetOf(int o) { return VoxelIndex(o / 9 - 1, (o / 3) % 3 - 1, o % 3 - 1); }
+constexpr int kSelf = 13;
+
+}  // namespace
+
+Status VoxelMapConfig::Validate() const {
+  if (!(voxel_m > 0 && voxel_m <= 10)) return FieldError("voxel_m", "in (0, 10]", voxel_m);
+  if (max_points_per_voxel < 1) return FieldError("max_points_per_voxel", ">= 1", max_points_per_voxel);
+  if (!(max_range_m > 0)) return FieldError("max_range_m", "> 0", max_range_m);
+  if (!(plane_eigen_ratio > 0 && plane_eigen_ratio <= 1))
+    return FieldError("plane_eigen_ratio", "in (0, 1]", plane_eigen_ratio);
+  if (min_plane_points < 3) return FieldError("min_plane_points", ">= 3", min_plane_points);
+  if (!(min_plane_sigma_m >= 0)) return FieldError("min_plane_sigma_m", ">= 0", min_plane_sigma_m);
+  return {};
+}
+
+VoxelHashMap::VoxelHashMap(const VoxelMapConfig& config)
+    : config_(config),
+      gate_{config.plane_eigen_ratio, config.min_plane_points, config.min_plane_sigma_m},
+      inverse_voxel_m_(1.0 / config.voxel_m) {
+  assert(config.Validate().ok());
+}
+
+VoxelHashMap::Slot VoxelHashMap::Find(const VoxelIndex& index) const {
+  const auto it = slot_of_.find(PackVoxelKey(index));
+  return it == slot_of_.end() ? kNoVoxel : it->second;
+}
+
+VoxelHashMap::Slot VoxelHashMap::Create(const VoxelIndex& index) {
+  Slot slot;
+  if (free_slots_.empty()) {
+    slot = static_cast<Slot>(voxels_.size());
+    voxels_.emplace_back();
+  } else {
+    slot = free_slots_.back();
+    free_slots_.pop_back();
+  }
+  slot_of_.emplace(PackVoxelKey(index), slot);
+  Voxel& voxel = voxels_[slot];
+  voxel.index = index;
+  voxel.alive = true;
+  voxel.changed = false;
+  voxel.plane_valid = false;
+  voxel.points.clear();
+  voxel.points.reserve(config_.max_points_per_voxel);
+  voxel.moments = PointMoments();
+  for (int o = 0; o < kBlockSize; ++o) {
+    const Slot neighbour = o == kSelf ? slot : Find(index + OffsetOf(o));
+    voxel.block[o] = neighbour;
+    if (neighbour != kNoVoxel && o != kSelf) voxels_[neighbour].block[kBlockSize - 1 - o] = slot;
+  }
+  return slot;
+}
+
+void VoxelHashMap::Remove(Slot slot) {
+  Voxel& voxel = voxels_[slot];
+  for (int o = 0; o < kBlockSize; ++o) {
+    const Slot neighbour = voxel.block[o];
+    if (neighbour == kNoVoxel || o == kSelf) continue;
+    voxels_[neighbour].block[kBlockSize - 1 - o] = kNoVoxel;
+    voxels_[neighbour].plane_valid = false;  // its block lost this voxel's points
+  }
+  point_count_ -= voxel.points.size();
+  slot_of_.erase(PackVoxelKey(voxel.index));
+  voxel.alive = false;
+  voxel.points = {};  // gives the memory back
+  free_slots_.push_back(slot);
+}
+
+void VoxelHashMap::Insert(const std::vector<Eigen::Vector3d>& world_points) {
+  const double limit = static_cast<double>(kVoxelIndexLimit - 2) * config_.voxel_m;
+  empty_voxel_planes_.clear();
+  std::vector<Slot> changed;
+  for (const Eigen::Vector3d& p : world_points) {
+    if (!p.allFinite() || p.cwiseAbs().maxCoeff() >= limit) continue;
+    const VoxelIndex index = VoxelOf(p, inverse_voxel_m_);
+    Slot slot = Find(index);
+    if (slot == kNoVoxel) slot = Create(index);
+    Voxel& voxel = voxels_[slot];  // after Create: voxels_ may have grown
+    if (static_cast<int>(voxel.points.size()) >= config_.max_points_per_voxel) continue;
+    voxel.points.push_back(p.cast<float>());
+    voxel.moments.Add(p - CenterOf(index));
+    ++point_count_;
+    if (!voxel.changed) {
+      voxel.changed = true;
+      changed.push_back(slot);
+    }
+  }
+  for (Slot slot : changed) {
+    voxels_[slot].changed = false;
+    InvalidateBlock(voxels_[slot]);
+  }
+}
+
+void VoxelHashMap::RemoveFarFrom(const Eigen::Vector3d& center) {
+  empty_voxel_planes_.clear();
+  const double max_squared = config_.max_range_m * config_.max_range_m;
+  for (Slot slot = 0; slot < static_cast<Slot>(voxels_.size()); ++slot)
+    if (voxels_[slot].alive && (CenterOf(voxels_[slot].index) - center).squaredNorm() > max_squared)
+      Remove(slot);
+}
+
+void VoxelHashMap::InvalidateBlock(const Voxel& voxel) const {
+  // The voxels whose block contains this one are exactly the voxels of this one's block.
+  for (const Slot neighbour : voxel.block)
+    if (neighbour != kNoVoxel) voxels_[neighbour].plane_valid = false;
+}
+
+std::optional<Plane> VoxelHashMap::FitBlock(const Voxel& voxel) const {
+  // Moments of the block relative to the centre c_v of voxel v: a neighbour u's moments are relative to
+  // c_u, so shift by c_u - c_v = (u - v) voxel_m.
+  PointMoments block;
+  for (int o = 0; o < kBlockSize; ++o)
+    if (voxel.block[o] != kNoVoxel)
+      block.AddShifted(voxels_[voxel.block[o]].moments, OffsetOf(o).cast<double>() * config_.voxel_m);
+  return FitPlane(block, CenterOf(voxel.index), gate_);
+}
+
+std::optional<Plane> VoxelHashMap::FitBlockAround(const VoxelIndex& index) const {
+  PointMoments block;
+  for (int o = 0; o < kBlockSize; ++o) {
+    const Slot neighbour = Find(index + OffsetOf(o));
+    if (neighbour != kNoVoxel)
+      block.AddShifted(voxels_[neighbour].moments, OffsetOf(o).cast<double>() * config_.voxel_m);
+  }
+  return FitPlane(block, CenterOf(index), gate_);
+}
+
+std::optional<Plane> VoxelHashMap::PlaneNear(const Eigen::Vector3d& world_point) const {
+  if (!world_point.allFinite()) return std::nullopt;
+  if (world_point.cwiseAbs().maxCoeff() >= static_cast<double>(kVoxelIndexLimit - 2) * config_.voxel_m)
+    return std::nullopt;
+  const VoxelIndex index = VoxelOf(world_point, inverse_voxel_m_);
+  const Slot slot = Find(index);
+  if (slot == kNoVoxel) {
+    const auto [it, created] = empty_voxel_planes_.try_emplace(PackVoxelKey(index));
+    if (created) it->second = FitBlockAround(index);
+    return it->second;
+  }
+  const Voxel& voxel = voxels_[slot];
+  if (!voxel.plane_valid) {
+    voxel.plane = FitBlock(voxel);
+    voxel.plane_valid = true;
+  }
+  return voxel.plane;
+}
+
+std::vector<Eigen::Vector3d> VoxelHashMap::Points() const {
+  std::vector<Eigen::Vector3d> points;
+  points.reserve(point_count_);
+  for (const Voxel& voxel : voxels_)
+    if (voxel.alive)
+      for (const Eigen::Vector3f& p : voxel.points) points.push_back(p.cast<double>());
+  return points;
+}
+
+void VoxelHashMap::Clear() {
+  voxels_.clear();
+  free_slots_.clear();
+  slot_of_.clear();
+  empty_voxel_planes_.clear();
+  point_count_ = 0;
+}
+
+}  // namespace uf::estimator

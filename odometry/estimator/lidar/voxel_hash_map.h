@@ -1,0 +1,98 @@
+// The LiDAR local map of the estimator: a voxel hash of world points (KISS-ICP style, bounded points per
+// voxel and bounded range) that answers "which plane is near this world point?" for the point-to-plane
+// factor.
+//
+// Each voxel keeps at most max_points_per_voxel points (later ones are ignored) and their moments relative
+// to its centre. The plane of voxel v is the PCA plane (plane_fit.h) of the points of v and its 26
+// neighbours (a 3x3x3 block of voxels, 1.5 m wide at 0.5 m voxels), gated by lambda_min / lambda_mid. It is
+// computed on the first query and cached in the voxel until an Insert or RemoveFarFrom changes a voxel of
+// that block. Queries in a voxel that holds no points are fitted from its neighbours and cached until the
+// next change of the map.
+//
+// Threads: PlaneNear refreshes that cache, so one map must not be queried from several threads at once.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <unordered_map>
+#include <vector>
+
+#include "odometry/estimator/lidar/plane_fit.h"
+#include "odometry/estimator/lidar/voxel_key.h"
+#include "odometry/types/status.h"
+
+namespace uf::estimator {
+
+struct VoxelMapConfig {
+  double voxel_m = 0.5;             // voxel edge, m (paper: 0.5)
+  int max_points_per_voxel = 20;    // points kept per voxel
+  double max_range_m = 100;         // RemoveFarFrom drops voxels whose centre is farther than this, m
+  double plane_eigen_ratio = 0.12;  // plane gate lambda_min / lambda_mid (paper: 0.12)
+  int min_plane_points = 5;         // points needed in the 3x3x3 block for a plane
+  double min_plane_sigma_m = 0.05;  // floor of Plane::sigma, m
+
+  // "lidar_map.<field>: must be ..., got <value>" for the first bad field.
+  Status Validate() const;
+};
+
+class VoxelHashMap {
+ public:
+  explicit VoxelHashMap(const VoxelMapConfig& config = {});  // asserts config.Validate().ok()
+
+  // Adds world points (non-finite ones are skipped); voxels keep <= max_points_per_voxel points.
+  void Insert(const std::vector<Eigen::Vector3d>& world_points);
+  // Bounded memory: drops every voxel whose centre is farther than max_range_m from `center`.
+  void RemoveFarFrom(const Eigen::Vector3d& center);
+  // The plane of the voxel holding world_point (see the top of this file), or nullopt when the block has
+  // fewer than min_plane_points points or fails the eigen-ratio gate.
+  std::optional<Plane> PlaneNear(const Eigen::Vector3d& world_point) const;
+
+  std::size_t voxel_count() const { return slot_of_.size(); }
+  std::size_t point_count() const { return point_count_; }
+  std::vector<Eigen::Vector3d> Points() const;  // all stored points (for viewers and tests), any order
+  void Clear();
+  const VoxelMapConfig& config() const { return config_; }
+
+ private:
+  // Slot of a voxel in voxels_; the 27 voxels of a block are linked by slot so that invalidating and fitting
+  // a block costs no hash lookups. Block offset o = 9 (dx + 1) + 3 (dy + 1) + (dz + 1); 13 is the voxel
+  // itself and 26 - o the opposite offset.
+  using Slot = std::int32_t;
+  static constexpr Slot kNoVoxel = -1;
+  static constexpr int kBlockSize = 27;
+
+  struct Voxel {
+    VoxelIndex index;
+    bool alive = false;
+    bool changed = false;  // scratch flag of Insert
+    mutable bool plane_valid = false;
+    std::array<Slot, kBlockSize> block;   // slots of the block's voxels, kNoVoxel where empty
+    std::vector<Eigen::Vector3f> points;  // world, m (float: 30 um at 500 m, plenty for display)
+    PointMoments moments;                 // relative to the voxel centre, double
+    mutable std::optional<Plane> plane;   // cache of PlaneNear
+  };
+
+  Eigen::Vector3d CenterOf(const VoxelIndex& index) const {
+    return (index.cast<double>().array() + 0.5) * config_.voxel_m;
+  }
+  Slot Find(const VoxelIndex& index) const;
+  Slot Create(const VoxelIndex& index);  // links the new voxel with its existing neighbours
+  void Remove(Slot slot);
+  void InvalidateBlock(const Voxel& voxel) const;
+  std::optional<Plane> FitBlock(const Voxel& voxel) const;
+  std::optional<Plane> FitBlockAround(const VoxelIndex& index) const;  // for a voxel that holds no points
+
+  VoxelMapConfig config_;
+  PlaneFitGate gate_;
+  double inverse_voxel_m_;
+  std::vector<Voxel> voxels_;  // slots; dead slots are reused through free_slots_
+  std::vector<Slot> free_slots_;
+  std::unordered_map<std::uint64_t, Slot, VoxelKeyHash> slot_of_;
+  // Planes fitted around voxels that hold no points, cleared by every Insert, RemoveFarFrom and Clear.
+  mutable std::unordered_map<std::uint64_t, std::optional<Plane>, VoxelKeyHash> empty_voxel_planes_;
+  std::size_t point_count_ = 0;
+};
+
+}  // namespace uf::estimator

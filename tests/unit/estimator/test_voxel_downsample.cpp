@@ -1,0 +1,80 @@
+// VoxelDownsample against a constructed cloud whose voxel occupancy is known by construction: one point per
+// voxel (the first seen), exact counts, whole LidarPoints kept (offset_ns, ring, intensity), floor (not
+// truncation) at negative coordinates, non-finite points dropped.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "odometry/estimator/lidar/voxel_downsample.h"
+
+namespace uf::estimator {
+namespace {
+
+LidarPoint Point(double x, double y, double z, std::int32_t offset_ns) {
+  LidarPoint p;
+  p.x = static_cast<float>(x);
+  p.y = static_cast<float>(y);
+  p.z = static_cast<float>(z);
+  p.offset_ns = offset_ns;
+  p.ring = static_cast<std::uint16_t>(offset_ns % 64);
+  p.intensity = static_cast<float>(offset_ns) * 0.5f;
+  return p;
+}
+
+TEST(VoxelDownsample, KeepsTheFirstPointOfEachVoxel) {
+  // 5 x 4 x 3 voxels of 0.5 m (indices -2..2, -2..1, -1..1), each hit by 3 points at different places
+  // inside it (0.1, 0.25, 0.4 of the edge), interleaved so that the first of each voxel comes first.
+  const double voxel = 0.5;
+  std::vector<LidarPoint> cloud;
+  std::vector<LidarPoint> expected;
+  std::int32_t offset = 0;
+  for (double fraction : {0.1, 0.25, 0.4}) {
+    for (int i = -2; i <= 2; ++i)
+      for (int j = -2; j <= 1; ++j)
+        for (int k = -1; k <= 1; ++k) {
+          cloud.push_back(
+              Point((i + fraction) * voxel, (j + fraction) * voxel, (k + fraction) * voxel, offset));
+          if (fraction == 0.1) expected.push_back(cloud.back());
+          offset += 1000;
+        }
+  }
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  cloud.push_back(Point(nan, 0, 0, 7));
+  cloud.push_back(Point(0, std::numeric_limits<double>::infinity(), 0, 8));
+
+  const std::vector<LidarPoint> kept = VoxelDownsample(cloud, voxel);
+  ASSERT_EQ(kept.size(), 5u * 4u * 3u);
+  for (std::size_t n = 0; n < kept.size(); ++n) {
+    EXPECT_EQ(kept[n].x, expected[n].x);
+    EXPECT_EQ(kept[n].y, expected[n].y);
+    EXPECT_EQ(kept[n].z, expected[n].z);
+    EXPECT_EQ(kept[n].offset_ns, expected[n].offset_ns);
+    EXPECT_EQ(kept[n].ring, expected[n].ring);
+    EXPECT_EQ(kept[n].intensity, expected[n].intensity);
+  }
+}
+
+TEST(VoxelDownsample, SplitsAtZeroByFloor) {
+  // -0.1 and 0.1 are in voxels -1 and 0 (truncation would merge them); 0.1 and 0.4 share voxel 0.
+  const std::vector<LidarPoint> cloud = {Point(-0.1, 0, 0, 1), Point(0.1, 0, 0, 2), Point(0.4, 0, 0, 3),
+                                         Point(-0.4, 0, 0, 4), Point(0.6, 0, 0, 5)};
+  const std::vector<LidarPoint> kept = VoxelDownsample(cloud, 0.5);
+  ASSERT_EQ(kept.size(), 3u);
+  EXPECT_EQ(kept[0].offset_ns, 1);
+  EXPECT_EQ(kept[1].offset_ns, 2);
+  EXPECT_EQ(kept[2].offset_ns, 5);
+}
+
+TEST(VoxelDownsample, EmptyAndDenseClouds) {
+  EXPECT_TRUE(VoxelDownsample({}, 1.0).empty());
+  // 10000 points inside one 1 m voxel: one survives, the first.
+  std::vector<LidarPoint> cloud;
+  for (int n = 0; n < 10000; ++n) cloud.push_back(Point(3.01 + 0.00009 * n, 4.5, -7.5, n));
+  const std::vector<LidarPoint> kept = VoxelDownsample(cloud, 1.0);
+  ASSERT_EQ(kept.size(), 1u);
+  EXPECT_EQ(kept[0].offset_ns, 0);
+}
+
+}  // namespace
+}  // namespace uf::estimator
