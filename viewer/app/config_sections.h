@@ -1,6 +1,6 @@
 // The top-level sections of an ultrafusion configuration file. One file may hold several; each reader
-// (dataset_config.h, sim_config.h, the calibration reader) reads its own section, skips the other known
-// ones and rejects any other top-level key with the list below.
+// (dataset_config.h, sim_config.h, the calibration reader, estimator_config.h) reads its own section, skips
+// the other known ones and rejects any other top-level key with the list below.
 #pragma once
 
 #include <array>
@@ -9,7 +9,7 @@
 
 namespace uf::app {
 
-inline constexpr std::array<std::string_view, 3> kConfigSections = {"dataset", "sim", "calibration"};
+inline constexpr std::array<std::string_view, 4> kConfigSections = {"dataset", "sim", "calibration", "lo"};
 
 inline bool IsKnownConfigSection(std::string_view name) {
   for (std::string_view known : kConfigSections) {
@@ -18,7 +18,7 @@ inline bool IsKnownConfigSection(std::string_view name) {
   return false;
 }
 
-// "dataset, sim, calibration": for error messages.
+// "dataset, sim, calibration, lo": for error messages.
 inline std::string KnownConfigSectionsList() {
   std::string list;
   for (std::string_view known : kConfigSections) {

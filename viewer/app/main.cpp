@@ -6,6 +6,7 @@
 #include "viewer/app/eval_command.h"
 #include "viewer/app/exit_codes.h"
 #include "viewer/app/info_command.h"
+#include "viewer/app/run_command.h"
 #include "viewer/app/sim_command.h"
 
 int main(int argc, char** argv) {
@@ -15,6 +16,7 @@ int main(int argc, char** argv) {
 
   auto eval = uf::app::AddEvalCommand(app);
   auto info = uf::app::AddInfoCommand(app);
+  auto run = uf::app::AddRunCommand(app);
   auto sim = uf::app::AddSimCommand(app);
 
   try {
@@ -25,6 +27,7 @@ int main(int argc, char** argv) {
   }
   if (app.got_subcommand(eval.command)) return eval.run();
   if (app.got_subcommand(info.command)) return info.run();
+  if (app.got_subcommand(run.command)) return run.run();
   if (app.got_subcommand(sim.command)) return sim.run();
   return uf::app::kExitUsage;
 }

@@ -1,0 +1,45 @@
+#include "odometry/estimator/lidar_odometry/lidar_odometry_config.h"
+
+#include <cmath>
+#include <sstream>
+#include <string>
+
+namespace uf::estimator {
+namespace {
+
+template <typename T>
+Status Bad(const char* field, const char* rule, T value) {
+  std::ostringstream message;
+  message << "lo." << field << ": must be " << rule << ", got " << value;
+  return Status::Error(message.str());
+}
+
+bool Positive(double v) { return std::isfinite(v) && v > 0; }
+
+}  // namespace
+
+Status LidarOdometryConfig::Validate() const {
+  if (!Positive(input_voxel_m)) return Bad("input_voxel_m", "> 0", input_voxel_m);
+  if (Status s = map.Validate(); !s.ok()) return Status::Error("lo.map: " + s.message());
+  if (window_size < 2) return Bad("window_size", ">= 2", window_size);
+  if (max_iterations < 1) return Bad("max_iterations", ">= 1", max_iterations);
+  if (!Positive(max_solver_time_s)) return Bad("max_solver_time_s", "> 0", max_solver_time_s);
+  if (max_residuals_per_scan < 6) return Bad("max_residuals_per_scan", ">= 6", max_residuals_per_scan);
+  if (!Positive(huber_m)) return Bad("huber_m", "> 0", huber_m);
+  if (!std::isfinite(min_range_m) || min_range_m < 0) return Bad("min_range_m", ">= 0", min_range_m);
+  if (!std::isfinite(max_range_m) || max_range_m <= min_range_m)
+    return Bad("max_range_m", "finite and > min_range_m", max_range_m);
+  if (!T_body_lidar.matrix().allFinite()) return Bad("T_body_lidar", "finite", "non-finite");
+  if (!Positive(map_insert_voxel_m)) return Bad("map_insert_voxel_m", "> 0", map_insert_voxel_m);
+  if (association_rounds < 1) return Bad("association_rounds", ">= 1", association_rounds);
+  if (!Positive(motion.acc_density)) return Bad("motion.acc_density", "> 0", motion.acc_density);
+  if (!Positive(motion.angular_acc_density))
+    return Bad("motion.angular_acc_density", "> 0", motion.angular_acc_density);
+  if (!Positive(max_plane_distance_m)) return Bad("max_plane_distance_m", "> 0", max_plane_distance_m);
+  if (!Positive(max_correction_m)) return Bad("max_correction_m", "> 0", max_correction_m);
+  if (!Positive(max_correction_rad)) return Bad("max_correction_rad", "> 0", max_correction_rad);
+  if (min_points < 6) return Bad("min_points", ">= 6", min_points);
+  return {};
+}
+
+}  // namespace uf::estimator

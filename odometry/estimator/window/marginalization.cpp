@@ -1,0 +1,218 @@
+#include "odometry/estimator/window/marginalization.h"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <unordered_map>
+
+#include "odometry/estimator/state/nav_state.h"
+#include "odometry/estimator/state/pose_manifold.h"
+
+namespace uf::estimator {
+namespace {
+
+using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+// Eigenvalues at or below this are treated as zero (see MarginalizationConfig).
+double TruncationThreshold(const MarginalizationConfig& config, const Eigen::VectorXd& eigenvalues) {
+  const double largest = eigenvalues.size() > 0 ? std::max(0.0, eigenvalues.maxCoeff()) : 0.0;
+  return std::max(config.eigenvalue_threshold, config.relative_eigenvalue_threshold * largest);
+}
+
+// Ceres' robust reweighting of one residual block (ceres::internal::Corrector), in place. `r` is the
+// unweighted residual, `J` its tangent Jacobian (all blocks side by side).
+void ApplyRobustLoss(const ceres::LossFunction& loss, Eigen::VectorXd& r, Eigen::MatrixXd& J) {
+  const double s = r.squaredNorm();
+  double rho[3];
+  loss.Evaluate(s, rho);
+  const double sqrt_rho1 = std::sqrt(std::max(rho[1], 0.0));
+  if (s == 0.0 || rho[2] <= 0.0 || rho[1] <= 0.0) {
+    r *= sqrt_rho1;
+    J *= sqrt_rho1;
+    return;
+  }
+  // alpha solves 1/2 alpha^2 - alpha - rho'' s / rho' = 0 (Triggs et al., "Bundle adjustment - a modern
+  // synthesis", section 4.3), the smaller root.
+  const double alpha = 1.0 - std::sqrt(1.0 + 2.0 * s * rho[2] / rho[1]);
+  J = sqrt_rho1 * (J - (alpha / s) * r * (r.transpose() * J));
+  r *= sqrt_rho1 / (1.0 - alpha);
+}
+
+}  // namespace
+
+Status MarginalizationConfig::Validate() const {
+  if (!(eigenvalue_threshold >= 0.0) || !std::isfinite(eigenvalue_threshold)) {
+    return Status::Error("marginalization.eigenvalue_threshold: must be finite and >= 0, got " +
+                         std::to_string(eigenvalue_threshold));
+  }
+  if (!(relative_eigenvalue_threshold >= 0.0 && relative_eigenvalue_threshold < 1.0)) {
+    return Status::Error("marginalization.relative_eigenvalue_threshold: must be in [0, 1), got " +
+                         std::to_string(relative_eigenvalue_threshold));
+  }
+  return Status();
+}
+
+Marginalizer::Marginalizer(MarginalizationConfig config) : config_(config) {}
+
+void Marginalizer::SetPoseBlock(double* block) { pose_blocks_.insert(block); }
+
+void Marginalizer::AddResidualBlock(const ceres::CostFunction* cost, const ceres::LossFunction* loss,
+                                    std::vector<double*> parameter_blocks) {
+  assert(cost != nullptr);
+  assert(parameter_blocks.size() == cost->parameter_block_sizes().size());
+  residuals_.push_back({cost, loss, std::move(parameter_blocks)});
+}
+
+void Marginalizer::AddPrior(const MarginalizationFactor* prior) {
+  assert(prior != nullptr);
+  for (const BlockLayout& block : prior->prior().kept) {
+    if (block.kind == BlockKind::kPose) pose_blocks_.insert(block.address);
+  }
+  AddResidualBlock(prior, nullptr, prior->prior().ParameterBlocks());
+}
+
+void Marginalizer::MarginalizeBlock(double* block) {
+  if (std::find(marginalized_.begin(), marginalized_.end(), block) == marginalized_.end()) {
+    marginalized_.push_back(block);
+  }
+}
+
+Expected<std::shared_ptr<MarginalizationPrior>> Marginalizer::Compute() const {
+  if (Status status = config_.Validate(); !status.ok()) return status;
+  if (marginalized_.empty()) return Status::Error("marginalization: no block to marginalize");
+  const std::unordered_set<const double*> marginalized(marginalized_.begin(), marginalized_.end());
+
+  // 1. The residual blocks touching a marginalized block, and the layout of every block they touch:
+  //    marginalized blocks first (in MarginalizeBlock order), then kept ones in order of first appearance.
+  std::vector<const ResidualBlock*> involved;
+  for (const ResidualBlock& residual : residuals_) {
+    if (std::any_of(residual.parameter_blocks.begin(), residual.parameter_blocks.end(),
+                    [&](double* b) { return marginalized.count(b) > 0; })) {
+      involved.push_back(&residual);
+    }
+  }
+  if (involved.empty())
+    return Status::Error("marginalization: no residual block touches the marginalized blocks");
+
+  std::unordered_map<const double*, int> ambient_size;
+  for (const ResidualBlock* residual : involved) {
+    for (size_t i = 0; i < residual->parameter_blocks.size(); ++i) {
+      const int size = residual->cost->parameter_block_sizes()[i];
+      const double* block = residual->parameter_blocks[i];
+      if (pose_blocks_.count(block) > 0 && size != kPoseSize) {
+        return Status::Error("marginalization: pose block of size " + std::to_string(size) + ", expected 7");
+      }
+      auto [it, inserted] = ambient_size.emplace(block, size);
+      if (!inserted && it->second != size) {
+        return Status::Error("marginalization: block used with sizes " + std::to_string(it->second) +
+                             " and " + std::to_string(size));
+      }
+    }
+  }
+  std::vector<BlockLayout> layout;
+  std::unordered_map<const double*, int> tangent_offset;
+  int marginalized_size = 0, total_size = 0;
+  const auto add_block = [&](double* block) {
+    if (tangent_offset.count(block) > 0) return;
+    const bool pose = pose_blocks_.count(block) > 0;
+    BlockLayout entry{block, ambient_size.at(block), pose ? kPoseTangentSize : ambient_size.at(block),
+                      pose ? BlockKind::kPose : BlockKind::kEuclidean};
+    tangent_offset[block] = total_size;
+    total_size += entry.tangent_size;
+    layout.push_back(entry);
+  };
+  for (double* block : marginalized_) {
+    if (ambient_size.count(block) == 0) {
+      return Status::Error("marginalization: a marginalized block is touched by no residual block");
+    }
+    add_block(block);
+  }
+  marginalized_size = total_size;
+  for (const ResidualBlock* residual : involved) {
+    for (double* block : residual->parameter_blocks) add_block(block);
+  }
+  const int kept_size = total_size - marginalized_size;
+  if (kept_size == 0)
+    return Status::Error("marginalization: no kept block (nothing for the prior to act on)");
+
+  // 2. Gauss-Newton system in the tangent: H = sum J^T J, b = -sum J^T r (robust-reweighted).
+  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(total_size, total_size);
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(total_size);
+  for (const ResidualBlock* residual : involved) {
+    const int rows = residual->cost->num_residuals();
+    const auto& sizes = residual->cost->parameter_block_sizes();
+    std::vector<RowMajorMatrix> ambient(sizes.size());
+    std::vector<double*> jacobians(sizes.size());
+    for (size_t i = 0; i < sizes.size(); ++i) {
+      ambient[i].setZero(rows, sizes[i]);
+      jacobians[i] = ambient[i].data();
+    }
+    Eigen::VectorXd r(rows);
+    if (!residual->cost->Evaluate(residual->parameter_blocks.data(), r.data(), jacobians.data()) ||
+        !r.allFinite()) {
+      return Status::Error("marginalization: a residual block failed to evaluate at the linearisation point");
+    }
+    // Tangent Jacobian of the block, columns in the system's order (a block may appear once per residual).
+    Eigen::MatrixXd J = Eigen::MatrixXd::Zero(rows, total_size);
+    for (size_t i = 0; i < sizes.size(); ++i) {
+      double* block = residual->parameter_blocks[i];
+      const int offset = tangent_offset.at(block);
+      if (pose_blocks_.count(block) > 0) {
+        Eigen::Matrix<double, kPoseSize, kPoseTangentSize, Eigen::RowMajor> plus;
+        PoseManifold().PlusJacobian(block, plus.data());
+        J.middleCols(offset, kPoseTangentSize) += ambient[i] * plus;  // chain rule d r/d x * d x/d delta
+      } else {
+        J.middleCols(offset, sizes[i]) += ambient[i];
+      }
+    }
+    if (!J.allFinite()) return Status::Error("marginalization: a residual block has a non-finite Jacobian");
+    if (residual->loss != nullptr) ApplyRobustLoss(*residual->loss, r, J);
+    H.selfadjointView<Eigen::Lower>().rankUpdate(J.transpose());
+    b -= J.transpose() * r;
+  }
+  H = H.selfadjointView<Eigen::Lower>();
+
+  // 3. Schur complement onto the kept blocks, H_mm inverted by truncated eigen-decomposition.
+  const int m = marginalized_size, k = kept_size;
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> mm(H.topLeftCorner(m, m));
+  const double mm_threshold = TruncationThreshold(config_, mm.eigenvalues());
+  const Eigen::VectorXd inverse_eigenvalues =
+      (mm.eigenvalues().array() > mm_threshold).select(mm.eigenvalues().cwiseInverse(), 0.0);
+  const Eigen::MatrixXd H_mm_inverse =
+      mm.eigenvectors() * inverse_eigenvalues.asDiagonal() * mm.eigenvectors().transpose();
+  const Eigen::MatrixXd H_km = H.bottomLeftCorner(k, m);
+  Eigen::MatrixXd H_star = H.bottomRightCorner(k, k) - H_km * H_mm_inverse * H_km.transpose();
+  H_star = 0.5 * (H_star + H_star.transpose()).eval();
+  const Eigen::VectorXd b_star = b.tail(k) - H_km * (H_mm_inverse * b.head(m));
+
+  // 4. Factor H* = V L V^T into J* = sqrt(L) V^T, r0 = -sqrt(L)^-1 V^T b* over the eigenvalues kept.
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> kk(H_star);
+  const double kk_threshold = TruncationThreshold(config_, kk.eigenvalues());
+  std::vector<int> directions;
+  for (int i = 0; i < k; ++i) {
+    if (kk.eigenvalues()[i] > kk_threshold) directions.push_back(i);
+  }
+  if (directions.empty()) return Status::Error("marginalization: the prior has no information left");
+  auto prior = std::make_shared<MarginalizationPrior>();
+  const int rank = static_cast<int>(directions.size());
+  prior->J.resize(rank, k);
+  prior->r0.resize(rank);
+  for (int row = 0; row < rank; ++row) {
+    const double sqrt_lambda = std::sqrt(kk.eigenvalues()[directions[row]]);
+    const Eigen::VectorXd v = kk.eigenvectors().col(directions[row]);
+    prior->J.row(row) = sqrt_lambda * v.transpose();
+    prior->r0[row] = -v.dot(b_star) / sqrt_lambda;
+  }
+  if (!prior->J.allFinite() || !prior->r0.allFinite()) {
+    return Status::Error("marginalization: non-finite prior");
+  }
+  for (size_t i = 0; i < layout.size(); ++i) {
+    if (tangent_offset.at(layout[i].address) < m) continue;
+    prior->kept.push_back(layout[i]);
+    prior->linearization_point.emplace_back(layout[i].address, layout[i].address + layout[i].ambient_size);
+  }
+  return prior;
+}
+
+}  // namespace uf::estimator

@@ -1,0 +1,173 @@
+// LiDAR-only odometry: bad input is skipped with a warning (no NaN out), configuration errors name the
+// field, and on the recorded KITTI 00 keyframes (skipped without /work/shared/data) the trajectory stays
+// within a bound of the ground truth.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <limits>
+
+#include "odometry/estimator/lidar_odometry/lidar_odometry.h"
+#include "odometry/eval/evaluation.h"
+#include "odometry/io/dataset_reader.h"
+#include "odometry/io/trajectory_file.h"
+
+namespace uf::estimator {
+namespace {
+
+// A box room 20 x 12 x 4 m (with a pillar block so that no direction is degenerate) scanned by a lidar
+// without rotation whose origin moves as origin + velocity * (t - stamp) during the 0.1 s sweep: each
+// azimuth column is cast from the origin at its own time; points are in the lidar frame at that time.
+LidarScan BoxRoomScan(Stamp stamp, const Eigen::Vector3d& origin,
+                      const Eigen::Vector3d& velocity = Eigen::Vector3d::Zero()) {
+  LidarScan scan;
+  scan.stamp = stamp;
+  scan.end = stamp + 100'000'000;
+  const Eigen::Vector3d lo(-10, -6, -1.5), hi(10, 6, 2.5);
+  for (int i = 0; i < 360; ++i) {
+    for (int k = -8; k <= 8; ++k) {
+      const double az = i * M_PI / 180, el = k * 0.08;
+      const double t_point = 0.1 * i / 360.0;
+      const Eigen::Vector3d from = origin + velocity * t_point;
+      const Eigen::Vector3d d(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
+      double t = std::numeric_limits<double>::infinity();
+      for (int a = 0; a < 3; ++a) {
+        if (d[a] > 1e-9) t = std::min(t, (hi[a] - from[a]) / d[a]);
+        if (d[a] < -1e-9) t = std::min(t, (lo[a] - from[a]) / d[a]);
+      }
+      // Pillar: the slab 3 < x < 4 for y > 2 (its faces x = 3 and y = 2 seen from the room).
+      if (d.x() > 1e-9 && from.x() < 3) {
+        const double tp = (3 - from.x()) / d.x();
+        if (tp < t && from.y() + tp * d.y() > 2) t = tp;
+      }
+      if (d.y() > 1e-9 && from.y() < 2) {
+        const double tp = (2 - from.y()) / d.y();
+        const double x = from.x() + tp * d.x();
+        if (tp < t && x > 3 && x < 4) t = tp;
+      }
+      const Eigen::Vector3d p = t * d;
+      LidarPoint point;
+      point.x = static_cast<float>(p.x());
+      point.y = static_cast<float>(p.y());
+      point.z = static_cast<float>(p.z());
+      point.offset_ns = static_cast<std::int32_t>(i * 100'000'000LL / 360);
+      scan.points.push_back(point);
+    }
+  }
+  scan.has_point_times = true;
+  return scan;
+}
+
+bool AllFinite(const std::vector<Keyframe>& keyframes) {
+  for (const Keyframe& k : keyframes)
+    if (!k.T_world_body.matrix().allFinite()) return false;
+  return true;
+}
+
+TEST(LidarOdometryConfig, ValidateNamesField) {
+  LidarOdometryConfig config;
+  EXPECT_TRUE(config.Validate().ok());
+  config.window_size = 1;
+  EXPECT_EQ(config.Validate().message(), "lo.window_size: must be >= 2, got 1");
+  config = {};
+  config.huber_m = -1;
+  EXPECT_EQ(config.Validate().message(), "lo.huber_m: must be > 0, got -1");
+  EXPECT_FALSE(LidarOdometry::Create(config).ok());
+}
+
+TEST(LidarOdometry, SkipsBadScansWithWarnings) {
+  auto lo = LidarOdometry::Create({});
+  ASSERT_TRUE(lo.ok());
+  ASSERT_TRUE(lo->AddScan(BoxRoomScan(1'000'000'000, Eigen::Vector3d::Zero())).ok());
+  EXPECT_TRUE(lo->warnings().empty());
+  LidarScan empty;  // no points
+  empty.stamp = 1'100'000'000;
+  empty.end = 1'200'000'000;
+  ASSERT_TRUE(lo->AddScan(empty).ok());
+  EXPECT_EQ(lo->warnings().size(), 1u);
+  LidarScan nans = BoxRoomScan(1'100'000'000, Eigen::Vector3d::Zero());
+  for (LidarPoint& p : nans.points) p.x = std::numeric_limits<float>::quiet_NaN();
+  ASSERT_TRUE(lo->AddScan(nans).ok());
+  EXPECT_EQ(lo->warnings().size(), 2u);
+  ASSERT_TRUE(lo->AddScan(BoxRoomScan(500'000'000, Eigen::Vector3d::Zero())).ok());  // earlier
+  EXPECT_EQ(lo->warnings().size(), 3u);
+  ASSERT_TRUE(lo->AddScan(BoxRoomScan(1'100'000'000, Eigen::Vector3d(0.3, 0, 0))).ok());
+  lo->Finish();
+  const std::vector<Keyframe> keyframes = lo->TakeFinished();
+  ASSERT_EQ(keyframes.size(), 2u);
+  EXPECT_TRUE(AllFinite(keyframes));
+  EXPECT_EQ(keyframes[0].stamp, 1'050'000'000);
+  EXPECT_EQ(keyframes[0].scan_world.size(), keyframes[0].scan_intensity.size());
+  EXPECT_FALSE(keyframes[0].scan_world.empty());
+}
+
+TEST(LidarOdometry, TracksContinuousSweepsInABoxRoom) {
+  // 10 Hz sweeps back to back (shared nodes), moving at (1.0, 0.4, 0) m/s. The world frame is the body at
+  // the first sweep's middle (t = 0.05 s), so the keyframe at the middle of sweep k is at v * 0.1 k.
+  const Eigen::Vector3d v(1.0, 0.4, 0.0), start(-3, -1, 0);
+  auto lo = LidarOdometry::Create({});
+  ASSERT_TRUE(lo.ok());
+  std::vector<Keyframe> keyframes;
+  for (int k = 0; k < 20; ++k) {
+    const LidarScan scan = BoxRoomScan(k * 100'000'000LL, start + v * (0.1 * k), v);
+    ASSERT_TRUE(lo->AddScan(scan).ok());
+    for (Keyframe& f : lo->TakeFinished()) keyframes.push_back(std::move(f));
+  }
+  lo->Finish();
+  for (Keyframe& f : lo->TakeFinished()) keyframes.push_back(std::move(f));
+  ASSERT_EQ(keyframes.size(), 20u);
+  EXPECT_TRUE(lo->warnings().empty());
+  double worst = 0;
+  for (int k = 0; k < 20; ++k) {
+    const Eigen::Vector3d truth = v * (0.1 * k);
+    worst = std::max(worst, (keyframes[k].T_world_body.translation() - truth).norm());
+    EXPECT_LT(keyframes[k].T_world_body.so3().angle(), 0.01) << k;
+  }
+  // Measured 0.013 m: the first sweep is mapped as if at rest (its motion is unknown then, up to 0.05 m
+  // off at its ends) and the later sweeps register against that map.
+  EXPECT_LT(worst, 0.03);
+}
+
+TEST(LidarOdometry, EndBeforeStampIsMisuse) {
+  auto lo = LidarOdometry::Create({});
+  ASSERT_TRUE(lo.ok());
+  LidarScan scan = BoxRoomScan(2'000'000'000, Eigen::Vector3d::Zero());
+  scan.end = scan.stamp - 1;
+  EXPECT_FALSE(lo->AddScan(scan).ok());
+}
+
+// The first 20 recorded KITTI 00 keyframes (~35 m): ATE well under a bound a broken estimator misses
+// (bench_lidar_odometry reports the real figure over all 80).
+TEST(LidarOdometry, Kitti00FirstKeyframes) {
+  const std::filesystem::path folder = std::filesystem::path(UF_SHARED_DATA) / "kitti00-keyframes";
+  if (!std::filesystem::exists(folder)) GTEST_SKIP() << "no recorded data at " << folder;
+  auto reader = OpenDataset(folder.string());
+  ASSERT_TRUE(reader.ok()) << reader.error();
+  auto truth = ReadTrajectory((*reader)->description().ground_truth->string());
+  ASSERT_TRUE(truth.ok());
+  auto lo = LidarOdometry::Create({});
+  ASSERT_TRUE(lo.ok());
+  int scans = 0;
+  while (scans < 20) {
+    auto next = (*reader)->Next();
+    ASSERT_TRUE(next.ok());
+    if (!*next) break;
+    if (const auto* scan = std::get_if<LidarScan>(&(*next)->data)) {
+      ASSERT_TRUE(lo->AddScan(*scan).ok());
+      ++scans;
+    }
+  }
+  lo->Finish();
+  Trajectory estimate;
+  for (const Keyframe& k : lo->TakeFinished()) {
+    estimate.stamps.push_back(k.stamp);
+    estimate.poses.push_back(k.T_world_body);
+  }
+  auto result = Evaluate(*truth, estimate, EvalOptions{});
+  ASSERT_TRUE(result.ok()) << result.error();
+  EXPECT_EQ(result->ape_errors.size(), 20u);
+  EXPECT_LT(result->ape.rmse, 0.3);
+}
+
+}  // namespace
+}  // namespace uf::estimator

@@ -1,0 +1,197 @@
+#include "viewer/app/estimator_config.h"
+
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <functional>
+#include <map>
+#include <optional>
+
+namespace uf::app {
+namespace {
+
+using estimator::LidarOdometryConfig;
+using estimator::VoxelMapConfig;
+
+// "FILE: lo.map.voxel_m (line 7): what"
+Status KeyError(const std::string& file, const std::string& path, const YAML::Node& node,
+                const std::string& what) {
+  std::string where = file + ": " + path;
+  if (node.Mark().line >= 0) where += " (line " + std::to_string(node.Mark().line + 1) + ")";
+  return Status::Error(where + ": " + what);
+}
+
+std::string Scalar(const YAML::Node& node) {
+  return node.IsScalar() ? node.Scalar() : std::string("<not a scalar>");
+}
+
+// A setter per key: parses the node into its field or returns the error text.
+using Setter = std::function<std::optional<std::string>(const YAML::Node&)>;
+
+Setter Number(double& field) {
+  return [&field](const YAML::Node& node) -> std::optional<std::string> {
+    double value = 0;
+    if (!node.IsScalar() || !YAML::convert<double>::decode(node, value) || !std::isfinite(value))
+      return "expected a number, got '" + Scalar(node) + "'";
+    field = value;
+    return std::nullopt;
+  };
+}
+
+Setter Integer(int& field) {
+  return [&field](const YAML::Node& node) -> std::optional<std::string> {
+    int value = 0;
+    if (!node.IsScalar() || !YAML::convert<int>::decode(node, value))
+      return "expected a whole number, got '" + Scalar(node) + "'";
+    field = value;
+    return std::nullopt;
+  };
+}
+
+// Nested sections by key: parse the sub-map at the given path.
+using Nested = std::map<std::string, std::function<Status(const std::string&, const YAML::Node&)>>;
+
+Status ParseMap(const std::string& file, const std::string& path, const YAML::Node& node,
+                const std::map<std::string, Setter>& setters, const Nested& nested = {}) {
+  if (!node.IsMap()) return KeyError(file, path, node, "expected a map of settings");
+  std::string expected;
+  for (const auto& [key, setter] : setters) expected += (expected.empty() ? "" : ", ") + key;
+  for (const auto& [key, parse] : nested) expected += ", " + key;
+  for (const auto& kv : node) {
+    const std::string key = kv.first.as<std::string>();
+    if (const auto sub = nested.find(key); sub != nested.end()) {
+      if (Status s = sub->second(path + "." + key, kv.second); !s.ok()) return s;
+      continue;
+    }
+    const auto setter = setters.find(key);
+    if (setter == setters.end())
+      return KeyError(file, path + "." + key, kv.first, "unknown key (expected " + expected + ")");
+    if (auto error = setter->second(kv.second)) return KeyError(file, path + "." + key, kv.second, *error);
+  }
+  return {};
+}
+
+Status ParseLoSection(const std::string& file, const YAML::Node& node, LidarOdometryConfig& c) {
+  VoxelMapConfig& m = c.map;
+  const std::map<std::string, Setter> map_setters = {
+      {"voxel_m", Number(m.voxel_m)},
+      {"max_points_per_voxel", Integer(m.max_points_per_voxel)},
+      {"max_range_m", Number(m.max_range_m)},
+      {"plane_eigen_ratio", Number(m.plane_eigen_ratio)},
+      {"min_plane_points", Integer(m.min_plane_points)},
+      {"min_plane_sigma_m", Number(m.min_plane_sigma_m)}};
+  const std::map<std::string, Setter> setters = {
+      {"input_voxel_m", Number(c.input_voxel_m)},
+      {"window_size", Integer(c.window_size)},
+      {"max_iterations", Integer(c.max_iterations)},
+      {"max_solver_time_s", Number(c.max_solver_time_s)},
+      {"max_residuals_per_scan", Integer(c.max_residuals_per_scan)},
+      {"huber_m", Number(c.huber_m)},
+      {"min_range_m", Number(c.min_range_m)},
+      {"max_range_m", Number(c.max_range_m)},
+      {"map_insert_voxel_m", Number(c.map_insert_voxel_m)},
+      {"association_rounds", Integer(c.association_rounds)},
+      {"max_correction_m", Number(c.max_correction_m)},
+      {"max_correction_rad", Number(c.max_correction_rad)},
+      {"min_points", Integer(c.min_points)}};
+  const std::map<std::string, Setter> motion_setters = {
+      {"acc_density", Number(c.motion.acc_density)},
+      {"angular_acc_density", Number(c.motion.angular_acc_density)}};
+  const Nested nested = {
+      {"map", [&](const std::string& path,
+                  const YAML::Node& map) { return ParseMap(file, path, map, map_setters); }},
+      {"motion", [&](const std::string& path, const YAML::Node& motion) {
+         return ParseMap(file, path, motion, motion_setters);
+       }}};
+  return ParseMap(file, "lo", node, setters, nested);
+}
+
+// Shortest text that reads back to the same double.
+std::string FormatNumber(double value) {
+  char text[32];
+  for (int digits = 6; digits <= 17; ++digits) {
+    std::snprintf(text, sizeof(text), "%.*g", digits, value);
+    if (std::strtod(text, nullptr) == value) break;
+  }
+  return text;
+}
+
+}  // namespace
+
+Expected<LidarOdometryConfig> LoadLidarOdometryConfig(const std::filesystem::path& file) {
+  const std::string name = file.string();
+  LidarOdometryConfig config;
+  try {
+    const YAML::Node root = YAML::LoadFile(name);
+    if (root.IsMap()) {
+      if (const YAML::Node lo = root["lo"]; lo && !lo.IsNull())
+        if (Status s = ParseLoSection(name, lo, config); !s.ok()) return s;
+    }
+  } catch (const YAML::BadFile&) {
+    return Status::Error(name + ": cannot open the configuration file");
+  } catch (const YAML::Exception& e) {
+    return Status::Error(name + ": " + e.what());
+  }
+  if (Status s = config.Validate(); !s.ok()) return Status::Error(name + ": " + s.message());
+  return config;
+}
+
+std::string EmitLidarOdometryConfig(const LidarOdometryConfig& c) {
+  const VoxelMapConfig& m = c.map;
+  std::string text = "lo:\n";
+  text += "  input_voxel_m: " + FormatNumber(c.input_voxel_m) + "\n";
+  text += "  window_size: " + std::to_string(c.window_size) + "\n";
+  text += "  max_iterations: " + std::to_string(c.max_iterations) + "\n";
+  text += "  max_solver_time_s: " + FormatNumber(c.max_solver_time_s) + "\n";
+  text += "  max_residuals_per_scan: " + std::to_string(c.max_residuals_per_scan) + "\n";
+  text += "  huber_m: " + FormatNumber(c.huber_m) + "\n";
+  text += "  min_range_m: " + FormatNumber(c.min_range_m) + "\n";
+  text += "  max_range_m: " + FormatNumber(c.max_range_m) + "\n";
+  text += "  map_insert_voxel_m: " + FormatNumber(c.map_insert_voxel_m) + "\n";
+  text += "  association_rounds: " + std::to_string(c.association_rounds) + "\n";
+  text += "  max_correction_m: " + FormatNumber(c.max_correction_m) + "\n";
+  text += "  max_correction_rad: " + FormatNumber(c.max_correction_rad) + "\n";
+  text += "  min_points: " + std::to_string(c.min_points) + "\n";
+  text += "  motion:\n";
+  text += "    acc_density: " + FormatNumber(c.motion.acc_density) + "\n";
+  text += "    angular_acc_density: " + FormatNumber(c.motion.angular_acc_density) + "\n";
+  text += "  map:\n";
+  text += "    voxel_m: " + FormatNumber(m.voxel_m) + "\n";
+  text += "    max_points_per_voxel: " + std::to_string(m.max_points_per_voxel) + "\n";
+  text += "    max_range_m: " + FormatNumber(m.max_range_m) + "\n";
+  text += "    plane_eigen_ratio: " + FormatNumber(m.plane_eigen_ratio) + "\n";
+  text += "    min_plane_points: " + std::to_string(m.min_plane_points) + "\n";
+  text += "    min_plane_sigma_m: " + FormatNumber(m.min_plane_sigma_m) + "\n";
+  return text;
+}
+
+std::string EmitDatasetConfig(const DatasetConfig& config) {
+  const DatasetOptions& r = config.reader;
+  std::string text = "dataset:\n";
+  text += "  format: " + std::string(DatasetFormatName(r.format)) + "\n";
+  if (!r.topics.empty()) {
+    text += "  topics:\n";
+    for (const TopicSelection& t : r.topics)
+      text += "    - {topic: \"" + t.topic + "\", kind: " + std::string(SensorKindName(t.kind)) + "}\n";
+  }
+  const char* unit = r.imu_accel_unit == ImuAccelUnit::kAuto               ? "auto"
+                     : r.imu_accel_unit == ImuAccelUnit::kMetersPerSecond2 ? "m/s^2"
+                                                                           : "g";
+  text += "  imu_accel_unit: " + std::string(unit) + "\n";
+  text += std::string("  derive_point_times_from_azimuth: ") +
+          (r.derive_point_times_from_azimuth ? "true" : "false") + "\n";
+  text += "  lidar_sweep_period_s: " + FormatNumber(r.lidar_sweep_period_s) + "\n";
+  text += std::string("  folder_scan_stamp: ") +
+          (r.folder_scan_stamp == ScanStampPosition::kSweepMiddle ? "sweep_middle" : "sweep_start") + "\n";
+  if (!config.stream.time_offsets.empty()) {
+    text += "  time_offsets_s:\n";
+    for (const auto& [name, offset] : config.stream.time_offsets)
+      text += "    \"" + name + "\": " + FormatSeconds(offset) + "\n";
+  }
+  text += "  reorder_window_s: " + FormatSeconds(config.stream.reorder_window) + "\n";
+  return text;
+}
+
+}  // namespace uf::app

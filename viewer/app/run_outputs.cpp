@@ -1,0 +1,75 @@
+#include "viewer/app/run_outputs.h"
+
+#include <algorithm>
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <numeric>
+
+#include "odometry/io/atomic_file.h"
+#include "odometry/io/trajectory_file.h"
+
+namespace uf::app {
+
+TimingSummary SummarizeTimings(std::vector<double> ms) {
+  TimingSummary summary;
+  summary.scans = ms.size();
+  if (ms.empty()) return summary;
+  std::sort(ms.begin(), ms.end());
+  const std::size_t n = ms.size();
+  summary.mean = std::accumulate(ms.begin(), ms.end(), 0.0) / static_cast<double>(n);
+  summary.median = n % 2 == 1 ? ms[n / 2] : 0.5 * (ms[n / 2 - 1] + ms[n / 2]);
+  // Nearest rank: rank ceil(0.95 n), 1-based.
+  const std::size_t rank = static_cast<std::size_t>(std::ceil(0.95 * static_cast<double>(n)));
+  summary.p95 = ms[std::clamp<std::size_t>(rank, 1, n) - 1];
+  summary.max = ms.back();
+  return summary;
+}
+
+Status WriteTrajectoryFiles(const std::filesystem::path& folder, const Trajectory& trajectory) {
+  if (Status s = WriteTumTrajectory((folder / "trajectory.tum").string(), trajectory); !s.ok()) return s;
+  return WriteKittiTrajectory((folder / "trajectory_kitti.txt").string(), trajectory);
+}
+
+Status WriteTimingJson(const std::filesystem::path& path, const TimingSummary& timing, std::int64_t skipped,
+                       std::int64_t warnings) {
+  const nlohmann::json json = {
+      {"scans", timing.scans},
+      {"ms_per_scan",
+       {{"mean", timing.mean}, {"median", timing.median}, {"p95", timing.p95}, {"max", timing.max}}},
+      {"skipped", skipped},
+      {"warnings", warnings}};
+  return WriteTextFileAtomically(path, json.dump(2) + "\n");
+}
+
+Status WriteTextFileAtomically(const std::filesystem::path& path, const std::string& text) {
+  AtomicFileWriter writer(path.string());
+  if (Status s = writer.status(); !s.ok()) return s;
+  writer.stream() << text;
+  return writer.Commit();
+}
+
+std::optional<SE3> ImuFromLidar(const DatasetDescription& description, int lidar_stream) {
+  const StreamInfo& lidar = description.streams.at(static_cast<std::size_t>(lidar_stream));
+  if (!lidar.T_body_sensor) return std::nullopt;
+  SE3 T_body_imu;  // identity: the body is the IMU unless the IMU stream says otherwise
+  for (const StreamInfo& stream : description.streams) {
+    if (stream.kind == SensorKind::kImu && stream.T_body_sensor) {
+      T_body_imu = *stream.T_body_sensor;
+      break;
+    }
+  }
+  // p_imu = T_body_imu^-1 * p_body = T_body_imu^-1 * T_body_lidar * p_lidar
+  return T_body_imu.inverse() * *lidar.T_body_sensor;
+}
+
+Trajectory ToImuFrame(const Trajectory& lidar_trajectory, const SE3& T_imu_lidar) {
+  Trajectory imu;
+  imu.stamps = lidar_trajectory.stamps;
+  imu.poses.reserve(lidar_trajectory.size());
+  const SE3 T_lidar_imu = T_imu_lidar.inverse();
+  for (const SE3& T_lidar0_lidar : lidar_trajectory.poses)
+    imu.poses.push_back(T_imu_lidar * T_lidar0_lidar * T_lidar_imu);
+  return imu;
+}
+
+}  // namespace uf::app

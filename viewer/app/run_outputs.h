@@ -1,0 +1,48 @@
+// The files `ultrafusion run` writes into its output folder besides the report: the trajectory (TUM and
+// KITTI), timing.json and any text file, each written under a temporary name and renamed into place so a
+// failure never leaves a half-written file. Also the change of frame for `--output-frame imu`.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "odometry/io/dataset_reader.h"
+#include "odometry/types/status.h"
+#include "odometry/types/trajectory.h"
+
+namespace uf::app {
+
+// Milliseconds per scan, summarised.
+struct TimingSummary {
+  std::size_t scans = 0;
+  double mean = 0, median = 0, p95 = 0, max = 0;
+};
+
+// Mean, median, 95th percentile (nearest rank: the smallest value with >= 95 % of the values at or below
+// it) and maximum; all zero for no scans.
+TimingSummary SummarizeTimings(std::vector<double> milliseconds);
+
+// trajectory.tum (stamps with nine decimals, nanosecond-exact) and trajectory_kitti.txt (12 numbers of the
+// 3x4 matrix [R|t] per line) in `folder`.
+Status WriteTrajectoryFiles(const std::filesystem::path& folder, const Trajectory& trajectory);
+
+// {"scans": N, "ms_per_scan": {"mean", "median", "p95", "max"}, "skipped": S, "warnings": W}
+Status WriteTimingJson(const std::filesystem::path& path, const TimingSummary& timing, std::int64_t skipped,
+                       std::int64_t warnings);
+
+Status WriteTextFileAtomically(const std::filesystem::path& path, const std::string& text);
+
+// T_imu_lidar (p_imu = T_imu_lidar * p_lidar) from the calibration that came with the dataset: the LiDAR
+// stream's T_body_sensor composed with the inverse of the IMU stream's (identity when the IMU has none, the
+// body then being the IMU). Empty when the LiDAR stream carries no T_body_sensor.
+std::optional<SE3> ImuFromLidar(const DatasetDescription& description, int lidar_stream);
+
+// Re-expresses a LiDAR trajectory T_lidar0_lidar(t) (world = first LiDAR pose) in the IMU frame:
+//   T_imu0_imu(t) = T_imu_lidar * T_lidar0_lidar(t) * T_imu_lidar^-1,
+// i.e. the pose of the IMU, in a world frame that is the IMU frame at the start.
+Trajectory ToImuFrame(const Trajectory& lidar_trajectory, const SE3& T_imu_lidar);
+
+}  // namespace uf::app

@@ -1,0 +1,110 @@
+#include "viewer/app/run_report.h"
+
+#include <cstdio>
+#include <sstream>
+
+#include "odometry/eval/evaluation.h"
+#include "odometry/io/trajectory_file.h"
+#include "odometry/io/warning_log.h"
+#include "viewer/app/eval_report.h"
+
+namespace uf::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string Format(const char* format, double value) {
+  char text[64];
+  std::snprintf(text, sizeof(text), format, value);
+  return text;
+}
+
+void AppendWarnings(std::string& md, const std::vector<ReadWarning>& warnings, const char* source) {
+  for (const ReadWarning& w : warnings)
+    md += "| " + std::string(source) + " | " + w.stream + " | " + w.what + " | " + std::to_string(w.count) +
+          " |\n";
+}
+
+}  // namespace
+
+GroundTruthCheck EvaluateAgainstGroundTruth(const fs::path& ground_truth, const fs::path& out_folder,
+                                            const std::string& estimate_file) {
+  GroundTruthCheck check;
+  // The same steps and defaults as `ultrafusion eval REF EST --align se3` (eval_command.cpp).
+  auto reference = ReadTrajectory(ground_truth.string());
+  if (!reference) {
+    check.note = "ground truth unreadable: " + reference.error();
+    return check;
+  }
+  const std::string estimate_path = (out_folder / estimate_file).string();
+  auto estimate = ReadTrajectory(estimate_path);
+  if (!estimate) {
+    check.note = "estimate unreadable: " + estimate.error();
+    return check;
+  }
+  const EvalOptions options;  // align se3, max_dt 0.01 s, RPE delta 1 frame
+  auto result = Evaluate(*reference, *estimate, options);
+  if (!result) {
+    check.note = "evaluation failed: " + result.error();
+    return check;
+  }
+  const EvalContext context{
+      ground_truth.string(), estimate_file, reference->size(), estimate->size(), options, "se3", "frames"};
+  std::ostringstream table;
+  PrintEvalTable(table, context, *result);
+  check.table = table.str();
+  check.evaluated = true;
+  check.ape_rmse_m = result->ape.rmse;
+  if (Status s = WriteEvalPlots((out_folder / "plots").string(), context, *result); !s.ok()) {
+    check.note = "plots not written: " + s.message();
+    return check;
+  }
+  for (const char* plot : {"ape_top_view.png", "ape_over_time.png", "rpe_over_time.png"})
+    if (fs::exists(out_folder / "plots" / plot)) check.plots.push_back(std::string("plots/") + plot);
+  return check;
+}
+
+std::vector<ReadWarning> GroupWarnings(const std::vector<std::string>& warnings) {
+  WarningLog log;
+  for (const std::string& warning : warnings) log.Add("odometry", warning);
+  return log.entries();
+}
+
+std::string FormatRunReport(const RunReport& r) {
+  std::string md = "# ultrafusion run\n\n";
+  md += "- dataset: `" + r.dataset + "` (" + r.format + ")\n";
+  md += "- mode: " + r.mode + "\n";
+  md += "- output frame: " + r.output_frame + "\n";
+  for (const std::string& note : r.notes) md += "- note: " + note + "\n";
+  md += "\n## Counts\n\n| item | count |\n|---|---|\n";
+  md += "| LiDAR scans fed | " + std::to_string(r.scans) + " |\n";
+  md += "| keyframes (trajectory poses) | " + std::to_string(r.keyframes) + " |\n";
+  md += "| scans skipped by the odometry | " + std::to_string(r.skipped) + " |\n";
+  md += "| wall time [s] | " + Format("%.2f", r.wall_seconds) + " |\n";
+  md += "\n## Timing per scan (AddScan + TakeFinished, wall time)\n\n";
+  md += "| mean [ms] | median [ms] | p95 [ms] | max [ms] |\n|---|---|---|---|\n";
+  md += "| " + Format("%.2f", r.timing.mean) + " | " + Format("%.2f", r.timing.median) + " | " +
+        Format("%.2f", r.timing.p95) + " | " + Format("%.2f", r.timing.max) + " |\n";
+  md += "\n## Accuracy\n\n";
+  if (r.accuracy.evaluated) {
+    md += "ATE (APE translation RMSE, SE3-aligned): " + Format("%.4f", r.accuracy.ape_rmse_m) + " m\n\n";
+    md += "As `ultrafusion eval GROUND_TRUTH trajectory.tum --align se3` reports it:\n\n```\n" +
+          r.accuracy.table + "```\n\n";
+    for (const std::string& plot : r.accuracy.plots) md += "![" + plot + "](" + plot + ")\n";
+  }
+  if (!r.accuracy.note.empty()) md += r.accuracy.note + "\n";
+  md += "\n## Warnings\n\n";
+  const std::vector<ReadWarning> odometry = GroupWarnings(r.odometry_warnings);
+  if (r.reader_warnings.empty() && odometry.empty()) {
+    md += "none\n";
+  } else {
+    md += "| source | stream | what (first occurrence) | count |\n|---|---|---|---|\n";
+    AppendWarnings(md, r.reader_warnings, "reader");
+    AppendWarnings(md, odometry, "odometry");
+  }
+  md += "\n## Configuration (config.yaml; repeat with `--config config.yaml`)\n\n```yaml\n" + r.config_yaml +
+        "```\n";
+  return md;
+}
+
+}  // namespace uf::app

@@ -1,0 +1,49 @@
+// report.md of `ultrafusion run`: what was run on what (dataset, mode, resolved config), counts, the
+// per-scan timing table, warnings grouped by kind and, when the dataset has ground truth, the trajectory
+// accuracy computed exactly as `ultrafusion eval GROUND_TRUTH trajectory.tum --align se3` does, with its
+// plots.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "odometry/io/dataset_reader.h"
+#include "viewer/app/run_outputs.h"
+
+namespace uf::app {
+
+// The accuracy section: the eval table, the plots written, or why there is none.
+struct GroundTruthCheck {
+  bool evaluated = false;
+  double ape_rmse_m = 0;
+  std::string table;               // as `ultrafusion eval` prints it
+  std::vector<std::string> plots;  // paths relative to the output folder
+  std::string note;                // "no ground truth in the dataset", or the evaluation's error
+};
+
+// Reads both trajectories, evaluates with eval's defaults (SE3 Umeyama alignment, max_dt 0.01 s, RPE over
+// 1 frame) and writes the APE/RPE plots into out_folder/plots. Never fails: problems end up in `note`.
+GroundTruthCheck EvaluateAgainstGroundTruth(const std::filesystem::path& ground_truth,
+                                            const std::filesystem::path& out_folder,
+                                            const std::string& estimate_file);
+
+struct RunReport {
+  std::string dataset, format, mode, output_frame;
+  std::vector<std::string> notes;  // mode fallbacks, no-op options
+  std::string config_yaml;         // the resolved config, as saved in config.yaml
+  std::int64_t scans = 0, keyframes = 0, skipped = 0;
+  TimingSummary timing;
+  double wall_seconds = 0;
+  std::vector<ReadWarning> reader_warnings;
+  std::vector<std::string> odometry_warnings;
+  GroundTruthCheck accuracy;
+};
+
+// Odometry warnings grouped by kind (the text before " ("), first example kept, in order of appearance.
+std::vector<ReadWarning> GroupWarnings(const std::vector<std::string>& warnings);
+
+std::string FormatRunReport(const RunReport& report);
+
+}  // namespace uf::app
