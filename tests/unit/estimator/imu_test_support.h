@@ -16,6 +16,10 @@ namespace uf::estimator::testing {
 
 constexpr Stamp kSecond = kNanosecondsPerSecond;
 
+// The constant biases of the simulated IMU in the tests (m/s^2, rad/s).
+inline const Eigen::Vector3d kAccelBias(0.08, -0.05, 0.12);
+inline const Eigen::Vector3d kGyroBias(0.004, -0.006, 0.003);
+
 // 12 control points 0.5 s apart (4.5 s of motion): rotations of up to ~0.6 rad about all axes and
 // positions a few metres apart, so angular rate and acceleration change all the time.
 inline TrajectorySpline MovingTrajectory() {

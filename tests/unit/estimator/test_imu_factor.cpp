@@ -21,8 +21,8 @@ using testing::MovingImu;
 using testing::Samples;
 using testing::TrueState;
 
-const Eigen::Vector3d kAccelBias(0.08, -0.05, 0.12);
-const Eigen::Vector3d kGyroBias(0.004, -0.006, 0.003);
+using testing::kAccelBias;
+using testing::kGyroBias;
 
 using Pose = std::array<double, kPoseSize>;
 using SpeedBias = std::array<double, kSpeedBiasSize>;
