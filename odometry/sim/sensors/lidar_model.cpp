@@ -113,11 +113,18 @@ class CachedSplinePoser {
   std::array<Eigen::Vector3d, 4> steps_, increments_;  // index 1..3
 };
 
-void Concatenate(std::vector<std::vector<LidarPoint>>& blocks, std::vector<LidarPoint>& out) {
+// The sweep [start, start + period] with the points of every block in block order.
+LidarScan AssembleScan(Stamp start, Stamp period, const std::vector<std::vector<LidarPoint>>& blocks) {
+  LidarScan scan;
+  scan.stamp = start;
+  scan.end = start + period;
+  scan.has_point_times = true;
+  scan.has_ring = true;
   std::size_t total = 0;
   for (const auto& block : blocks) total += block.size();
-  out.reserve(total);
-  for (const auto& block : blocks) out.insert(out.end(), block.begin(), block.end());
+  scan.points.reserve(total);
+  for (const auto& block : blocks) scan.points.insert(scan.points.end(), block.begin(), block.end());
+  return scan;
 }
 
 }  // namespace
@@ -238,13 +245,7 @@ Expected<LidarScan> LidarSimulator::ScanSpinning(Stamp start) const {
       }
     }
   });
-  LidarScan scan;
-  scan.stamp = start;
-  scan.end = start + period_;
-  scan.has_point_times = true;
-  scan.has_ring = true;
-  Concatenate(block_points, scan.points);
-  return scan;
+  return AssembleScan(start, period_, block_points);
 }
 
 Expected<LidarScan> LidarSimulator::ScanLivox(Stamp start) const {
@@ -291,13 +292,7 @@ Expected<LidarScan> LidarSimulator::ScanLivox(Stamp start) const {
       }
     }
   });
-  LidarScan scan;
-  scan.stamp = start;
-  scan.end = start + period_;
-  scan.has_point_times = true;
-  scan.has_ring = true;
-  Concatenate(block_points, scan.points);
-  return scan;
+  return AssembleScan(start, period_, block_points);
 }
 
 }  // namespace uf::sim
