@@ -108,16 +108,25 @@ TEST_F(CliRun, LidarOdometryOnASimulatedSequenceWritesEveryOutput) {
   EXPECT_NE(again.output.find("not an empty folder"), std::string::npos) << again.output;
 }
 
-TEST_F(CliRun, AutoModeFallsBackToLidarOdometryAndWritesTheImuFrame) {
+TEST_F(CliRun, AutoModeRunsLidarInertialOdometryInTheImuFrame) {
   TempDir out;
   const std::string run = out.File("run");
-  const auto result = Ultrafusion("run " + Sequence() + " --output-frame imu --out " + run);
+  const auto result = Ultrafusion("run " + Sequence() + " --out " + run);
   ASSERT_EQ(result.code, 0) << result.output;
-  EXPECT_NE(result.output.find("LIO is not built yet"), std::string::npos) << result.output;
-  // In the IMU frame the estimate is directly comparable with the ground truth.
-  const double ate = ReportedAte(testing::ReadText(run + "/report.md"));
+  EXPECT_NE(result.output.find("run: lio (LiDAR-inertial odometry"), std::string::npos) << result.output;
+  const std::string report = testing::ReadText(run + "/report.md");
+  EXPECT_NE(report.find("LIO initialized: static"), std::string::npos) << report;  // 1 s at rest first
+  EXPECT_NE(report.find("lio:"), std::string::npos) << report;                     // the resolved config
+  // LIO writes the IMU (body) frame by default, the frame of the ground truth.
+  const double ate = ReportedAte(report);
   EXPECT_GE(ate, 0);
-  EXPECT_LT(ate, 0.5);
+  EXPECT_LT(ate, 0.1) << report;
+
+  // A bad lio: value is a usage error that names it.
+  const std::string config = out.Write("bad.yaml", "lio:\n  imu:\n    gravity: -9.8\n");
+  const auto bad = Ultrafusion("run " + Sequence() + " --config " + config + " --out " + out.File("bad"));
+  EXPECT_EQ(bad.code, 2) << bad.output;
+  EXPECT_NE(bad.output.find("lio.imu.gravity"), std::string::npos) << bad.output;
 }
 
 TEST(CliRunKitti, FirstTenKeyframesRunAndReportTheAccuracy) {
@@ -149,6 +158,12 @@ TEST(CliRunKitti, FirstTenKeyframesRunAndReportTheAccuracy) {
   // 18 m driven in 1.9 s. Only "not lost" is asserted here (LO's accuracy is its own tests' and bench's
   // business): a track lost at the first turn or a frame mix-up is off by several metres.
   EXPECT_LT(ate, 3.0);
+
+  // KITTI has no IMU: --mode lio is an error naming what is missing, auto runs LO.
+  const auto lio = Ultrafusion("run " + copy.string() + " --mode lio --out " + dir.File("lio"));
+  EXPECT_EQ(lio.code, 1) << lio.output;
+  EXPECT_NE(lio.output.find("has no IMU stream"), std::string::npos) << lio.output;
+  EXPECT_FALSE(fs::exists(dir.File("lio")));
 }
 
 TEST(CliRunErrors, BadInputExitsWithAClearMessage) {
@@ -156,10 +171,6 @@ TEST(CliRunErrors, BadInputExitsWithAClearMessage) {
   const auto missing = Ultrafusion("run " + dir.File("nothing-here") + " --mode lo --out " + dir.File("a"));
   EXPECT_EQ(missing.code, 1) << missing.output;
   EXPECT_FALSE(fs::exists(dir.File("a")));
-
-  const auto lio = Ultrafusion("run " + dir.File("nothing-here") + " --mode lio --out " + dir.File("b"));
-  EXPECT_EQ(lio.code, 2) << lio.output;
-  EXPECT_NE(lio.output.find("LIO) is not built yet"), std::string::npos) << lio.output;
 
   const std::string config = dir.Write("bad.yaml", "lo:\n  window_size: 4\n  window_sise: 3\n");
   const auto unknown =

@@ -9,7 +9,7 @@
 
 namespace uf::app {
 
-inline constexpr std::array<std::string_view, 4> kConfigSections = {"dataset", "sim", "calibration", "lo"};
+inline constexpr std::array<std::string_view, 5> kConfigSections = {"dataset", "sim", "calibration", "lo", "lio"};
 
 inline bool IsKnownConfigSection(std::string_view name) {
   for (std::string_view known : kConfigSections) {
@@ -18,7 +18,7 @@ inline bool IsKnownConfigSection(std::string_view name) {
   return false;
 }
 
-// "dataset, sim, calibration, lo": for error messages.
+// "dataset, sim, calibration, lo, lio": for error messages.
 inline std::string KnownConfigSectionsList() {
   std::string list;
   for (std::string_view known : kConfigSections) {

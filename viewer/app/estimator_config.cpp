@@ -50,6 +50,16 @@ Setter Integer(int& field) {
   };
 }
 
+Setter Boolean(bool& field) {
+  return [&field](const YAML::Node& node) -> std::optional<std::string> {
+    bool value = false;
+    if (!node.IsScalar() || !YAML::convert<bool>::decode(node, value))
+      return "expected true or false, got '" + Scalar(node) + "'";
+    field = value;
+    return std::nullopt;
+  };
+}
+
 // Nested sections by key: parse the sub-map at the given path.
 using Nested = std::map<std::string, std::function<Status(const std::string&, const YAML::Node&)>>;
 
@@ -95,7 +105,9 @@ Status ParseLoSection(const std::string& file, const YAML::Node& node, LidarOdom
       {"association_rounds", Integer(c.association_rounds)},
       {"max_correction_m", Number(c.max_correction_m)},
       {"max_correction_rad", Number(c.max_correction_rad)},
-      {"min_points", Integer(c.min_points)}};
+      {"min_points", Integer(c.min_points)},
+      {"max_plane_distance_m", Number(c.max_plane_distance_m)},
+      {"marginalize", Boolean(c.marginalize)}};
   const std::map<std::string, Setter> motion_setters = {
       {"acc_density", Number(c.motion.acc_density)},
       {"angular_acc_density", Number(c.motion.angular_acc_density)}};
@@ -106,6 +118,35 @@ Status ParseLoSection(const std::string& file, const YAML::Node& node, LidarOdom
          return ParseMap(file, path, motion, motion_setters);
        }}};
   return ParseMap(file, "lo", node, setters, nested);
+}
+
+Status ParseLioSection(const std::string& file, const YAML::Node& node, LidarOdometryConfig& c) {
+  estimator::ImuNoiseParams& imu = c.imu;
+  estimator::InertialInitConfig& init = c.init;
+  const std::map<std::string, Setter> imu_setters = {
+      {"accel_noise_density", Number(imu.accel_noise_density)},
+      {"gyro_noise_density", Number(imu.gyro_noise_density)},
+      {"accel_bias_random_walk", Number(imu.accel_bias_random_walk)},
+      {"gyro_bias_random_walk", Number(imu.gyro_bias_random_walk)},
+      {"gravity", Number(imu.gravity)},
+      {"max_accel_bias_change", Number(imu.max_accel_bias_change)},
+      {"max_gyro_bias_change", Number(imu.max_gyro_bias_change)}};
+  const std::map<std::string, Setter> init_setters = {
+      {"window_scans", Integer(init.window_scans)},
+      {"static_max_gyro_std", Number(init.static_max_gyro_std)},
+      {"static_max_acc_std", Number(init.static_max_acc_std)},
+      {"static_max_motion_m", Number(init.static_max_motion_m)},
+      {"max_gravity_error", Number(init.max_gravity_error)}};
+  const std::map<std::string, Setter> setters = {{"imu_max_gap_s", Number(c.imu_max_gap_s)},
+                                                 {"imu_max_wait_s", Number(c.imu_max_wait_s)},
+                                                 {"max_speed_mps", Number(c.max_speed_mps)}};
+  const Nested nested = {
+      {"imu", [&](const std::string& path,
+                  const YAML::Node& map) { return ParseMap(file, path, map, imu_setters); }},
+      {"init", [&](const std::string& path, const YAML::Node& map) {
+         return ParseMap(file, path, map, init_setters);
+       }}};
+  return ParseMap(file, "lio", node, setters, nested);
 }
 
 // Shortest text that reads back to the same double.
@@ -128,6 +169,8 @@ Expected<LidarOdometryConfig> LoadLidarOdometryConfig(const std::filesystem::pat
     if (root.IsMap()) {
       if (const YAML::Node lo = root["lo"]; lo && !lo.IsNull())
         if (Status s = ParseLoSection(name, lo, config); !s.ok()) return s;
+      if (const YAML::Node lio = root["lio"]; lio && !lio.IsNull())
+        if (Status s = ParseLioSection(name, lio, config); !s.ok()) return s;
     }
   } catch (const YAML::BadFile&) {
     return Status::Error(name + ": cannot open the configuration file");
@@ -154,6 +197,8 @@ std::string EmitLidarOdometryConfig(const LidarOdometryConfig& c) {
   text += "  max_correction_m: " + FormatNumber(c.max_correction_m) + "\n";
   text += "  max_correction_rad: " + FormatNumber(c.max_correction_rad) + "\n";
   text += "  min_points: " + std::to_string(c.min_points) + "\n";
+  text += "  max_plane_distance_m: " + FormatNumber(c.max_plane_distance_m) + "\n";
+  text += std::string("  marginalize: ") + (c.marginalize ? "true" : "false") + "\n";
   text += "  motion:\n";
   text += "    acc_density: " + FormatNumber(c.motion.acc_density) + "\n";
   text += "    angular_acc_density: " + FormatNumber(c.motion.angular_acc_density) + "\n";
@@ -164,6 +209,27 @@ std::string EmitLidarOdometryConfig(const LidarOdometryConfig& c) {
   text += "    plane_eigen_ratio: " + FormatNumber(m.plane_eigen_ratio) + "\n";
   text += "    min_plane_points: " + std::to_string(m.min_plane_points) + "\n";
   text += "    min_plane_sigma_m: " + FormatNumber(m.min_plane_sigma_m) + "\n";
+  if (!c.use_imu) return text;
+  const estimator::ImuNoiseParams& imu = c.imu;
+  const estimator::InertialInitConfig& init = c.init;
+  text += "lio:\n";
+  text += "  imu_max_gap_s: " + FormatNumber(c.imu_max_gap_s) + "\n";
+  text += "  imu_max_wait_s: " + FormatNumber(c.imu_max_wait_s) + "\n";
+  text += "  max_speed_mps: " + FormatNumber(c.max_speed_mps) + "\n";
+  text += "  imu:\n";
+  text += "    accel_noise_density: " + FormatNumber(imu.accel_noise_density) + "\n";
+  text += "    gyro_noise_density: " + FormatNumber(imu.gyro_noise_density) + "\n";
+  text += "    accel_bias_random_walk: " + FormatNumber(imu.accel_bias_random_walk) + "\n";
+  text += "    gyro_bias_random_walk: " + FormatNumber(imu.gyro_bias_random_walk) + "\n";
+  text += "    gravity: " + FormatNumber(imu.gravity) + "\n";
+  text += "    max_accel_bias_change: " + FormatNumber(imu.max_accel_bias_change) + "\n";
+  text += "    max_gyro_bias_change: " + FormatNumber(imu.max_gyro_bias_change) + "\n";
+  text += "  init:\n";
+  text += "    window_scans: " + std::to_string(init.window_scans) + "\n";
+  text += "    static_max_gyro_std: " + FormatNumber(init.static_max_gyro_std) + "\n";
+  text += "    static_max_acc_std: " + FormatNumber(init.static_max_acc_std) + "\n";
+  text += "    static_max_motion_m: " + FormatNumber(init.static_max_motion_m) + "\n";
+  text += "    max_gravity_error: " + FormatNumber(init.max_gravity_error) + "\n";
   return text;
 }
 

@@ -22,13 +22,9 @@ namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
 struct RunArguments {
-  std::string dataset, out, config, mode = "auto", output_frame = "lidar";
+  std::string dataset, out, config, mode = "auto", output_frame;  // output_frame "": the mode's body
   bool no_map = false, no_splat = false;
 };
-
-double MillisecondsSince(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 // "/imu/data (imu), velodyne (lidar)": the streams a dataset has, for messages.
 std::string StreamList(const DatasetDescription& description) {
@@ -41,11 +37,12 @@ std::string StreamList(const DatasetDescription& description) {
 // On a terminal, one line on stderr rewritten at most every half second: scans done, rate, ms per scan.
 class ScanProgress {
  public:
+  explicit ScanProgress(std::string mode) : mode_(std::move(mode)) {}
   void Update(std::int64_t scans, double ms_total) {
     if (!terminal_ || Clock::now() - last_ < std::chrono::milliseconds(500)) return;
     last_ = Clock::now();
     const double seconds = std::chrono::duration<double>(last_ - start_).count();
-    std::fprintf(stderr, "\rrun: lo %lld scans, %.1f scans/s, %.1f ms/scan\033[K",
+    std::fprintf(stderr, "\rrun: %s %lld scans, %.1f scans/s, %.1f ms/scan\033[K", mode_.c_str(),
                  static_cast<long long>(scans), seconds > 0 ? scans / seconds : 0.0,
                  scans > 0 ? ms_total / scans : 0.0);
     shown_ = true;
@@ -55,6 +52,7 @@ class ScanProgress {
   }
 
  private:
+  std::string mode_;
   bool terminal_ = isatty(STDERR_FILENO);
   bool shown_ = false;
   Clock::time_point start_ = Clock::now(), last_ = Clock::now();
@@ -67,11 +65,42 @@ int FailAndClean(const fs::path& out, int code) {
   return code;
 }
 
-int RunRun(const RunArguments& a) {
+// The sensors `run` uses: the first LiDAR stream, the first IMU stream and the LiDAR-to-IMU transform.
+struct RunSensors {
+  int lidar = -1, imu = -1;
+  std::optional<SE3> T_imu_lidar;
+};
+
+RunSensors FindSensors(const DatasetDescription& description) {
+  RunSensors sensors;
+  for (std::size_t s = 0; s < description.streams.size(); ++s) {
+    const SensorKind kind = description.streams[s].kind;
+    if (kind == SensorKind::kLidar && sensors.lidar < 0) sensors.lidar = static_cast<int>(s);
+    if (kind == SensorKind::kImu && sensors.imu < 0) sensors.imu = static_cast<int>(s);
+  }
+  if (sensors.lidar >= 0) sensors.T_imu_lidar = ImuFromLidar(description, sensors.lidar);
+  return sensors;
+}
+
+// --mode auto|lo|lio against what the dataset has: true for LIO. LIO needs an IMU stream and the LiDAR's
+// extrinsic; auto falls back to LO (with a note) without them, --mode lio is an error.
+Expected<bool> ChooseLio(const RunArguments& a, const DatasetDescription& description,
+                         const RunSensors& sensors, std::vector<std::string>& notes) {
+  if (a.mode == "lo") return false;
+  std::string missing;
+  if (sensors.imu < 0)
+    missing = "no IMU stream";
+  else if (!sensors.T_imu_lidar)
+    missing = "no LiDAR-to-IMU transform (T_body_sensor of " + description.streams[sensors.lidar].name + ")";
+  if (missing.empty()) return true;
   if (a.mode == "lio")
-    return ReportUsageError(Status::Error(
-        "--mode lio: LiDAR-inertial odometry (LIO) is not built yet; use --mode lo (or --mode auto, which "
-        "falls back to LO)"));
+    return Status::Error("--mode lio: " + a.dataset + " has " + missing +
+                         " (streams: " + StreamList(description) + ")");
+  notes.push_back("--mode auto: " + missing + ", ran LO");
+  return false;
+}
+
+int RunRun(const RunArguments& a) {
   DatasetConfig dataset_config;
   estimator::LidarOdometryConfig lo_config;
   if (!a.config.empty()) {
@@ -82,7 +111,6 @@ int RunRun(const RunArguments& a) {
     dataset_config = *dataset;
     lo_config = *lo;
   }
-  lo_config.T_body_lidar = SE3();  // LO: the body is the LiDAR
   std::error_code error;
   if (fs::exists(a.out, error) && !(fs::is_directory(a.out, error) && fs::is_empty(a.out, error)))
     return ReportUsageError(
@@ -93,79 +121,92 @@ int RunRun(const RunArguments& a) {
   Expected<MeasurementStream> stream = MeasurementStream::Create(**opened, dataset_config.stream);
   if (!stream) return ReportError(stream.status());
   const DatasetDescription& description = stream->description();
-  int lidar = -1;
-  bool has_imu = false;
-  for (std::size_t s = 0; s < description.streams.size(); ++s) {
-    if (description.streams[s].kind == SensorKind::kLidar && lidar < 0) lidar = static_cast<int>(s);
-    has_imu |= description.streams[s].kind == SensorKind::kImu;
-  }
-  if (lidar < 0)
+  const RunSensors sensors = FindSensors(description);
+  if (sensors.lidar < 0)
     return ReportError(Status::Error(
-        a.dataset + ": no LiDAR stream, which LO needs (streams: " + StreamList(description) + ")"));
+        a.dataset + ": no LiDAR stream, which LO and LIO need (streams: " + StreamList(description) + ")"));
 
   RunReport report;
+  Expected<bool> lio = ChooseLio(a, description, sensors, report.notes);
+  if (!lio) return ReportError(lio.status());
+  const std::string& lidar_name = description.streams[sensors.lidar].name;
   report.dataset = a.dataset;
   report.format = std::string(DatasetFormatName(description.format));
-  report.mode = "lo (LiDAR-only odometry on " + description.streams[lidar].name + ")";
-  report.output_frame = a.output_frame;
-  if (a.mode == "auto" && has_imu) {
-    const std::string note = "--mode auto: the dataset has an IMU, but LIO is not built yet; ran LO instead";
-    std::cerr << "ultrafusion: warning: " << note << "\n";
-    report.notes.push_back(note);
-  }
+  report.mode = *lio ? "lio (LiDAR-inertial odometry on " + lidar_name + " and " +
+                           description.streams[sensors.imu].name + ")"
+                     : "lo (LiDAR-only odometry on " + lidar_name + ")";
+  report.output_frame = a.output_frame.empty() ? (*lio ? "imu" : "lidar") : a.output_frame;
+  for (const std::string& note : report.notes) std::cerr << "ultrafusion: warning: " << note << "\n";
   if (a.no_map) report.notes.push_back("--no-map: accepted; no map stage exists yet");
   if (a.no_splat) report.notes.push_back("--no-splat: accepted; no splatting stage exists yet");
-  std::optional<SE3> T_imu_lidar;
-  if (a.output_frame == "imu") {
-    T_imu_lidar = ImuFromLidar(description, lidar);
-    if (!T_imu_lidar)
-      return ReportUsageError(Status::Error("--output-frame imu: " + a.dataset +
-                                            " gives no LiDAR-to-IMU transform (T_body_sensor) for " +
-                                            description.streams[lidar].name + "; use --output-frame lidar"));
-  }
+  if (report.output_frame == "imu" && !sensors.T_imu_lidar)
+    return ReportUsageError(Status::Error("--output-frame imu: " + a.dataset +
+                                          " gives no LiDAR-to-IMU transform (T_body_sensor) for " +
+                                          lidar_name + "; use --output-frame lidar"));
+  // The body is the LiDAR in LO and the IMU in LIO.
+  lo_config.use_imu = *lio;
+  lo_config.T_body_lidar = *lio ? *sensors.T_imu_lidar : SE3();
   Expected<estimator::LidarOdometry> odometry = estimator::LidarOdometry::Create(lo_config);
   if (!odometry) return ReportUsageError(odometry.status());
 
   fs::create_directories(a.out, error);
   if (error) return ReportError(Status::Error(a.out + ": cannot create the folder: " + error.message()));
   const Clock::time_point start = Clock::now();
-  std::vector<double> ms_per_scan;
+  std::vector<double> ms_per_scan;  // of the scans processed (skipped ones cost next to nothing)
+  std::int64_t scans_read = 0;
   std::vector<Keyframe> keyframes;
   double ms_total = 0;
   {
-    ScanProgress progress;
+    ScanProgress progress(*lio ? "lio" : "lo");
+    auto collect = [&] {
+      for (Keyframe& k : odometry->TakeFinished()) keyframes.push_back(std::move(k));
+      for (const estimator::OdometryStats& scan : odometry->TakeProcessedStats()) {
+        ms_per_scan.push_back(scan.solve_ms);
+        ms_total += scan.solve_ms;
+      }
+    };
     while (true) {
       Expected<std::optional<Measurement>> next = stream->Next();
       if (!next) return FailAndClean(a.out, ReportError(next.status()));
       if (!next->has_value()) break;
-      const auto* scan = std::get_if<LidarScan>(&(*next)->data);
-      if (scan == nullptr || (*next)->stream != lidar) continue;
-      // Wall time of one scan: registration plus releasing the keyframes that left the window.
-      const Clock::time_point scan_start = Clock::now();
-      if (Status s = odometry->AddScan(*scan); !s.ok()) return FailAndClean(a.out, ReportError(s));
-      for (Keyframe& k : odometry->TakeFinished()) keyframes.push_back(std::move(k));
-      ms_per_scan.push_back(MillisecondsSince(scan_start));
-      ms_total += ms_per_scan.back();
-      progress.Update(static_cast<std::int64_t>(ms_per_scan.size()), ms_total);
+      const Measurement& m = **next;
+      Status status;
+      if (const auto* scan = std::get_if<LidarScan>(&m.data); scan && m.stream == sensors.lidar) {
+        status = odometry->AddScan(*scan);
+        ++scans_read;
+      } else if (const auto* sample = std::get_if<ImuSample>(&m.data); sample && m.stream == sensors.imu) {
+        status = odometry->AddImu(*sample);
+      } else {
+        continue;
+      }
+      if (!status.ok()) return FailAndClean(a.out, ReportError(status));
+      collect();
+      progress.Update(scans_read, ms_total);
     }
     odometry->Finish();
-    for (Keyframe& k : odometry->TakeFinished()) keyframes.push_back(std::move(k));
+    collect();
   }
-  Trajectory trajectory;  // T_world_lidar at each keyframe (world = the first LiDAR pose)
+  if (*lio) {
+    const std::string init = odometry->initialization();
+    report.notes.push_back(init.empty() ? "LIO never initialized: the whole run is LiDAR-only (see warnings)"
+                                        : "LIO initialized: " + init);
+  }
+  Trajectory trajectory;  // T_world_body at each keyframe (LO: world = the first LiDAR pose)
   for (const Keyframe& k : keyframes) {
     if (!trajectory.stamps.empty() && k.stamp <= trajectory.stamps.back())
       continue;  // keep stamps increasing
     trajectory.stamps.push_back(k.stamp);
     trajectory.poses.push_back(k.T_world_body);
   }
-  if (T_imu_lidar) trajectory = ToImuFrame(trajectory, *T_imu_lidar);
+  if (!*lio && report.output_frame == "imu") trajectory = ToImuFrame(trajectory, *sensors.T_imu_lidar);
+  if (*lio && report.output_frame == "lidar") trajectory = ToLidarFrame(trajectory, *sensors.T_imu_lidar);
   if (trajectory.empty())
     return FailAndClean(
         a.out, ReportError(Status::Error(a.dataset + ": the odometry produced no pose (" +
-                                         std::to_string(ms_per_scan.size()) + " scans, " +
+                                         std::to_string(scans_read) + " scans, " +
                                          std::to_string(odometry->warnings().size()) + " warnings)")));
 
-  report.scans = static_cast<std::int64_t>(ms_per_scan.size());
+  report.scans = scans_read;
   report.keyframes = static_cast<std::int64_t>(trajectory.size());
   report.skipped = report.scans - static_cast<std::int64_t>(keyframes.size());
   report.timing = SummarizeTimings(ms_per_scan);
@@ -207,17 +248,19 @@ Subcommand AddRunCommand(CLI::App& app) {
   run->add_option("DATASET", a->dataset, "ROS1 .bag file, or a KITTI-style, EuRoC or ultrafusion folder")
       ->required();
   run->add_option("--out", a->out, "Output folder (new or empty)")->required();
-  run->add_option("--config", a->config, "YAML file with dataset: and lo: sections (see configs/kitti.yaml)")
+  run->add_option(
+         "--config", a->config,
+         "YAML file with dataset:, lo: and lio: sections (see configs/kitti.yaml, configs/run-sim.yaml)")
       ->check(CLI::ExistingFile);
-  run->add_option("--mode", a->mode,
-                  "auto: LIO with an IMU, else LO; lo: LiDAR only; lio: LiDAR + IMU. LIO is not built yet: "
-                  "--mode lio exits with a usage error, auto falls back to LO with a warning")
+  run->add_option(
+         "--mode", a->mode,
+         "auto: LIO with an IMU and the LiDAR's extrinsic, else LO; lo: LiDAR only; lio: LiDAR + IMU")
       ->check(CLI::IsMember({"auto", "lo", "lio"}))
       ->capture_default_str();
   run->add_option("--output-frame", a->output_frame,
-                  "Frame of the written trajectory: lidar, or imu (needs the LiDAR's T_body_sensor)")
-      ->check(CLI::IsMember({"lidar", "imu"}))
-      ->capture_default_str();
+                  "Frame of the written trajectory: lidar or imu (needs the LiDAR's T_body_sensor); default: "
+                  "lidar for LO, imu for LIO")
+      ->check(CLI::IsMember({"lidar", "imu"}));
   run->add_flag("--no-map", a->no_map, "No map output (accepted; a no-op until the map stage exists)");
   run->add_flag("--no-splat", a->no_splat, "No splatting (accepted; a no-op until the splat stage exists)");
   return {run, [a] { return RunRun(*a); }};

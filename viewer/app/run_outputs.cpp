@@ -72,4 +72,12 @@ Trajectory ToImuFrame(const Trajectory& lidar_trajectory, const SE3& T_imu_lidar
   return imu;
 }
 
+Trajectory ToLidarFrame(const Trajectory& imu_trajectory, const SE3& T_imu_lidar) {
+  Trajectory lidar;
+  lidar.stamps = imu_trajectory.stamps;
+  lidar.poses.reserve(imu_trajectory.size());
+  for (const SE3& T_world_imu : imu_trajectory.poses) lidar.poses.push_back(T_world_imu * T_imu_lidar);
+  return lidar;
+}
+
 }  // namespace uf::app

@@ -45,4 +45,7 @@ std::optional<SE3> ImuFromLidar(const DatasetDescription& description, int lidar
 // i.e. the pose of the IMU, in a world frame that is the IMU frame at the start.
 Trajectory ToImuFrame(const Trajectory& lidar_trajectory, const SE3& T_imu_lidar);
 
+// The LiDAR's trajectory from the IMU's (LIO), in the same world: T_world_lidar = T_world_imu T_imu_lidar.
+Trajectory ToLidarFrame(const Trajectory& imu_trajectory, const SE3& T_imu_lidar);
+
 }  // namespace uf::app

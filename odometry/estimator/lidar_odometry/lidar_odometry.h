@@ -1,26 +1,39 @@
-// LiDAR-only odometry (LO mode) of the sliding-window estimator (METHOD.md, paper Section III without IMU).
+// LiDAR odometry of the sliding-window estimator (METHOD.md, paper Section III-A/B): LiDAR-only (LO, a
+// constant-velocity prior between states) or LiDAR-inertial (LIO, config.use_imu: IMU preintegration
+// factors).
 //
 // Design:
-// - Pose nodes: each scan has a begin node (sweep start) and an end node (sweep end), T_world_body as 7-wide
-//   blocks on PoseManifold; a scan that starts where the previous one ended (< 1 ms) shares that end node as
-//   its begin. Deskew happens inside PointToPlaneFactor (pose interpolated at each point's fraction alpha).
-// - Motion prior: ConstantVelocityFactor on every three consecutive nodes (LO has no IMU); its segments are
-//   divided by their own durations, so the non-uniform gaps of keyframe data are handled.
-// - Initial guess: constant-velocity extrapolation of the twist between the last two nodes.
+// - Nodes: each scan has a begin node (sweep start) and an end node (sweep end), T_world_body as 7-wide
+//   blocks on PoseManifold (body = the LiDAR in LO, the IMU in LIO), plus [v, b_a, b_g] in LIO; a scan that
+//   starts where the previous one ended (< 1 ms) shares that end node as its begin. Deskew happens inside
+//   PointToPlaneFactor (pose interpolated at each point's fraction alpha).
+// - Motion factors: LO: ConstantVelocityFactor on every three consecutive nodes; its segments are divided by
+//   their own durations, so the non-uniform gaps of keyframe data are handled. LIO: ImuFactor between
+//   consecutive nodes; across an IMU gap (or before initialization) the constant-velocity prior instead.
+// - Initial guess: LO: constant-velocity extrapolation of the twist between the last two nodes; LIO: the
+//   IMU prediction from the last node.
 // - Registration: the new scan (downsampled at input_voxel_m) against the VoxelHashMap built from earlier
 //   scans; up to max_residuals_per_scan points with a plane within max_plane_distance_m, taken at an even
 //   stride over the scan so they spread over it; Huber loss (huber_m). ICP style: up to association_rounds
 //   rounds of (re-query planes, max_iterations LM iterations moving only the new scan's nodes) until a
 //   round moves them < 5 mm / 1 mrad; then one solve of the whole window. Older scans keep the factors of
-//   their own registration (planes fixed), so the window smooths the trajectory through the motion prior.
+//   their own registration (planes fixed), so the window smooths the trajectory through the motion factors.
 //   The very first scan (nothing to register against) gets a single node at its middle.
 // - Map update right after the new scan's registration, with the scan deskewed by its solved poses: the
 //   keyframe data are ~2 m apart, and waiting until a scan leaves the window would leave the map ~20 m
 //   behind the vehicle (little overlap in turns).
-// - Window: the last window_size scans. No marginalization prior yet: the oldest scan's begin node is held
-//   constant instead (a marginalization prior plugs in exactly there later).
-// - Divergence (non-finite result, solver failure, correction beyond max_correction_m / _rad): the scan
-//   keeps its constant-velocity guess, a warning is recorded, and it is not inserted into the map.
+// - Window: the last window_size scans. The oldest scan's states leave into a marginalization prior (Schur
+//   complement of its point-to-plane residuals, the motion factors and the previous prior; window/
+//   marginalization.h), which is the gauge of the next solves; before the first one (or with marginalize
+//   off) the oldest scan's begin node is held constant.
+// - LIO initialization (init/inertial_alignment.h): the first init.window_scans scans run as LO in the
+//   first IMU pose's frame; then a static alignment, else the LiDAR-aided one, gives gravity, velocities and
+//   biases; the window is rotated into the gravity-aligned world (z up) and the IMU factors take over. A
+//   window that fails both is retried with the next scan. LIO waits with each scan until the IMU covers
+//   its end (at most imu_max_wait_s of stream time).
+// - Divergence: a non-finite result, a solver failure or a correction beyond max_correction_m / _rad keeps
+//   the scan's guess, records a warning, and the scan is not inserted into the map. In LIO a non-finite or
+//   faster-than-max_speed_mps state re-initializes (logged), starting again at the last pose.
 #pragma once
 
 #include <memory>
@@ -35,7 +48,8 @@
 namespace uf::estimator {
 
 struct OdometryStats {
-  double solve_ms = 0;  // wall time of AddScan's registration (association + solves)
+  Stamp stamp = 0;      // of the scan
+  double solve_ms = 0;  // wall time of the scan's processing (preparation, association, solves, map)
   int residuals = 0;    // point-to-plane residuals of the new scan
   int iterations = 0;   // LM iterations, all solves of the scan
 };
@@ -49,16 +63,24 @@ class LidarOdometry {
 
   // Feeds one scan (time-ordered). Scans with too few points (after range filtering / downsampling) or all
   // non-finite points are skipped with a warning (see warnings()), never an error; time going backwards is
-  // skipped likewise. Returns an error only for programmer misuse (end before stamp).
+  // skipped likewise. Returns an error only for programmer misuse (end before stamp). LIO processes the
+  // scan once the IMU covers its end (so it may happen in a later AddImu).
   Status AddScan(const LidarScan& scan);
+  // Feeds one IMU sample (LIO; ignored in LO). Non-finite or not-increasing samples are skipped with a
+  // warning.
+  Status AddImu(const ImuSample& sample);
   // Keyframes whose state has left the window (final) since the last call: stamp = the scan's middle
   // (stamp + (end - stamp) / 2), T_world_body = pose at that time, scan_world = deskewed points (world),
   // scan_intensity, velocity from the estimate.
   std::vector<Keyframe> TakeFinished();
   // Optimises once more and releases every remaining state (end of data).
   void Finish();
+  // The statistics of each scan processed since the last call.
+  std::vector<OdometryStats> TakeProcessedStats();
   const std::vector<std::string>& warnings() const;
-  const OdometryStats& last_stats() const;  // of the last AddScan
+  const OdometryStats& last_stats() const;    // of the last processed scan
+  bool inertial() const;                      // LIO initialized (IMU factors active)
+  const std::string& initialization() const;  // how LIO initialized ("static at 0.9 s ..."), or empty
 
  private:
   struct Impl;

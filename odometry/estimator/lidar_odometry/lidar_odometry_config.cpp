@@ -8,9 +8,9 @@ namespace uf::estimator {
 namespace {
 
 template <typename T>
-Status Bad(const char* field, const char* rule, T value) {
+Status Bad(const char* field, const char* rule, T value, const char* section = "lo") {
   std::ostringstream message;
-  message << "lo." << field << ": must be " << rule << ", got " << value;
+  message << section << "." << field << ": must be " << rule << ", got " << value;
   return Status::Error(message.str());
 }
 
@@ -39,6 +39,16 @@ Status LidarOdometryConfig::Validate() const {
   if (!Positive(max_correction_m)) return Bad("max_correction_m", "> 0", max_correction_m);
   if (!Positive(max_correction_rad)) return Bad("max_correction_rad", "> 0", max_correction_rad);
   if (min_points < 6) return Bad("min_points", ">= 6", min_points);
+  if (Status s = marginalization.Validate(); !s.ok()) return Status::Error("lo." + s.message());
+  if (!use_imu) return {};
+  if (Status s = ValidateImuNoiseParams(imu); !s.ok()) return Status::Error("lio." + s.message());
+  if (Status s = init.Validate(); !s.ok()) return s;
+  if (init.window_scans >= window_size)
+    return Status::Error("lio.init.window_scans: must be < lo.window_size (" + std::to_string(window_size) +
+                         "), got " + std::to_string(init.window_scans));
+  if (!Positive(imu_max_gap_s)) return Bad("imu_max_gap_s", "> 0", imu_max_gap_s, "lio");
+  if (!Positive(imu_max_wait_s)) return Bad("imu_max_wait_s", "> 0", imu_max_wait_s, "lio");
+  if (!Positive(max_speed_mps)) return Bad("max_speed_mps", "> 0", max_speed_mps, "lio");
   return {};
 }
 

@@ -1,9 +1,13 @@
-// Configuration of LiDAR-only odometry (LO mode): plain struct with the paper's defaults and a Validate
-// that names the first bad field ("lo.<field>: must be ..., got <value>").
+// Configuration of the LiDAR odometry window, LiDAR-only (LO) or LiDAR-inertial (LIO, use_imu): plain struct
+// with the paper's defaults and a Validate that names the first bad field ("lo.<field>: must be ..., got
+// <value>"; the LIO fields are "lio.<field>").
 #pragma once
 
 #include "odometry/estimator/factors/constant_velocity_factor.h"
+#include "odometry/estimator/init/inertial_alignment.h"
 #include "odometry/estimator/lidar/voxel_hash_map.h"
+#include "odometry/estimator/preintegration/imu_noise_params.h"
+#include "odometry/estimator/window/marginalization.h"
 #include "odometry/types/se3.h"
 #include "odometry/types/status.h"
 
@@ -18,7 +22,7 @@ struct LidarOdometryConfig {
   int max_residuals_per_scan = 1500;  // point-to-plane residuals of one scan (paper 1200-2000)
   double huber_m = 0.5;               // robust loss scale, m of point-to-plane distance (paper 0.5-1.0)
   double min_range_m = 1.0, max_range_m = 100.0;  // points kept for registration and the map, m
-  SE3 T_body_lidar;                               // identity in LO mode (body = lidar)
+  SE3 T_body_lidar;                               // identity in LO mode (body = lidar); T_imu_lidar in LIO
   // Beyond the issue's list (defaults tuned on KITTI 00 keyframes and the simulator):
   double map_insert_voxel_m = 0.5;    // downsampling of the deskewed scan inserted into the map, m
   int association_rounds = 10;        // at most this many solve + re-query rounds per scan (ICP style)
@@ -27,6 +31,21 @@ struct LidarOdometryConfig {
   double max_correction_m = 5.0;      // a solve moving the new scan farther than this from its guess
   double max_correction_rad = 0.5;    //   (or rotating it more) is treated as divergence
   int min_points = 50;                // scans with fewer prepared points are skipped
+  bool marginalize = true;            // oldest states into a Gaussian prior (else: oldest pose held fixed)
+  MarginalizationConfig marginalization;
+
+  // LIO: IMU preintegration factors between the states instead of the constant-velocity prior.
+  bool use_imu = false;
+  // The IMU's white-noise densities, 10x the ADIS16448 datasheet values the simulator uses: the margin
+  // covers the discretisation of preintegration, the interpolation at scan boundaries and solves cut short
+  // by the iteration budget. With the datasheet values the IMU factors are ~1e6 times stiffer than the
+  // point-to-plane ones and the budgeted solves drift (simulated urban 20 s: ATE 0.11 m; 3x-30x: 0.006 m).
+  ImuNoiseParams imu = {.accel_noise_density = 2.0e-2, .gyro_noise_density = 1.7e-3};
+  InertialInitConfig init;
+  double imu_max_gap_s = 0.05;  // a longer step between IMU samples is a gap: bridged with the
+                                //   constant-velocity prior and a warning
+  double imu_max_wait_s = 0.5;  // a scan waits this long (stream time) for the IMU to cover its end
+  double max_speed_mps = 80;    // a faster state is divergence: logged re-initialization
 
   Status Validate() const;
 };

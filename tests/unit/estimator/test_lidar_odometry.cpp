@@ -116,7 +116,7 @@ TEST(LidarOdometry, TracksContinuousSweepsInABoxRoom) {
   lo->Finish();
   for (Keyframe& f : lo->TakeFinished()) keyframes.push_back(std::move(f));
   ASSERT_EQ(keyframes.size(), 20u);
-  EXPECT_TRUE(lo->warnings().empty());
+  EXPECT_TRUE(lo->warnings().empty()) << lo->warnings().front();
   double worst = 0;
   for (int k = 0; k < 20; ++k) {
     const Eigen::Vector3d truth = v * (0.1 * k);

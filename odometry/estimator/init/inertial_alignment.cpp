@@ -1,0 +1,171 @@
+#include "odometry/estimator/init/inertial_alignment.h"
+
+#include <Eigen/Dense>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace uf::estimator {
+namespace {
+
+template <typename T>
+Status Bad(const char* field, const char* rule, T value) {
+  std::ostringstream message;
+  message << "lio.init." << field << ": must be " << rule << ", got " << value;
+  return Status::Error(message.str());
+}
+
+bool Positive(double v) { return std::isfinite(v) && v > 0; }
+
+// The smallest rotation taking the direction of g to -z: the gravity-aligned world from world "lo".
+SO3 AlignGravity(const Eigen::Vector3d& g_lo) {
+  return SO3(Eigen::Quaterniond::FromTwoVectors(g_lo.normalized(), Eigen::Vector3d(0, 0, -1)));
+}
+
+double MaxPoseMotion(std::span<const SE3> poses) {
+  double motion = 0;
+  for (const SE3& pose : poses)
+    motion = std::max(motion, (pose.translation() - poses.front().translation()).norm());
+  return motion;
+}
+
+// Step 1 of M, for preintegrations linearized at b_g = 0: b_g from the relative rotations (see the header).
+Eigen::Vector3d GyroBias(std::span<const SE3> poses, const std::vector<ImuPreintegration>& preintegrations) {
+  Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d b = Eigen::Vector3d::Zero();
+  for (std::size_t k = 0; k < preintegrations.size(); ++k) {
+    const ImuPreintegration& pre = preintegrations[k];
+    const Eigen::Matrix3d J = pre.dR_dbg();
+    const SO3 relative = poses[k].so3().inverse() * poses[k + 1].so3();
+    const Eigen::Vector3d e = (pre.delta_R().inverse() * relative).Log();
+    A += J.transpose() * J;
+    b += J.transpose() * e;
+  }
+  return A.ldlt().solve(b);
+}
+
+// Steps 2 and 4 of M: least squares for x = [v_0 .. v_n, g] (or only the velocities when g is given).
+Eigen::VectorXd SolveVelocitiesAndGravity(std::span<const SE3> poses,
+                                          const std::vector<ImuPreintegration>& preintegrations,
+                                          const Eigen::Vector3d* fixed_gravity) {
+  const int nodes = static_cast<int>(poses.size());
+  const int unknowns = 3 * nodes + (fixed_gravity ? 0 : 3);
+  const int rows = 6 * static_cast<int>(preintegrations.size());
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(rows, unknowns);
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(rows);
+  for (int k = 0; k + 1 < nodes; ++k) {
+    const ImuPreintegration& pre = preintegrations[static_cast<std::size_t>(k)];
+    const double T = pre.sum_dt_seconds();
+    const Eigen::Matrix3d R = poses[k].rotation();
+    const Eigen::Matrix3d I = Eigen::Matrix3d::Identity();
+    const int row = 6 * k;
+    // Position: -T v_k - T^2/2 g = R_k dp_k - (p_k+1 - p_k).
+    A.block<3, 3>(row, 3 * k) = -T * I;
+    b.segment<3>(row) = R * pre.delta_p() - (poses[k + 1].translation() - poses[k].translation());
+    // Velocity: v_k+1 - v_k - T g = R_k dv_k.
+    A.block<3, 3>(row + 3, 3 * k) = -I;
+    A.block<3, 3>(row + 3, 3 * (k + 1)) = I;
+    b.segment<3>(row + 3) = R * pre.delta_v();
+    if (fixed_gravity) {
+      b.segment<3>(row) += 0.5 * T * T * *fixed_gravity;
+      b.segment<3>(row + 3) += T * *fixed_gravity;
+    } else {
+      A.block<3, 3>(row, 3 * nodes) = -0.5 * T * T * I;
+      A.block<3, 3>(row + 3, 3 * nodes) = -T * I;
+    }
+  }
+  return A.colPivHouseholderQr().solve(b);
+}
+
+}  // namespace
+
+Status InertialInitConfig::Validate() const {
+  if (window_scans < 3) return Bad("window_scans", ">= 3", window_scans);
+  if (!Positive(static_max_gyro_std)) return Bad("static_max_gyro_std", "> 0", static_max_gyro_std);
+  if (!Positive(static_max_acc_std)) return Bad("static_max_acc_std", "> 0", static_max_acc_std);
+  if (!Positive(static_max_motion_m)) return Bad("static_max_motion_m", "> 0", static_max_motion_m);
+  if (!Positive(max_gravity_error) || max_gravity_error >= 1)
+    return Bad("max_gravity_error", "in (0, 1)", max_gravity_error);
+  return {};
+}
+
+Expected<InertialAlignment> StaticAlignment(std::span<const ImuSample> samples, std::span<const SE3> poses,
+                                            const InertialInitConfig& config, double gravity) {
+  if (samples.size() < 10)
+    return Status::Error("static initialization: " + std::to_string(samples.size()) +
+                         " IMU samples, need 10");
+  Eigen::Vector3d mean_acc = Eigen::Vector3d::Zero(), mean_gyro = Eigen::Vector3d::Zero();
+  for (const ImuSample& s : samples) {
+    mean_acc += s.acc;
+    mean_gyro += s.gyro;
+  }
+  const double n = static_cast<double>(samples.size());
+  mean_acc /= n;
+  mean_gyro /= n;
+  double acc_var = 0, gyro_var = 0;
+  for (const ImuSample& s : samples) {
+    acc_var += (s.acc - mean_acc).squaredNorm() / n;
+    gyro_var += (s.gyro - mean_gyro).squaredNorm() / n;
+  }
+  std::ostringstream why;
+  if (std::sqrt(gyro_var) > config.static_max_gyro_std)
+    why << "angular rate spread " << std::sqrt(gyro_var) << " rad/s > " << config.static_max_gyro_std;
+  else if (std::sqrt(acc_var) > config.static_max_acc_std)
+    why << "specific force spread " << std::sqrt(acc_var) << " m/s^2 > " << config.static_max_acc_std;
+  else if (MaxPoseMotion(poses) > config.static_max_motion_m)
+    why << "the LiDAR moved " << MaxPoseMotion(poses) << " m > " << config.static_max_motion_m;
+  else if (std::abs(mean_acc.norm() - gravity) > 0.1 * gravity)
+    why << "mean specific force " << mean_acc.norm() << " m/s^2 is not gravity (" << gravity << ")";
+  if (!why.str().empty()) return Status::Error("static initialization: not static: " + why.str());
+
+  // At rest the specific force is -g in the imu frame: R_lo_imu0 mean_acc points along +z of the aligned
+  // world, i.e. g_lo = -R_lo_imu0 mean_acc.
+  InertialAlignment alignment;
+  alignment.mode = "static";
+  alignment.R_gravity_lo = AlignGravity(-(poses.front().rotation() * mean_acc));
+  alignment.velocities.assign(poses.size(), Eigen::Vector3d::Zero());
+  alignment.gyro_bias = mean_gyro;
+  alignment.gravity_estimate = mean_acc.norm();
+  return alignment;
+}
+
+Expected<InertialAlignment> LidarAidedAlignment(std::span<const SE3> poses,
+                                                std::vector<ImuPreintegration> preintegrations,
+                                                const InertialInitConfig& config) {
+  if (poses.size() < 3 || preintegrations.size() + 1 != poses.size())
+    return Status::Error(
+        "LiDAR-aided initialization: need >= 3 poses and one preintegration between each "
+        "pair, got " +
+        std::to_string(poses.size()) + " and " + std::to_string(preintegrations.size()));
+  const double gravity = preintegrations.front().params().gravity;
+  for (ImuPreintegration& pre : preintegrations)
+    pre.Repropagate(Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
+  const Eigen::Vector3d gyro_bias = GyroBias(poses, preintegrations);
+  for (ImuPreintegration& pre : preintegrations) pre.Repropagate(Eigen::Vector3d::Zero(), gyro_bias);
+
+  const Eigen::VectorXd x = SolveVelocitiesAndGravity(poses, preintegrations, nullptr);
+  const Eigen::Vector3d g = x.tail<3>();
+  if (!x.allFinite() || !gyro_bias.allFinite())
+    return Status::Error("LiDAR-aided initialization: singular alignment system");
+  if (std::abs(g.norm() - gravity) > config.max_gravity_error * gravity) {
+    std::ostringstream why;
+    why << "LiDAR-aided initialization: estimated gravity " << g.norm() << " m/s^2 is not within "
+        << config.max_gravity_error * 100 << " % of " << gravity << " (too little excitation or a bad "
+        << "LiDAR solution)";
+    return Status::Error(why.str());
+  }
+  const Eigen::Vector3d g_fixed = g.normalized() * gravity;
+  const Eigen::VectorXd v = SolveVelocitiesAndGravity(poses, preintegrations, &g_fixed);
+
+  InertialAlignment alignment;
+  alignment.mode = "lidar-aided";
+  alignment.R_gravity_lo = AlignGravity(g_fixed);
+  for (std::size_t k = 0; k < poses.size(); ++k)
+    alignment.velocities.push_back(alignment.R_gravity_lo * Eigen::Vector3d(v.segment<3>(3 * k)));
+  alignment.gyro_bias = gyro_bias;
+  alignment.gravity_estimate = g.norm();
+  return alignment;
+}
+
+}  // namespace uf::estimator

@@ -1,0 +1,121 @@
+// The sliding window behind LidarOdometry (private to this library): pose nodes at scan boundaries, the
+// scans with their point-to-plane residuals, the motion factors between nodes (constant-velocity prior in
+// LO, IMU preintegration in LIO), the marginalization prior and the local map. The design is described in
+// lidar_odometry.h; the methods live in lidar_odometry.cpp (scan flow), window_nodes.cpp (nodes, IMU,
+// initialization), window_scans.cpp (association, map, keyframes) and window_solve.cpp (solve, marginalize).
+#pragma once
+
+#include <ceres/cost_function.h>
+#include <ceres/loss_function.h>
+
+#include <array>
+#include <deque>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "odometry/estimator/factors/imu_factor.h"
+#include "odometry/estimator/lidar/voxel_hash_map.h"
+#include "odometry/estimator/lidar_odometry/lidar_odometry.h"
+#include "odometry/estimator/lidar_odometry/scan_preparation.h"
+#include "odometry/estimator/lidar_odometry/sweep_poses.h"
+#include "odometry/estimator/state/nav_state.h"
+#include "odometry/estimator/state/pose_manifold.h"
+#include "odometry/estimator/window/marginalization_factor.h"
+
+namespace uf::estimator {
+
+using PoseArray = std::array<double, kPoseSize>;
+using SpeedBiasArray = std::array<double, kSpeedBiasSize>;
+
+constexpr Stamp kSharedNodeTolerance = 1'000'000;  // 1 ms: a scan starting this close to the last node
+                                                   // shares that node
+
+// A state of the window. Nodes live in a deque: their blocks keep their addresses while the window grows
+// and shrinks at the ends, which the Ceres problem and the marginalization prior rely on.
+struct Node {
+  Stamp stamp = 0;
+  PoseArray pose{};             // T_world_body
+  SpeedBiasArray speed_bias{};  // LIO: [v, b_a, b_g] (nav_state.h); unused in LO
+  // Constant-velocity prior on (id - 2, id - 1, id): LO, LIO before its initialization, and LIO across an
+  // IMU gap. Null for the first two nodes.
+  std::unique_ptr<ceres::CostFunction> motion_prior;
+  std::unique_ptr<ImuFactor> imu_factor;  // LIO: between (id - 1, id)
+};
+
+struct Residual {
+  std::unique_ptr<ceres::CostFunction> cost;
+  std::unique_ptr<ceres::LossFunction> loss;
+};
+
+struct ScanState {
+  Stamp stamp = 0, end = 0;
+  long begin_node = 0, end_node = 0;  // node ids (equal for a scan without duration)
+  std::vector<PreparedPoint> points;  // all prepared points, for the keyframe's deskewed scan
+  std::vector<PreparedPoint> registration_points;
+  std::vector<Residual> residuals;  // of the last association
+  bool in_map = false;              // registered and inserted into the map
+};
+
+std::string StampText(Stamp stamp);
+
+struct LidarOdometry::Impl {
+  explicit Impl(const LidarOdometryConfig& c) : config(c), map(c.map) {}
+
+  LidarOdometryConfig config;
+  VoxelHashMap map;
+  PoseManifold manifold;
+  std::deque<Node> nodes;  // ids first_node_id ...
+  long first_node_id = 0;
+  std::deque<ScanState> window;
+  std::vector<Keyframe> finished;
+  std::vector<std::string> warnings;
+  OdometryStats stats;
+  std::vector<OdometryStats> processed;  // since the last TakeProcessedStats
+  SE3 restart_pose;  // the first node's guess (identity, or where a re-initialization starts)
+  bool has_last = false;
+  Stamp last_stamp = 0, last_end = 0;
+  // Marginalization prior on the oldest kept states (null until the first marginalization).
+  std::unique_ptr<MarginalizationFactor> prior;
+  // LIO.
+  std::vector<ImuSample> imu;     // time-ordered, from before the oldest node on
+  std::deque<LidarScan> pending;  // scans waiting for the IMU to cover their end
+  bool inertial = false;          // initialized: IMU factors active
+  std::string init_summary, last_init_failure;
+
+  // Nodes (window_nodes.cpp).
+  Node& NodeAt(long id) { return nodes[static_cast<std::size_t>(id - first_node_id)]; }
+  long LastNodeId() const { return first_node_id + static_cast<long>(nodes.size()) - 1; }
+  SE3 NodePose(long id) { return PoseFromBlock(NodeAt(id).pose.data()); }
+  NavState NodeState(long id);
+  SE3 Extrapolate(Stamp stamp);
+  long AddNode(Stamp stamp);
+  Expected<ImuPreintegration> Preintegrate(Stamp from, Stamp to, const SpeedBiasArray& bias) const;
+  Status AddImu(const ImuSample& sample);
+  void TrimImu();
+  void TryInitializeInertial();
+  void ApplyInertialAlignment(const InertialAlignment& alignment);
+  bool Diverged(std::string* why);
+  void Reset();
+
+  // Scans (window_scans.cpp).
+  SweepPoses Sweep(const ScanState& scan);
+  void Associate(ScanState& scan);
+  void InsertIntoMap(ScanState& scan);
+  void Release(ScanState& scan);
+  void PopOldest();
+
+  // Solve and marginalize (window_solve.cpp).
+  bool Solve(int* iterations, bool new_scan_only = false);
+  void Relinearize();
+  void MarginalizeScan(const ScanState& leaving, long keep_from);
+
+  // Scan flow (lidar_odometry.cpp).
+  Status AddScan(const LidarScan& scan);
+  void ProcessReady(bool flush);
+  void ProcessScan(const LidarScan& scan);
+  bool RegisterNewScan(ScanState& current);
+};
+
+}  // namespace uf::estimator

@@ -1,0 +1,210 @@
+// The nodes of the window: their initial guesses, the IMU between them and the inertial initialization
+// (see odometry_window.h).
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "odometry/estimator/lidar_odometry/odometry_window.h"
+
+namespace uf::estimator {
+
+std::string StampText(Stamp stamp) { return std::to_string(ToSeconds(stamp)) + " s"; }
+
+NavState LidarOdometry::Impl::NodeState(long id) {
+  NavState state;
+  state.stamp = NodeAt(id).stamp;
+  state.T_world_imu = NodePose(id);
+  SetSpeedBias(NodeAt(id).speed_bias.data(), state);
+  return state;
+}
+
+// Constant-velocity extrapolation from the last two nodes to `stamp` (identity before any node):
+// xi = Log(T_{n-1}^-1 T_n) / (t_n - t_{n-1}),  T(stamp) = T_n Exp(xi (stamp - t_n)).
+SE3 LidarOdometry::Impl::Extrapolate(Stamp stamp) {
+  if (nodes.empty()) return restart_pose;
+  const long last = LastNodeId();
+  const SE3 T_last = NodePose(last);
+  if (nodes.size() < 2) return T_last;
+  const Node& previous = NodeAt(last - 1);
+  const double dt = ToSeconds(NodeAt(last).stamp - previous.stamp);
+  const Vector6d xi = (PoseFromBlock(previous.pose.data()).inverse() * T_last).Log() / dt;
+  return T_last * SE3::Exp(xi * ToSeconds(stamp - NodeAt(last).stamp));
+}
+
+// A new node at `stamp`. Initialized LIO: the IMU prediction from the last node and an IMU factor to it.
+// Otherwise (LO, LIO before initialization, or an IMU gap): the constant-velocity extrapolation and prior.
+long LidarOdometry::Impl::AddNode(Stamp stamp) {
+  Node node;
+  node.stamp = stamp;
+  if (inertial && !nodes.empty()) {
+    node.speed_bias = nodes.back().speed_bias;
+    Expected<ImuPreintegration> pre = Preintegrate(nodes.back().stamp, stamp, nodes.back().speed_bias);
+    if (pre) {
+      NavState predicted = pre->Predict(NodeState(LastNodeId()));
+      node.pose = PoseBlock(predicted.T_world_imu);
+      node.speed_bias = SpeedBiasBlock(predicted);
+      node.imu_factor = std::make_unique<ImuFactor>(std::move(*pre));
+      nodes.push_back(std::move(node));
+      return LastNodeId();
+    }
+    warnings.push_back("IMU at " + StampText(stamp) + ": " + pre.status().message() +
+                       "; bridged with the constant-velocity prior");
+  }
+  node.pose = PoseBlock(Extrapolate(stamp));
+  if (nodes.size() >= 2) {
+    const double dt_ab = ToSeconds(nodes[nodes.size() - 1].stamp - nodes[nodes.size() - 2].stamp);
+    const double dt_bc = ToSeconds(stamp - nodes.back().stamp);
+    node.motion_prior = MakeConstantVelocityFactor(dt_ab, dt_bc, config.motion);
+  }
+  nodes.push_back(std::move(node));
+  return LastNodeId();
+}
+
+// The preintegration over [from, to] at the biases of `bias`; an error when the samples do not cover the
+// interval or leave a gap longer than imu_max_gap_s in it.
+Expected<ImuPreintegration> LidarOdometry::Impl::Preintegrate(Stamp from, Stamp to,
+                                                              const SpeedBiasArray& bias) const {
+  const auto after = [](const ImuSample& s, Stamp t) { return s.stamp < t; };
+  auto first = std::lower_bound(imu.begin(), imu.end(), from, after);
+  if (imu.empty() || imu.front().stamp > from || imu.back().stamp < to)
+    return Status::Error("no IMU samples cover " + StampText(from) + " .. " + StampText(to));
+  if (first != imu.begin()) --first;
+  const Stamp max_gap = FromSeconds(config.imu_max_gap_s);
+  for (auto it = first; it + 1 != imu.end() && it->stamp < to; ++it) {
+    if ((it + 1)->stamp - it->stamp > max_gap)
+      return Status::Error("gap of " + std::to_string(ToSeconds((it + 1)->stamp - it->stamp)) +
+                           " s between IMU samples at " + StampText(it->stamp));
+  }
+  const Eigen::Vector3d accel_bias(bias[3], bias[4], bias[5]), gyro_bias(bias[6], bias[7], bias[8]);
+  auto last = std::lower_bound(first, imu.end(), to, after);
+  if (last != imu.end()) ++last;
+  return ImuPreintegration::Between(std::vector<ImuSample>(first, last), from, to, accel_bias, gyro_bias,
+                                    config.imu);
+}
+
+Status LidarOdometry::Impl::AddImu(const ImuSample& sample) {
+  if (!sample.acc.allFinite() || !sample.gyro.allFinite()) {
+    warnings.push_back("IMU sample at " + StampText(sample.stamp) + " skipped: not finite");
+    return {};
+  }
+  if (!imu.empty() && sample.stamp <= imu.back().stamp) {
+    warnings.push_back("IMU sample at " + StampText(sample.stamp) + " skipped: not after " +
+                       StampText(imu.back().stamp));
+    return {};
+  }
+  imu.push_back(sample);
+  ProcessReady(/*flush=*/false);
+  return {};
+}
+
+// Drops IMU samples no node interval needs any more (keeps one before the oldest node).
+void LidarOdometry::Impl::TrimImu() {
+  if (nodes.empty() || imu.size() < 2) return;
+  const Stamp oldest = nodes.front().stamp;
+  auto keep = std::lower_bound(imu.begin(), imu.end(), oldest,
+                               [](const ImuSample& s, Stamp t) { return s.stamp < t; });
+  if (keep != imu.begin()) --keep;
+  imu.erase(imu.begin(), keep);
+}
+
+// LIO before initialization: once init.window_scans scans are solved as LO, try the static alignment, then
+// the LiDAR-aided one (inertial_alignment.h); a failed try is retried with the next scan.
+void LidarOdometry::Impl::TryInitializeInertial() {
+  if (inertial || static_cast<int>(window.size()) < config.init.window_scans) return;
+  std::vector<SE3> poses;
+  for (long id = first_node_id; id <= LastNodeId(); ++id) poses.push_back(NodePose(id));
+  const Stamp from = nodes.front().stamp, to = nodes.back().stamp;
+  std::vector<ImuSample> samples;
+  for (const ImuSample& s : imu)
+    if (s.stamp >= from && s.stamp <= to) samples.push_back(s);
+  Expected<InertialAlignment> alignment = StaticAlignment(samples, poses, config.init, config.imu.gravity);
+  std::string failure;
+  if (!alignment) {
+    failure = alignment.status().message();
+    std::vector<ImuPreintegration> preintegrations;
+    for (long id = first_node_id + 1; id <= LastNodeId(); ++id) {
+      Expected<ImuPreintegration> pre = Preintegrate(NodeAt(id - 1).stamp, NodeAt(id).stamp, {});
+      if (!pre) {
+        last_init_failure = pre.status().message();
+        return;
+      }
+      preintegrations.push_back(std::move(*pre));
+    }
+    alignment = LidarAidedAlignment(poses, std::move(preintegrations), config.init);
+    if (!alignment) {
+      if (last_init_failure.empty())
+        warnings.push_back("LIO initialization deferred at " + StampText(to) + ": " + failure + "; " +
+                           alignment.status().message());
+      last_init_failure = alignment.status().message();
+      return;
+    }
+  }
+  ApplyInertialAlignment(*alignment);
+  std::ostringstream summary;
+  summary << alignment->mode << " at " << ToSeconds(to) << " s (gravity estimate "
+          << alignment->gravity_estimate << " m/s^2, gyro bias " << alignment->gyro_bias.transpose() << ")";
+  init_summary = summary.str();
+}
+
+// Rotates the window into the gravity-aligned world, gives its nodes velocities and biases, replaces the
+// constant-velocity priors by IMU factors and rebuilds the map and the associations in the new frame. The
+// rotation turns about the first node's position, so a re-initialization continues where the last one ended.
+void LidarOdometry::Impl::ApplyInertialAlignment(const InertialAlignment& alignment) {
+  const Eigen::Vector3d p0 = NodePose(first_node_id).translation();
+  const SE3 T_gravity_lo(alignment.R_gravity_lo, p0 - alignment.R_gravity_lo * p0);
+  inertial = true;
+  for (long id = first_node_id; id <= LastNodeId(); ++id) {
+    Node& node = NodeAt(id);
+    node.pose = PoseBlock(T_gravity_lo * NodePose(id));
+    NavState state;
+    state.velocity = alignment.velocities[static_cast<std::size_t>(id - first_node_id)];
+    state.accel_bias = alignment.accel_bias;
+    state.gyro_bias = alignment.gyro_bias;
+    node.speed_bias = SpeedBiasBlock(state);
+    if (id == first_node_id) continue;
+    Expected<ImuPreintegration> pre = Preintegrate(NodeAt(id - 1).stamp, node.stamp, node.speed_bias);
+    if (!pre) continue;  // keeps its constant-velocity prior
+    node.imu_factor = std::make_unique<ImuFactor>(std::move(*pre));
+    node.motion_prior.reset();
+  }
+  prior.reset();  // a prior from before would live in the old frame
+  map.Clear();
+  for (ScanState& scan : window)
+    if (scan.in_map) InsertIntoMap(scan);
+  for (ScanState& scan : window)
+    if (scan.in_map && scan.begin_node != scan.end_node) Associate(scan);
+}
+
+// Divergence of LIO: a non-finite or implausibly fast state.
+bool LidarOdometry::Impl::Diverged(std::string* why) {
+  for (long id = first_node_id; id <= LastNodeId(); ++id) {
+    const Node& node = NodeAt(id);
+    const Eigen::Map<const Eigen::Matrix<double, 7, 1>> pose(node.pose.data());
+    const Eigen::Map<const Eigen::Matrix<double, 9, 1>> speed_bias(node.speed_bias.data());
+    if (!pose.allFinite() || !speed_bias.allFinite()) {
+      *why = "non-finite state at " + StampText(node.stamp);
+      return true;
+    }
+    if (inertial && speed_bias.head<3>().norm() > config.max_speed_mps) {
+      *why = "speed " + std::to_string(speed_bias.head<3>().norm()) + " m/s at " + StampText(node.stamp);
+      return true;
+    }
+  }
+  return false;
+}
+
+// Re-initialization: the window, the prior and the map start over (the next scan is a first scan), at the
+// last node's pose.
+void LidarOdometry::Impl::Reset() {
+  restart_pose = nodes.empty() ? restart_pose : NodePose(LastNodeId());
+  if (!restart_pose.matrix().allFinite()) restart_pose = SE3();
+  nodes.clear();
+  window.clear();
+  first_node_id = 0;
+  prior.reset();
+  map.Clear();
+  inertial = false;
+  last_init_failure.clear();
+}
+
+}  // namespace uf::estimator

@@ -1,0 +1,96 @@
+// The scans of the window: association with the map, map updates, keyframe release (see odometry_window.h).
+#include <ceres/loss_function.h>
+
+#include <cmath>
+
+#include "odometry/estimator/factors/point_to_plane_factor.h"
+#include "odometry/estimator/lidar_odometry/odometry_window.h"
+
+namespace uf::estimator {
+
+SweepPoses LidarOdometry::Impl::Sweep(const ScanState& scan) {
+  return SweepPoses(NodePose(scan.begin_node), NodePose(scan.end_node), config.T_body_lidar,
+                    scan.begin_node == scan.end_node);
+}
+
+// Point-to-plane residuals of `scan` against the map at the current node poses: up to
+// max_residuals_per_scan points with a plane, visited at an even stride (then the offsets in between) so
+// that they spread over the whole scan.
+void LidarOdometry::Impl::Associate(ScanState& scan) {
+  scan.residuals.clear();
+  const auto& points = scan.registration_points;
+  const std::size_t n = points.size(), cap = static_cast<std::size_t>(config.max_residuals_per_scan);
+  const std::size_t step = std::max<std::size_t>(1, n / cap);
+  const bool single = scan.begin_node == scan.end_node;
+  const SweepPoses sweep = Sweep(scan);
+  for (std::size_t offset = 0; offset < step && scan.residuals.size() < cap; ++offset) {
+    for (std::size_t i = offset; i < n && scan.residuals.size() < cap; i += step) {
+      const PreparedPoint& p = points[i];
+      const Eigen::Vector3d p_world = sweep.At(p.alpha) * p.point_lidar;
+      const std::optional<Plane> plane = map.PlaneNear(p_world);
+      // Correspondence gate: a plane farther than max_plane_distance_m from the point is another surface.
+      if (!plane || std::abs(plane->normal.dot(p_world - plane->point)) > config.max_plane_distance_m)
+        continue;
+      Residual r;
+      if (single) {
+        r.cost = std::make_unique<PointToPlaneFactorSinglePose>(config.T_body_lidar * p.point_lidar, *plane);
+      } else {
+        r.cost = std::make_unique<PointToPlaneFactor>(p.point_lidar, p.alpha, *plane, config.T_body_lidar);
+      }
+      r.loss = std::make_unique<ceres::HuberLoss>(config.huber_m / plane->sigma);
+      scan.residuals.push_back(std::move(r));
+    }
+  }
+}
+
+void LidarOdometry::Impl::InsertIntoMap(ScanState& scan) {
+  const std::vector<PreparedPoint> sparse = DownsamplePrepared(scan.points, config.map_insert_voxel_m);
+  std::vector<Eigen::Vector3d> world;
+  world.reserve(sparse.size());
+  const SweepPoses sweep = Sweep(scan);
+  for (const PreparedPoint& p : sparse) world.push_back(sweep.At(p.alpha) * p.point_lidar);
+  map.Insert(world);
+  map.RemoveFarFrom(NodePose(scan.end_node).translation());
+  scan.in_map = true;
+}
+
+void LidarOdometry::Impl::Release(ScanState& scan) {
+  Keyframe keyframe;
+  keyframe.stamp = scan.stamp + (scan.end - scan.stamp) / 2;
+  const double alpha =
+      scan.end > scan.stamp ? static_cast<double>(keyframe.stamp - scan.stamp) / (scan.end - scan.stamp) : 0;
+  const SE3 begin = NodePose(scan.begin_node), end = NodePose(scan.end_node);
+  keyframe.T_world_body = PoseAt(begin, end, alpha);
+  if (inertial) {
+    const NavState b = NodeState(scan.begin_node), e = NodeState(scan.end_node);
+    keyframe.velocity = (1 - alpha) * b.velocity + alpha * e.velocity;
+    keyframe.bias_acc = b.accel_bias;
+    keyframe.bias_gyro = b.gyro_bias;
+  } else if (scan.end > scan.stamp) {
+    keyframe.velocity = (end.translation() - begin.translation()) / ToSeconds(scan.end - scan.stamp);
+  }
+  keyframe.scan_world.reserve(scan.points.size());
+  keyframe.scan_intensity.reserve(scan.points.size());
+  const SweepPoses sweep = Sweep(scan);
+  for (const PreparedPoint& p : scan.points) {
+    keyframe.scan_world.push_back((sweep.At(p.alpha) * p.point_lidar).cast<float>());
+    keyframe.scan_intensity.push_back(p.intensity);
+  }
+  finished.push_back(std::move(keyframe));
+}
+
+// Releases the oldest scan, folds what leaves with it into the marginalization prior, and drops the nodes
+// no remaining scan uses.
+void LidarOdometry::Impl::PopOldest() {
+  Release(window.front());
+  const long keep_from = window.size() > 1 ? window[1].begin_node : LastNodeId() + 1;
+  if (config.marginalize && window.size() > 1) MarginalizeScan(window.front(), keep_from);
+  window.pop_front();
+  while (!nodes.empty() && first_node_id < keep_from) {
+    nodes.pop_front();
+    ++first_node_id;
+  }
+  TrimImu();
+}
+
+}  // namespace uf::estimator
