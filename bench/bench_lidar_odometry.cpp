@@ -103,6 +103,7 @@ int main(int argc, char** argv) {
   std::vector<double> ms;
   std::vector<uf::Keyframe> keyframes;
   std::size_t residuals = 0, iterations = 0;
+  uf::estimator::OdometryStats stages;  // summed per-stage times
   for (const uf::LidarScan& scan : scans) {
     const auto start = std::chrono::steady_clock::now();
     if (uf::Status s = odometry->AddScan(scan); !s.ok()) {
@@ -113,6 +114,14 @@ int main(int argc, char** argv) {
     ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
     residuals += odometry->last_stats().residuals;
     iterations += odometry->last_stats().iterations;
+    for (const uf::estimator::OdometryStats& st : odometry->TakeProcessedStats()) {
+      stages.prepare_ms += st.prepare_ms;
+      stages.associate_ms += st.associate_ms;
+      stages.register_ms += st.register_ms;
+      stages.window_ms += st.window_ms;
+      stages.map_ms += st.map_ms;
+      stages.marginalize_ms += st.marginalize_ms;
+    }
     for (auto& k : done) keyframes.push_back(std::move(k));
   }
   odometry->Finish();
@@ -164,6 +173,12 @@ int main(int argc, char** argv) {
       mean, Percentile(ms, 0.5), Percentile(ms, 0.95), Percentile(ms, 1.0),
       static_cast<double>(residuals) / std::max<std::size_t>(1, scans.size()),
       static_cast<double>(iterations) / std::max<std::size_t>(1, scans.size()));
+  const double n = static_cast<double>(std::max<std::size_t>(1, scans.size()));
+  std::printf(
+      "  per scan by stage: prepare %.1f ms, associate %.1f ms, register solves %.1f ms, window solve %.1f ms, "
+      "map %.1f ms, marginalize %.1f ms\n",
+      stages.prepare_ms / n, stages.associate_ms / n, stages.register_ms / n, stages.window_ms / n,
+      stages.map_ms / n, stages.marginalize_ms / n);
   std::printf("  machine load average (1/5/15 min): %.2f %.2f %.2f on 2 cores\n", load[0], load[1], load[2]);
   return 0;
 }

@@ -85,8 +85,11 @@ void LidarOdometry::Impl::ProcessScan(const LidarScan& input) {
   ScanState scan;
   scan.stamp = input.stamp;
   scan.end = input.end;
-  scan.points = PrepareScan(input, config.min_range_m, config.max_range_m);
-  scan.registration_points = DownsamplePrepared(scan.points, config.input_voxel_m);
+  {
+    const StageTimer timer(stats.prepare_ms);
+    scan.points = PrepareScan(input, config.min_range_m, config.max_range_m);
+    scan.registration_points = DownsamplePrepared(scan.points, config.input_voxel_m);
+  }
   if (static_cast<int>(scan.registration_points.size()) < config.min_points) {
     warnings.push_back("lidar scan at " + StampText(input.stamp) +
                        " skipped: " + std::to_string(scan.registration_points.size()) +

@@ -52,6 +52,9 @@ struct OdometryStats {
   double solve_ms = 0;  // wall time of the scan's processing (preparation, association, solves, map)
   int residuals = 0;    // point-to-plane residuals of the new scan
   int iterations = 0;   // LM iterations, all solves of the scan
+  // Where solve_ms went, ms: scan preparation (range filter, downsampling), plane association, the new
+  // scan's registration solves, the window solve, map insertion, marginalization.
+  double prepare_ms = 0, associate_ms = 0, register_ms = 0, window_ms = 0, map_ms = 0, marginalize_ms = 0;
 };
 
 class LidarOdometry {

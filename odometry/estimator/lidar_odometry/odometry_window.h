@@ -9,6 +9,7 @@
 #include <ceres/loss_function.h>
 
 #include <array>
+#include <chrono>
 #include <deque>
 #include <memory>
 #include <optional>
@@ -59,6 +60,19 @@ struct ScanState {
 };
 
 std::string StampText(Stamp stamp);
+
+// Adds the wall time of its scope to a millisecond counter (the per-stage figures of OdometryStats).
+class StageTimer {
+ public:
+  explicit StageTimer(double& ms) : ms_(ms), start_(std::chrono::steady_clock::now()) {}
+  ~StageTimer() { ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count(); }
+  StageTimer(const StageTimer&) = delete;
+  StageTimer& operator=(const StageTimer&) = delete;
+
+ private:
+  double& ms_;
+  std::chrono::steady_clock::time_point start_;
+};
 
 struct LidarOdometry::Impl {
   explicit Impl(const LidarOdometryConfig& c) : config(c), map(c.map) {}

@@ -17,6 +17,7 @@ SweepPoses LidarOdometry::Impl::Sweep(const ScanState& scan) {
 // max_residuals_per_scan points with a plane, visited at an even stride (then the offsets in between) so
 // that they spread over the whole scan.
 void LidarOdometry::Impl::Associate(ScanState& scan) {
+  const StageTimer timer(stats.associate_ms);
   scan.residuals.clear();
   const auto& points = scan.registration_points;
   const std::size_t n = points.size(), cap = static_cast<std::size_t>(config.max_residuals_per_scan);
@@ -44,6 +45,7 @@ void LidarOdometry::Impl::Associate(ScanState& scan) {
 }
 
 void LidarOdometry::Impl::InsertIntoMap(ScanState& scan) {
+  const StageTimer timer(stats.map_ms);
   const std::vector<PreparedPoint> sparse = DownsamplePrepared(scan.points, config.map_insert_voxel_m);
   std::vector<Eigen::Vector3d> world;
   world.reserve(sparse.size());

@@ -17,6 +17,7 @@ namespace uf::estimator {
 // new_scan_only: the ICP rounds of a new scan move only its own nodes (every other node constant, only its
 // residuals and the motion factors that touch its nodes): a small problem, cheap to repeat.
 bool LidarOdometry::Impl::Solve(int* iterations, bool new_scan_only) {
+  const StageTimer timer(new_scan_only ? stats.register_ms : stats.window_ms);
   ceres::Problem::Options problem_options;
   problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
@@ -86,6 +87,7 @@ void LidarOdometry::Impl::Relinearize() {
 // Folds the states before keep_from, and every factor touching them (the leaving scan's point-to-plane
 // residuals, the motion factors, the previous prior), into a new prior on the states they connect to.
 void LidarOdometry::Impl::MarginalizeScan(const ScanState& leaving, long keep_from) {
+  const StageTimer timer(stats.marginalize_ms);
   // Motion factors alone say nothing about where the kept states are: without point-to-plane residuals or
   // a previous prior there is nothing to keep (the first scan, registered against nothing, is such a case).
   if (keep_from <= first_node_id || (leaving.residuals.empty() && !prior)) return;
