@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <string>
 
 #include "mapping/global_map_impl.h"
@@ -65,6 +66,12 @@ void WriteMetadata(const GlobalMap::Impl& map, const std::optional<MapGeoreferen
   meta.insertMeta("georef_latitude_deg", openvdb::DoubleMetadata(g.latitude_deg));
   meta.insertMeta("georef_longitude_deg", openvdb::DoubleMetadata(g.longitude_deg));
   meta.insertMeta("georef_height_m", openvdb::DoubleMetadata(g.height_m));
+  const Eigen::Vector3d& t = g.T_enu_map.translation();
+  const Eigen::Quaterniond q = g.T_enu_map.so3().quaternion();
+  meta.insertMeta("georef_T_enu_map_translation",
+                  openvdb::Vec3DMetadata(openvdb::Vec3d(t.x(), t.y(), t.z())));
+  meta.insertMeta("georef_T_enu_map_quaternion",
+                  openvdb::Vec4DMetadata(openvdb::Vec4d(q.x(), q.y(), q.z(), q.w())));
 }
 
 // Reads metadata `name` of type MetaT into `out`; false when it is missing or of another type.
@@ -113,6 +120,17 @@ std::string ReadMetadata(const openvdb::MetaMap& meta, GlobalMapConfig& c, Globa
   if (!Read<openvdb::DoubleMetadata>(meta, "georef_longitude_deg", g.longitude_deg))
     return "georef_longitude_deg";
   if (!Read<openvdb::DoubleMetadata>(meta, "georef_height_m", g.height_m)) return "georef_height_m";
+  openvdb::Vec3d t;
+  openvdb::Vec4d q;
+  if (!Read<openvdb::Vec3DMetadata>(meta, "georef_T_enu_map_translation", t))
+    return "georef_T_enu_map_translation";
+  if (!Read<openvdb::Vec4DMetadata>(meta, "georef_T_enu_map_quaternion", q))
+    return "georef_T_enu_map_quaternion";
+  const Eigen::Quaterniond rotation(q.w(), q.x(), q.y(), q.z());
+  if (!std::isfinite(rotation.norm()) || std::abs(rotation.norm() - 1.0) > 1e-6 ||
+      !Eigen::Vector3d(t.x(), t.y(), t.z()).allFinite())
+    return "georef_T_enu_map (not a finite rigid transform)";
+  g.T_enu_map = SE3(SO3(rotation), Eigen::Vector3d(t.x(), t.y(), t.z()));
   if (has_georef) georef = g;
   return "";
 }

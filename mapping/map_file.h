@@ -7,7 +7,8 @@
 //   color_m2 (float, Welford sum of squared colour distances)
 // and file metadata: ultrafusion_map_format (int, 1), voxel_size_m, voxel_count, the map's config and
 // statistics, and the georeference: has_georef (bool) + georef_latitude_deg, georef_longitude_deg (WGS84)
-// and georef_height_m (ellipsoidal), the origin of the map's east-north-up frame.
+// and georef_height_m (ellipsoidal), the origin of the east-north-up frame, and georef_T_enu_map (Vec3d
+// translation + Vec4d quaternion x y z w: the map frame in that ENU frame).
 //
 // Saving writes a temporary file beside the destination and renames it into place, so a failure (full
 // disk, unwritable folder) never leaves a partial map.vdb. Loading checks every grid and the counts and
@@ -18,17 +19,21 @@
 #include <optional>
 
 #include "mapping/global_map.h"
+#include "odometry/types/se3.h"
 #include "odometry/types/status.h"
 
 namespace uf::mapping {
 
 inline constexpr const char* kMapFileName = "map.vdb";
 
-// WGS84 origin of the map frame (east-north-up at this point).
+// Where the map is on the earth: the WGS84 origin of an east-north-up (ENU) frame and the map frame's pose in
+// it (p_enu = T_enu_map p_map; identity when the map was built in that ENU frame, otherwise the alignment of
+// the trajectory with GNSS that was found after mapping).
 struct MapGeoreference {
   double latitude_deg = 0.0;
   double longitude_deg = 0.0;
   double height_m = 0.0;  // above the ellipsoid
+  SE3 T_enu_map;
 };
 
 struct LoadedMap {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "mapping/map_point.h"
+#include "odometry/types/se3.h"
 
 namespace uf::mapping {
 
@@ -36,6 +37,21 @@ class VectorPointSource final : public PointSource {
   std::vector<MapPoint> points_;
   std::size_t chunk_size_;
   Eigen::AlignedBox3d bounds_;
+};
+
+// Another source's points moved by a rigid transform (positions and normals): p' = T p. Used to write a map
+// in the east-north-up frame it was aligned to (map_file.h MapGeoreference::T_enu_map).
+class TransformedPointSource final : public PointSource {
+ public:
+  // `source` must outlive this.
+  TransformedPointSource(const PointSource& source, const SE3& T);
+  std::size_t size() const override { return source_.size(); }
+  Eigen::AlignedBox3d bounds() const override;  // of the transformed box corners (contains every point)
+  bool ForEachChunk(const std::function<bool(std::span<const MapPoint>)>& chunk) const override;
+
+ private:
+  const PointSource& source_;
+  SE3 T_;
 };
 
 }  // namespace uf::mapping

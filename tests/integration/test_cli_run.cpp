@@ -122,6 +122,31 @@ TEST_F(CliRun, AutoModeRunsLidarInertialOdometryInTheImuFrame) {
   EXPECT_GE(ate, 0);
   EXPECT_LT(ate, 0.1) << report;
 
+  // The map stage: map.vdb and its exports; no camera in this sequence, so the map is uncoloured, and the
+  // report says so.
+  for (const char* file : {"map.vdb", "map.ply", "map.las", "map.glb", "georef.json"})
+    EXPECT_TRUE(fs::exists(run + "/" + file)) << file;
+  EXPECT_NE(report.find("no calibrated camera: the map is written without colour"), std::string::npos)
+      << report;
+  const std::string ply_header = testing::ReadText(run + "/map.ply").substr(0, 400);
+  EXPECT_EQ(ply_header.rfind("ply\nformat binary_little_endian 1.0", 0), 0u) << ply_header;
+
+  // `export` writes the map again from map.vdb, here points only as PLY into another folder.
+  const std::string again = out.File("again");
+  const auto exported = Ultrafusion("export " + run + " --format ply --out " + again);
+  ASSERT_EQ(exported.code, 0) << exported.output;
+  EXPECT_EQ(testing::ReadText(again + "/map.ply"), testing::ReadText(run + "/map.ply"));
+  EXPECT_FALSE(fs::exists(again + "/map.las"));
+  const auto utm = Ultrafusion("export " + run + " --crs utm --out " + out.File("utm"));
+  EXPECT_EQ(utm.code, 1) << utm.output;
+  EXPECT_NE(utm.output.find("no georeference"), std::string::npos) << utm.output;
+  const auto format = Ultrafusion("export " + run + " --format ply,xyz --out " + out.File("xyz"));
+  EXPECT_EQ(format.code, 2) << format.output;
+  EXPECT_NE(format.output.find("unknown format 'xyz'"), std::string::npos) << format.output;
+  const auto no_map = Ultrafusion("export " + out.File("nothing") + " --out " + out.File("none"));
+  EXPECT_EQ(no_map.code, 1) << no_map.output;
+  EXPECT_NE(no_map.output.find("no map in the run folder"), std::string::npos) << no_map.output;
+
   // A bad lio: value is a usage error that names it.
   const std::string config = out.Write("bad.yaml", "lio:\n  imu:\n    gravity: -9.8\n");
   const auto bad = Ultrafusion("run " + Sequence() + " --config " + config + " --out " + out.File("bad"));

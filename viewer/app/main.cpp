@@ -3,8 +3,10 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
+#include "viewer/app/colorize_command.h"
 #include "viewer/app/eval_command.h"
 #include "viewer/app/exit_codes.h"
+#include "viewer/app/export_command.h"
 #include "viewer/app/info_command.h"
 #include "viewer/app/run_command.h"
 #include "viewer/app/sim_command.h"
@@ -14,7 +16,9 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string("ultrafusion ") + UF_VERSION);
   app.require_subcommand(1);
 
+  auto colorize = uf::app::AddColorizeCommand(app);
   auto eval = uf::app::AddEvalCommand(app);
+  auto exporter = uf::app::AddExportCommand(app);
   auto info = uf::app::AddInfoCommand(app);
   auto run = uf::app::AddRunCommand(app);
   auto sim = uf::app::AddSimCommand(app);
@@ -25,7 +29,9 @@ int main(int argc, char** argv) {
     const int code = app.exit(e);  // prints help, version or the usage error
     return code == 0 ? uf::app::kExitOk : uf::app::kExitUsage;
   }
+  if (app.got_subcommand(colorize.command)) return colorize.run();
   if (app.got_subcommand(eval.command)) return eval.run();
+  if (app.got_subcommand(exporter.command)) return exporter.run();
   if (app.got_subcommand(info.command)) return info.run();
   if (app.got_subcommand(run.command)) return run.run();
   if (app.got_subcommand(sim.command)) return sim.run();

@@ -12,6 +12,8 @@
 #include "viewer/app/dataset_config.h"
 #include "viewer/app/estimator_config.h"
 #include "viewer/app/exit_codes.h"
+#include "viewer/app/keyframe_mapper.h"
+#include "viewer/app/run_map_stage.h"
 #include "viewer/app/run_outputs.h"
 #include "viewer/app/run_report.h"
 
@@ -23,7 +25,8 @@ using Clock = std::chrono::steady_clock;
 
 struct RunArguments {
   std::string dataset, out, config, mode = "auto", output_frame;  // output_frame "": the mode's body
-  bool no_map = false, no_splat = false;
+  bool no_map = false, no_splat = false, no_mesh = false;
+  double map_voxel_m = 0.05;
 };
 
 // "/imu/data (imu), velodyne (lidar)": the streams a dataset has, for messages.
@@ -67,7 +70,7 @@ int FailAndClean(const fs::path& out, int code) {
 
 // The sensors `run` uses: the first LiDAR stream, the first IMU stream and the LiDAR-to-IMU transform.
 struct RunSensors {
-  int lidar = -1, imu = -1;
+  int lidar = -1, imu = -1, gnss = -1;
   std::optional<SE3> T_imu_lidar;
 };
 
@@ -77,6 +80,7 @@ RunSensors FindSensors(const DatasetDescription& description) {
     const SensorKind kind = description.streams[s].kind;
     if (kind == SensorKind::kLidar && sensors.lidar < 0) sensors.lidar = static_cast<int>(s);
     if (kind == SensorKind::kImu && sensors.imu < 0) sensors.imu = static_cast<int>(s);
+    if (kind == SensorKind::kGnss && sensors.gnss < 0) sensors.gnss = static_cast<int>(s);
   }
   if (sensors.lidar >= 0) sensors.T_imu_lidar = ImuFromLidar(description, sensors.lidar);
   return sensors;
@@ -137,7 +141,6 @@ int RunRun(const RunArguments& a) {
                      : "lo (LiDAR-only odometry on " + lidar_name + ")";
   report.output_frame = a.output_frame.empty() ? (*lio ? "imu" : "lidar") : a.output_frame;
   for (const std::string& note : report.notes) std::cerr << "ultrafusion: warning: " << note << "\n";
-  if (a.no_map) report.notes.push_back("--no-map: accepted; no map stage exists yet");
   if (a.no_splat) report.notes.push_back("--no-splat: accepted; no splatting stage exists yet");
   if (report.output_frame == "imu" && !sensors.T_imu_lidar)
     return ReportUsageError(Status::Error("--output-frame imu: " + a.dataset +
@@ -148,22 +151,44 @@ int RunRun(const RunArguments& a) {
   lo_config.T_body_lidar = *lio ? *sensors.T_imu_lidar : SE3();
   Expected<estimator::LidarOdometry> odometry = estimator::LidarOdometry::Create(lo_config);
   if (!odometry) return ReportUsageError(odometry.status());
+  const SE3 T_estimator_body = EstimatorFromBody(description, sensors.lidar, sensors.imu, *lio);
+  std::optional<KeyframeMapper> mapper;
+  if (!a.no_map) {
+    KeyframeMapperOptions options;
+    options.map.voxel_size_m = a.map_voxel_m;
+    Expected<KeyframeMapper> created = KeyframeMapper::Create(options, description, T_estimator_body);
+    if (!created) return ReportUsageError(created.status());
+    mapper.emplace(std::move(*created));
+  }
 
   fs::create_directories(a.out, error);
   if (error) return ReportError(Status::Error(a.out + ": cannot create the folder: " + error.message()));
   const Clock::time_point start = Clock::now();
   std::vector<double> ms_per_scan;  // of the scans processed (skipped ones cost next to nothing)
   std::int64_t scans_read = 0;
-  std::vector<Keyframe> keyframes;
+  Trajectory trajectory;  // T_world_body at each keyframe (LO: world = the first LiDAR pose)
+  std::int64_t keyframes = 0;
+  std::vector<GnssFix> fixes;  // for the map's georeference
   double ms_total = 0;
   {
     ScanProgress progress(*lio ? "lio" : "lo");
-    auto collect = [&] {
-      for (Keyframe& k : odometry->TakeFinished()) keyframes.push_back(std::move(k));
+    // Keyframes leave the window in time order: their poses go into the trajectory, the keyframes (with
+    // their deskewed scans) into the map.
+    auto collect = [&]() -> Status {
+      for (Keyframe& k : odometry->TakeFinished()) {
+        ++keyframes;
+        if (!trajectory.stamps.empty() && k.stamp <= trajectory.stamps.back())
+          continue;  // keep stamps increasing
+        trajectory.stamps.push_back(k.stamp);
+        trajectory.poses.push_back(k.T_world_body);
+        if (mapper)
+          if (Status s = mapper->AddKeyframe(std::move(k)); !s.ok()) return s;
+      }
       for (const estimator::OdometryStats& scan : odometry->TakeProcessedStats()) {
         ms_per_scan.push_back(scan.solve_ms);
         ms_total += scan.solve_ms;
       }
+      return {};
     };
     while (true) {
       Expected<std::optional<Measurement>> next = stream->Next();
@@ -176,28 +201,31 @@ int RunRun(const RunArguments& a) {
         ++scans_read;
       } else if (const auto* sample = std::get_if<ImuSample>(&m.data); sample && m.stream == sensors.imu) {
         status = odometry->AddImu(*sample);
+      } else if (auto* frame = std::get_if<CameraFrame>(&(*next)->data);
+                 frame && mapper && mapper->UsesCamera((*next)->stream)) {
+        mapper->AddCameraFrame((*next)->stream, std::move(*frame));
+        continue;
+      } else if (const auto* fix = std::get_if<GnssFix>(&m.data); fix && m.stream == sensors.gnss) {
+        fixes.push_back(*fix);
+        continue;
       } else {
         continue;
       }
+      if (status.ok()) status = collect();
       if (!status.ok()) return FailAndClean(a.out, ReportError(status));
-      collect();
       progress.Update(scans_read, ms_total);
     }
     odometry->Finish();
-    collect();
+    Status status = collect();
+    if (status.ok() && mapper) status = mapper->Finish();
+    if (!status.ok()) return FailAndClean(a.out, ReportError(status));
   }
   if (*lio) {
     const std::string init = odometry->initialization();
     report.notes.push_back(init.empty() ? "LIO never initialized: the whole run is LiDAR-only (see warnings)"
                                         : "LIO initialized: " + init);
   }
-  Trajectory trajectory;  // T_world_body at each keyframe (LO: world = the first LiDAR pose)
-  for (const Keyframe& k : keyframes) {
-    if (!trajectory.stamps.empty() && k.stamp <= trajectory.stamps.back())
-      continue;  // keep stamps increasing
-    trajectory.stamps.push_back(k.stamp);
-    trajectory.poses.push_back(k.T_world_body);
-  }
+  const Trajectory estimated = trajectory;  // in the estimator's body frame, for the georeference
   if (!*lio && report.output_frame == "imu") trajectory = ToImuFrame(trajectory, *sensors.T_imu_lidar);
   if (*lio && report.output_frame == "lidar") trajectory = ToLidarFrame(trajectory, *sensors.T_imu_lidar);
   if (trajectory.empty())
@@ -208,7 +236,7 @@ int RunRun(const RunArguments& a) {
 
   report.scans = scans_read;
   report.keyframes = static_cast<std::int64_t>(trajectory.size());
-  report.skipped = report.scans - static_cast<std::int64_t>(keyframes.size());
+  report.skipped = report.scans - keyframes;
   report.timing = SummarizeTimings(ms_per_scan);
   report.wall_seconds = std::chrono::duration<double>(Clock::now() - start).count();
   report.reader_warnings = stream->warnings();
@@ -222,6 +250,13 @@ int RunRun(const RunArguments& a) {
     return ReportError(s);
   if (Status s = WriteTextFileAtomically(out / "config.yaml", report.config_yaml); !s.ok())
     return ReportError(s);
+  if (mapper) {
+    const std::optional<mapping::MapGeoreference> georef = GeoreferenceFromGnss(
+        description, sensors.gnss, T_estimator_body, estimated, fixes, *lio, report.notes);
+    if (Status s = WriteRunMap(out, *mapper, georef, !a.no_mesh, report); !s.ok()) return ReportError(s);
+  } else {
+    report.notes.push_back("--no-map: no map written");
+  }
   if (description.ground_truth)
     report.accuracy = EvaluateAgainstGroundTruth(*description.ground_truth, out, "trajectory.tum");
   else
@@ -235,8 +270,10 @@ int RunRun(const RunArguments& a) {
               static_cast<long long>(warnings));
   if (report.accuracy.evaluated)
     std::printf("  ATE (SE3-aligned RMSE): %.4f m\n", report.accuracy.ape_rmse_m);
-  std::printf("  wrote %s: trajectory.tum, trajectory_kitti.txt, timing.json, config.yaml, report.md%s\n",
-              a.out.c_str(), report.accuracy.plots.empty() ? "" : ", plots/");
+  if (report.map) std::printf("  map: %s\n", report.map->summary.c_str());
+  std::printf("  wrote %s: trajectory.tum, trajectory_kitti.txt, timing.json, config.yaml, report.md%s%s\n",
+              a.out.c_str(), report.accuracy.plots.empty() ? "" : ", plots/",
+              report.map ? (", " + report.map->files).c_str() : "");
   return kExitOk;
 }
 
@@ -261,7 +298,11 @@ Subcommand AddRunCommand(CLI::App& app) {
                   "Frame of the written trajectory: lidar or imu (needs the LiDAR's T_body_sensor); default: "
                   "lidar for LO, imu for LIO")
       ->check(CLI::IsMember({"lidar", "imu"}));
-  run->add_flag("--no-map", a->no_map, "No map output (accepted; a no-op until the map stage exists)");
+  run->add_flag("--no-map", a->no_map, "No map: no map.vdb, map.ply, map.las, map.glb");
+  run->add_option("--map-voxel", a->map_voxel_m, "Voxel size of the colour map, m")
+      ->check(CLI::Range(0.001, 100.0))
+      ->capture_default_str();
+  run->add_flag("--no-mesh", a->no_mesh, "No surface mesh in map.glb (points only; faster on big maps)");
   run->add_flag("--no-splat", a->no_splat, "No splatting (accepted; a no-op until the splat stage exists)");
   return {run, [a] { return RunRun(*a); }};
 }

@@ -85,6 +85,7 @@ std::string FormatRunReport(const RunReport& r) {
   md += "| mean [ms] | median [ms] | p95 [ms] | max [ms] |\n|---|---|---|---|\n";
   md += "| " + Format("%.2f", r.timing.mean) + " | " + Format("%.2f", r.timing.median) + " | " +
         Format("%.2f", r.timing.p95) + " | " + Format("%.2f", r.timing.max) + " |\n";
+  if (r.map) md += "\n## Map\n\n" + r.map->summary + "\n\nFiles: " + r.map->files + "\n";
   md += "\n## Accuracy\n\n";
   if (r.accuracy.evaluated) {
     md += "ATE (APE translation RMSE, SE3-aligned): " + Format("%.4f", r.accuracy.ape_rmse_m) + " m\n\n";
@@ -95,12 +96,14 @@ std::string FormatRunReport(const RunReport& r) {
   if (!r.accuracy.note.empty()) md += r.accuracy.note + "\n";
   md += "\n## Warnings\n\n";
   const std::vector<ReadWarning> odometry = GroupWarnings(r.odometry_warnings);
-  if (r.reader_warnings.empty() && odometry.empty()) {
+  const std::vector<ReadWarning> map = r.map ? GroupWarnings(r.map->warnings) : std::vector<ReadWarning>{};
+  if (r.reader_warnings.empty() && odometry.empty() && map.empty()) {
     md += "none\n";
   } else {
     md += "| source | stream | what (first occurrence) | count |\n|---|---|---|---|\n";
     AppendWarnings(md, r.reader_warnings, "reader");
     AppendWarnings(md, odometry, "odometry");
+    AppendWarnings(md, map, "map");
   }
   md += "\n## Configuration (config.yaml; repeat with `--config config.yaml`)\n\n```yaml\n" + r.config_yaml +
         "```\n";

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,12 @@ GroundTruthCheck EvaluateAgainstGroundTruth(const std::filesystem::path& ground_
                                             const std::filesystem::path& out_folder,
                                             const std::string& estimate_file);
 
+// The map stage: a one-line summary ("1.2 M points, 64 % coloured, ..."), the files it wrote, its warnings.
+struct MapSummary {
+  std::string summary, files;
+  std::vector<std::string> warnings;
+};
+
 struct RunReport {
   std::string dataset, format, mode, output_frame;
   std::vector<std::string> notes;  // mode fallbacks, no-op options
@@ -39,6 +46,7 @@ struct RunReport {
   std::vector<ReadWarning> reader_warnings;
   std::vector<std::string> odometry_warnings;
   GroundTruthCheck accuracy;
+  std::optional<MapSummary> map;  // none with --no-map
 };
 
 // Odometry warnings grouped by kind (the text before " ("), first example kept, in order of appearance.

@@ -79,7 +79,8 @@ TEST(MapFile, RoundTripGivesTheSameMap) {
   TempDir dir;
   const GlobalMap map = RandomMap();
   const fs::path file = dir.path() / kMapFileName;
-  const MapGeoreference georef{49.0069, 8.4037, 115.25};
+  const MapGeoreference georef{49.0069, 8.4037, 115.25,
+                               SE3(SO3::Exp(Eigen::Vector3d(0.01, -0.02, 0.8)), Eigen::Vector3d(12.5, -3, 0.25))};
   ASSERT_TRUE(SaveMap(map, georef, file).ok());
   EXPECT_EQ(std::distance(fs::directory_iterator(dir.path()), fs::directory_iterator()), 1);  // no temp left
   auto loaded = LoadMap(file);
@@ -88,6 +89,7 @@ TEST(MapFile, RoundTripGivesTheSameMap) {
   EXPECT_EQ(loaded->georef->latitude_deg, georef.latitude_deg);
   EXPECT_EQ(loaded->georef->longitude_deg, georef.longitude_deg);
   EXPECT_EQ(loaded->georef->height_m, georef.height_m);
+  EXPECT_LT((loaded->georef->T_enu_map.matrix() - georef.T_enu_map.matrix()).norm(), 1e-12);
   const GlobalMap& again = loaded->map;
   EXPECT_EQ(again.config().voxel_size_m, map.config().voxel_size_m);
   EXPECT_EQ(again.config().max_voxels, map.config().max_voxels);

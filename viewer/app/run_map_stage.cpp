@@ -1,0 +1,75 @@
+#include "viewer/app/run_map_stage.h"
+
+#include <cstdio>
+
+#include "export/gnss_alignment.h"
+#include "viewer/app/map_exports.h"
+
+namespace uf::app {
+
+SE3 EstimatorFromBody(const DatasetDescription& description, int lidar_stream, int imu_stream, bool lio) {
+  const int stream = lio ? imu_stream : lidar_stream;
+  if (stream < 0) return SE3();
+  const std::optional<SE3>& T_body_sensor =
+      description.streams[static_cast<std::size_t>(stream)].T_body_sensor;
+  return T_body_sensor ? T_body_sensor->inverse() : SE3();
+}
+
+std::optional<mapping::MapGeoreference> GeoreferenceFromGnss(const DatasetDescription& description,
+                                                             int gnss_stream, const SE3& T_estimator_body,
+                                                             const Trajectory& trajectory,
+                                                             std::span<const GnssFix> fixes, bool lio,
+                                                             std::vector<std::string>& notes) {
+  if (gnss_stream < 0 || fixes.empty()) return std::nullopt;
+  exporting::GnssAlignmentOptions options;
+  const std::optional<SE3>& T_body_antenna =
+      description.streams[static_cast<std::size_t>(gnss_stream)].T_body_sensor;
+  options.T_body_antenna = T_estimator_body * T_body_antenna.value_or(SE3());
+  options.gravity_aligned = lio;
+  Expected<exporting::GnssAlignment> aligned = exporting::AlignToGnss(trajectory, fixes, options);
+  if (!aligned) {
+    notes.push_back("map not georeferenced: " + aligned.status().message());
+    return std::nullopt;
+  }
+  char text[200];
+  std::snprintf(text, sizeof(text),
+                "map georeferenced by %d GNSS fixes (residual RMS %.2f m): ENU at %.7f, %.7f, %.2f m",
+                aligned->fixes_used, aligned->rms_m, aligned->origin.latitude_deg,
+                aligned->origin.longitude_deg, aligned->origin.height_m);
+  notes.push_back(text);
+  return mapping::MapGeoreference{aligned->origin.latitude_deg, aligned->origin.longitude_deg,
+                                  aligned->origin.height_m, aligned->T_enu_world};
+}
+
+Status WriteRunMap(const std::filesystem::path& out, const KeyframeMapper& mapper,
+                   const std::optional<mapping::MapGeoreference>& georef, bool mesh, RunReport& report) {
+  const mapping::GlobalMap& map = mapper.map();
+  if (Status s = mapping::SaveMap(map, georef, out / mapping::kMapFileName); !s.ok()) return s;
+  MapExportRequest request;
+  request.mesh = mesh;
+  request.georef = georef;
+  if (georef) request.crs = exporting::OutputCrs::kEnu;
+  Expected<MapExportResult> exported = WriteMapExports(out, map, request);
+  if (!exported) return exported.status();
+  const mapping::GlobalMapStats stats = map.stats();
+  char colour[96] = "uncoloured (no usable camera image)";
+  if (mapper.in_footprint_points() > 0)
+    std::snprintf(colour, sizeof(colour), "%.1f %% of the in-image points coloured",
+                  100.0 * mapper.colored_points() / mapper.in_footprint_points());
+  char mesh_text[64] = "no mesh";
+  if (mesh) std::snprintf(mesh_text, sizeof(mesh_text), "mesh %zu triangles", exported->mesh_triangles);
+  char text[320];
+  std::snprintf(text, sizeof(text),
+                "%zu points exported of %zu voxels (%.3g m), %s, %s, %s frame, exports %.1f s",
+                exported->points, stats.voxels, map.config().voxel_size_m, colour, mesh_text,
+                georef ? "ENU" : "map (local)", exported->seconds);
+  MapSummary summary;
+  summary.summary = text;
+  summary.files = mapping::kMapFileName;
+  for (const std::string& file : exported->files) summary.files += ", " + file;
+  summary.warnings = mapper.warnings();
+  report.map = std::move(summary);
+  return {};
+}
+
+}  // namespace uf::app
