@@ -13,7 +13,7 @@
 namespace uf::mapping {
 namespace {
 
-constexpr int kFormatVersion = 1;
+constexpr int kFormatVersion = 2;  // 2: georef_T_enu_map added
 
 // The grids of the file, by name (see map_file.h).
 struct MapGrids {

@@ -5,7 +5,7 @@
 //   position_offset (Vec3s, m: representative point - voxel centre), count (Int32), last_stamp (Int64, ns),
 //   intensity (float), view_direction_sum (Vec3s), color_mean (Vec3s, sRGB 0..255), color_count (Int32),
 //   color_m2 (float, Welford sum of squared colour distances)
-// and file metadata: ultrafusion_map_format (int, 1), voxel_size_m, voxel_count, the map's config and
+// and file metadata: ultrafusion_map_format (int, 2), voxel_size_m, voxel_count, the map's config and
 // statistics, and the georeference: has_georef (bool) + georef_latitude_deg, georef_longitude_deg (WGS84)
 // and georef_height_m (ellipsoidal), the origin of the east-north-up frame, and georef_T_enu_map (Vec3d
 // translation + Vec4d quaternion x y z w: the map frame in that ENU frame).

@@ -102,6 +102,8 @@ bool MapView::ForEachChunk(const std::function<bool(std::span<const MapPoint>)>&
   std::vector<std::size_t> voxels;
   std::vector<MapPoint> buffer;
   voxels.reserve(std::min(options_.chunk_size, size_));
+  if (options_.compute_normals && normals_.empty())
+    normals_.assign(impl.voxels.size(), Eigen::Vector3f::Constant(std::numeric_limits<float>::quiet_NaN()));
   // Fills and delivers the chunk of the collected voxels; each point is independent, so the normals are
   // computed in parallel with the same result as serially.
   const auto deliver = [&] {
@@ -110,8 +112,10 @@ bool MapView::ForEachChunk(const std::function<bool(std::span<const MapPoint>)>&
       Accessor accessor = impl.index->getConstAccessor();
       for (std::size_t i = range.begin(); i != range.end(); ++i) {
         buffer[i] = PointOf(voxels[i]);
-        if (options_.compute_normals)
-          buffer[i].normal = EstimateNormal(impl, accessor, impl.voxels[voxels[i]]);
+        if (!options_.compute_normals) continue;
+        Eigen::Vector3f& normal = normals_[voxels[i]];  // distinct voxels: no two threads share one
+        if (std::isnan(normal.x())) normal = EstimateNormal(impl, accessor, impl.voxels[voxels[i]]);
+        buffer[i].normal = normal;
       }
     });
     voxels.clear();

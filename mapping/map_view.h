@@ -23,7 +23,9 @@ namespace uf::mapping {
 
 struct MapViewOptions {
   std::size_t chunk_size = 65536;  // points per chunk delivered by ForEachChunk (> 0)
-  bool compute_normals = true;     // false: normals stay zero (faster export)
+  // false: normals stay zero (faster export). Normals are computed on the first pass over the view and
+  // cached (12 bytes per voxel), so writers that read the view several times pay for them once.
+  bool compute_normals = true;
 };
 
 class MapView final : public PointSource {
@@ -48,7 +50,8 @@ class MapView final : public PointSource {
   const GlobalMap* map_;
   MapViewOptions options_;
   std::uint64_t revision_;
-  std::vector<bool> visible_;  // per voxel index of the map
+  std::vector<bool> visible_;                     // per voxel index of the map
+  mutable std::vector<Eigen::Vector3f> normals_;  // per voxel index; NaN until computed
   std::size_t size_ = 0;
   Eigen::AlignedBox3d bounds_;
 };

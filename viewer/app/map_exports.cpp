@@ -1,5 +1,6 @@
 #include "viewer/app/map_exports.h"
 
+#include <algorithm>
 #include <chrono>
 #include <sstream>
 
@@ -67,7 +68,7 @@ Expected<MapExportResult> WriteMapExports(const std::filesystem::path& folder, c
     std::optional<mapping::ColoredMesh> mesh;
     if (request.mesh) {
       mapping::MeshOptions options;
-      options.voxel_size_m = map.config().voxel_size_m;
+      options.voxel_size_m = std::max(request.mesh_voxel_m, map.config().voxel_size_m);
       Expected<mapping::ColoredMesh> meshed = mapping::MeshFromMap(view, options);
       if (!meshed) return meshed.status();
       result.mesh_triangles = meshed->triangles.size();
