@@ -26,7 +26,7 @@ printf '%-10s %10s %10s %10s %8s %s\n' scene ATE_m ms_mean ms_p95 warn init
 for scene in "${scenes[@]}"; do
   rm -rf "$work/$scene" "$work/$scene-run"
   "$bin" sim --scene "$scene" --duration "$duration" --no-camera --no-wheel --no-gnss --out "$work/$scene" >/dev/null 2>&1
-  "$bin" run "$work/$scene" --config "$root/configs/run-sim.yaml" --out "$work/$scene-run" >"$work/$scene.log" 2>&1 ||
+  "$bin" run "$work/$scene" --config "$root/configs/run-sim.yaml" --no-map --out "$work/$scene-run" >"$work/$scene.log" 2>&1 ||
     { echo "$scene: run failed, see $work/$scene.log"; continue; }
   ate=$(sed -n 's/.*ATE (SE3-aligned RMSE): \([0-9.]*\) m.*/\1/p' "$work/$scene.log")
   mean=$(sed -n 's/.*"mean": *\([0-9.]*\).*/\1/p' "$work/$scene-run/timing.json" | head -1)

@@ -170,10 +170,7 @@ Status WriteLas(const std::filesystem::path& path, const mapping::PointSource& p
     stream.write(buffer.data(), static_cast<std::streamsize>(buffer.size()));
     return static_cast<bool>(stream);  // stop early on a write error (disk full)
   });
-  if (stream && written != finite.finite)
-    return Status::Error(name + ": the point source changed between passes (" +
-                         std::to_string(finite.finite) + " then " + std::to_string(written) +
-                         " finite points)");
+  if (Status s = CheckSecondPass(name, finite, written); stream && !s.ok()) return s;
 
   // The final header: counts and the bounds of the stored coordinates.
   const std::uint64_t bytes = static_cast<std::uint64_t>(stream.tellp());

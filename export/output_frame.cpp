@@ -43,4 +43,10 @@ FinitePoints ScanFinitePoints(const mapping::PointSource& points) {
   return result;
 }
 
+Status CheckSecondPass(const std::string& file, const FinitePoints& first, std::size_t written) {
+  if (written == first.finite) return {};
+  return Status::Error(file + ": the point source changed between passes (" + std::to_string(first.finite) +
+                       " then " + std::to_string(written) + " finite points)");
+}
+
 }  // namespace uf::exporting

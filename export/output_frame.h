@@ -44,4 +44,7 @@ struct FinitePoints {
 // One pass over `points` (positions only).
 FinitePoints ScanFinitePoints(const mapping::PointSource& points);
 
+// The writers' second pass must see the points the first pass counted: an error naming the file otherwise.
+Status CheckSecondPass(const std::string& file, const FinitePoints& first, std::size_t written);
+
 }  // namespace uf::exporting

@@ -135,14 +135,6 @@ std::string ReadMetadata(const openvdb::MetaMap& meta, GlobalMapConfig& c, Globa
   return "";
 }
 
-// Finds grid `name` of type GridT among the file's grids; null if missing or of another type.
-template <typename GridT>
-typename GridT::Ptr FindGrid(const openvdb::GridPtrVec& grids, const char* name) {
-  for (const openvdb::GridBase::Ptr& grid : grids)
-    if (grid && grid->getName() == name) return openvdb::gridPtrCast<GridT>(grid);
-  return nullptr;
-}
-
 }  // namespace
 
 Status SaveMap(const GlobalMap& map, const std::optional<MapGeoreference>& georef,
@@ -196,81 +188,95 @@ Expected<LoadedMap> LoadMap(const std::filesystem::path& file) {
   std::error_code error;
   if (!std::filesystem::is_regular_file(file, error)) return Status::Error(name + ": no such map file");
   openvdb::initialize();
-  openvdb::GridPtrVecPtr grids;
-  openvdb::MetaMap::Ptr meta;
   try {
+    // Grids are read one at a time and released once copied: peak memory is the map plus one attribute
+    // grid, not all eight (sparse 8^3 leaves hold far more than the voxels they keep).
     openvdb::io::File vdb(name);
-    vdb.open(/*delayLoad=*/false);  // read everything now, so a truncated file fails here
-    meta = vdb.getMetadata();
-    grids = vdb.getGrids();
+    vdb.open(/*delayLoad=*/false);
+    const openvdb::MetaMap::Ptr meta = vdb.getMetadata();
+    GlobalMapConfig config;
+    GlobalMapStats stats;
+    Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+    std::optional<MapGeoreference> georef;
+    std::int64_t voxel_count = 0;
+    if (std::string missing = ReadMetadata(*meta, config, stats, origin, georef, voxel_count);
+        !missing.empty())
+      return Status::Error(name + ": missing or bad metadata '" + missing + "' (not an ultrafusion map?)");
+    if (Status s = config.Validate(); !s.ok()) return Status::Error(name + ": stored config: " + s.message());
+    if (voxel_count < 0 || static_cast<std::uint64_t>(voxel_count) > config.max_voxels)
+      return Status::Error(name + ": " + std::to_string(voxel_count) + " voxels: not within max_voxels");
+
+    // An attribute grid of type GridT, checked against the metadata, or an error.
+    const auto read = [&]<typename GridT>(const char* grid_name, typename GridT::Ptr& grid) -> Status {
+      grid = vdb.hasGrid(grid_name) ? openvdb::gridPtrCast<GridT>(vdb.readGrid(grid_name)) : nullptr;
+      if (!grid) return Status::Error(name + ": grid '" + grid_name + "' is missing or has the wrong type");
+      if (grid->activeVoxelCount() != static_cast<openvdb::Index64>(voxel_count))
+        return Status::Error(name + ": grid '" + grid_name + "' has " +
+                             std::to_string(grid->activeVoxelCount()) + " voxels, the metadata says " +
+                             std::to_string(voxel_count));
+      if (std::abs(grid->voxelSize()[0] - config.voxel_size_m) > 1e-9 * config.voxel_size_m)
+        return Status::Error(name + ": grid '" + grid_name + "' voxel size differs from voxel_size_m");
+      return {};
+    };
+    auto impl = std::make_unique<GlobalMap::Impl>(config);
+    impl->stats = stats;
+    impl->latest_origin = origin;
+    impl->voxels.reserve(static_cast<std::size_t>(voxel_count));
+    auto index = impl->index->getAccessor();
+    // The voxels, from the count grid.
+    {
+      openvdb::Int32Grid::Ptr count;
+      if (Status s = read.operator()<openvdb::Int32Grid>("count", count); !s.ok()) return s;
+      for (auto it = count->cbeginValueOn(); it; ++it) {
+        if (*it < 1) return Status::Error(name + ": a voxel has count " + std::to_string(*it));
+        VoxelData v;
+        v.ijk = it.getCoord();
+        v.count = static_cast<std::uint32_t>(*it);
+        index.setValue(v.ijk, static_cast<std::int32_t>(impl->voxels.size()));
+        impl->voxels.push_back(v);
+      }
+    }
+    // Every other attribute, voxel by voxel; each grid has exactly the count grid's voxels (same number, and
+    // each one found in the index), so every voxel gets every attribute.
+    const auto fill = [&]<typename GridT, typename Set>(const char* grid_name, Set set) -> Status {
+      typename GridT::Ptr grid;
+      if (Status s = read.template operator()<GridT>(grid_name, grid); !s.ok()) return s;
+      for (auto it = grid->cbeginValueOn(); it; ++it) {
+        std::int32_t i = 0;
+        if (!index.probeValue(it.getCoord(), i))
+          return Status::Error(name + ": grid '" + grid_name + "' has a voxel the count grid does not");
+        set(impl->voxels[static_cast<std::size_t>(i)], *it);
+      }
+      return {};
+    };
+    const auto eigen = [](const openvdb::Vec3s& v) { return Eigen::Vector3f(v.x(), v.y(), v.z()); };
+    using Vec3Grid = openvdb::Vec3SGrid;
+    Status s = fill.operator()<Vec3Grid>(
+        "position_offset", [&](VoxelData& v, const openvdb::Vec3s& x) { v.offset_mean = eigen(x); });
+    if (s.ok())
+      s = fill.operator()<Vec3Grid>("view_direction_sum",
+                                    [&](VoxelData& v, const openvdb::Vec3s& x) { v.view_sum = eigen(x); });
+    if (s.ok())
+      s = fill.operator()<Vec3Grid>("color_mean",
+                                    [&](VoxelData& v, const openvdb::Vec3s& x) { v.color_mean = eigen(x); });
+    if (s.ok())
+      s = fill.operator()<openvdb::Int32Grid>("color_count", [&](VoxelData& v, std::int32_t n) {
+        v.color_count = static_cast<std::uint32_t>(std::max(n, 0));
+      });
+    if (s.ok())
+      s = fill.operator()<openvdb::Int64Grid>("last_stamp",
+                                              [&](VoxelData& v, std::int64_t t) { v.last_stamp = t; });
+    if (s.ok())
+      s = fill.operator()<openvdb::FloatGrid>("intensity",
+                                              [&](VoxelData& v, float x) { v.intensity_mean = x; });
+    if (s.ok())
+      s = fill.operator()<openvdb::FloatGrid>("color_m2", [&](VoxelData& v, float x) { v.color_m2 = x; });
+    if (!s.ok()) return s;
     vdb.close();
+    return LoadedMap{GlobalMapAccess::Wrap(std::move(impl)), georef};
   } catch (const std::exception& e) {
     return Status::Error(name + ": not a readable map file (truncated or corrupt?): " + Printable(e.what()));
   }
-  GlobalMapConfig config;
-  GlobalMapStats stats;
-  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
-  std::optional<MapGeoreference> georef;
-  std::int64_t voxel_count = 0;
-  if (std::string missing = ReadMetadata(*meta, config, stats, origin, georef, voxel_count); !missing.empty())
-    return Status::Error(name + ": missing or bad metadata '" + missing + "' (not an ultrafusion map?)");
-  if (Status s = config.Validate(); !s.ok()) return Status::Error(name + ": stored config: " + s.message());
-
-  MapGrids g{FindGrid<openvdb::Vec3SGrid>(*grids, "position_offset"),
-             FindGrid<openvdb::Vec3SGrid>(*grids, "view_direction_sum"),
-             FindGrid<openvdb::Vec3SGrid>(*grids, "color_mean"),
-             FindGrid<openvdb::Int32Grid>(*grids, "count"),
-             FindGrid<openvdb::Int32Grid>(*grids, "color_count"),
-             FindGrid<openvdb::Int64Grid>(*grids, "last_stamp"),
-             FindGrid<openvdb::FloatGrid>(*grids, "intensity"),
-             FindGrid<openvdb::FloatGrid>(*grids, "color_m2")};
-  const std::pair<const char*, openvdb::GridBase::Ptr> all[] = {
-      {"position_offset", g.offset},  {"view_direction_sum", g.view_sum},
-      {"color_mean", g.color_mean},   {"count", g.count},
-      {"color_count", g.color_count}, {"last_stamp", g.last_stamp},
-      {"intensity", g.intensity},     {"color_m2", g.color_m2}};
-  for (const auto& [grid_name, grid] : all) {
-    if (!grid) return Status::Error(name + ": grid '" + grid_name + "' is missing or has the wrong type");
-    if (grid->activeVoxelCount() != static_cast<openvdb::Index64>(voxel_count))
-      return Status::Error(name + ": grid '" + grid_name + "' has " +
-                           std::to_string(grid->activeVoxelCount()) + " voxels, the metadata says " +
-                           std::to_string(voxel_count));
-    if (std::abs(grid->voxelSize()[0] - config.voxel_size_m) > 1e-9 * config.voxel_size_m)
-      return Status::Error(name + ": grid '" + grid_name + "' voxel size differs from voxel_size_m");
-  }
-  if (static_cast<std::uint64_t>(voxel_count) > config.max_voxels)
-    return Status::Error(name + ": " + std::to_string(voxel_count) + " voxels exceed max_voxels");
-
-  auto impl = std::make_unique<GlobalMap::Impl>(config);
-  impl->stats = stats;
-  impl->latest_origin = origin;
-  impl->voxels.reserve(static_cast<std::size_t>(voxel_count));
-  auto index = impl->index->getAccessor();
-  auto view_sum = g.view_sum->getConstAccessor(), color_mean = g.color_mean->getConstAccessor();
-  auto offset = g.offset->getConstAccessor();
-  auto color_count = g.color_count->getConstAccessor();
-  auto last_stamp = g.last_stamp->getConstAccessor();
-  auto intensity = g.intensity->getConstAccessor(), color_m2 = g.color_m2->getConstAccessor();
-  const auto eigen = [](const openvdb::Vec3s& v) { return Eigen::Vector3f(v.x(), v.y(), v.z()); };
-  for (auto it = g.count->cbeginValueOn(); it; ++it) {
-    const openvdb::Coord ijk = it.getCoord();
-    VoxelData v;
-    v.ijk = ijk;
-    openvdb::Vec3s o, w, c;
-    std::int32_t n_color = 0;
-    const bool complete = offset.probeValue(ijk, o) && view_sum.probeValue(ijk, w) &&
-                          color_mean.probeValue(ijk, c) && color_count.probeValue(ijk, n_color) &&
-                          last_stamp.probeValue(ijk, v.last_stamp) &&
-                          intensity.probeValue(ijk, v.intensity_mean) && color_m2.probeValue(ijk, v.color_m2);
-    if (!complete || *it < 1 || n_color < 0)
-      return Status::Error(name + ": voxel " + std::to_string(ijk.x()) + "," + std::to_string(ijk.y()) + "," +
-                           std::to_string(ijk.z()) + " is incomplete or has a bad count");
-    v.offset_mean = eigen(o), v.view_sum = eigen(w), v.color_mean = eigen(c);
-    v.count = static_cast<std::uint32_t>(*it), v.color_count = static_cast<std::uint32_t>(n_color);
-    index.setValue(ijk, static_cast<std::int32_t>(impl->voxels.size()));
-    impl->voxels.push_back(v);
-  }
-  return LoadedMap{GlobalMapAccess::Wrap(std::move(impl)), georef};
 }
 
 }  // namespace uf::mapping

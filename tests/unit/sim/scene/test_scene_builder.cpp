@@ -11,34 +11,14 @@
 
 #include "odometry/sim/scene/default_trajectory.h"
 #include "odometry/sim/scene/scene_builder.h"
+#include "tests/support/triangle_distance.h"
 
 namespace uf::sim {
 namespace {
 
-using Eigen::Vector3d;
+using uf::testing::PointTriangleDistance;
 
-// Closest point on triangle abc to p (Ericson, Real-Time Collision Detection, 5.1.5), returns the distance.
-double PointTriangleDistance(const Vector3d& p, const Vector3d& a, const Vector3d& b, const Vector3d& c) {
-  const Vector3d ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return (p - a).norm();
-  const Vector3d bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return (p - b).norm();
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return (p - (a + d1 / (d1 - d3) * ab)).norm();
-  const Vector3d cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return (p - c).norm();
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return (p - (a + d2 / (d2 - d6) * ac)).norm();
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-    return (p - (b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b))).norm();
-  }
-  const double denom = 1.0 / (va + vb + vc);
-  return (p - (a + ab * vb * denom + ac * vc * denom)).norm();
-}
+using Eigen::Vector3d;
 
 // Nearest hit distance of the ray o + t d (t > 0) with the mesh (Moller-Trumbore), if any; triangles of
 // material `ignore` are skipped.
@@ -81,7 +61,7 @@ SceneOptions Options(const std::string& name, std::uint64_t seed, double duratio
   return options;
 }
 
-class EveryScene : public testing::TestWithParam<std::string> {};
+class EveryScene : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(EveryScene, WellFormedSeededAndClearOfTheTrack) {
   const SceneOptions options = Options(GetParam(), 11);
@@ -152,7 +132,7 @@ TEST_P(EveryScene, WellFormedSeededAndClearOfTheTrack) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, EveryScene,
-                         testing::Values("urban", "wild", "warehouse", "corridor", "tunnel"));
+                         ::testing::Values("urban", "wild", "warehouse", "corridor", "tunnel"));
 
 // Horizontal distance to the walls left and right of the body, and up to the ceiling.
 void ExpectEnclosed(const std::string& name, double left_right, double up, double tolerance) {

@@ -9,8 +9,11 @@
 #include <limits>
 
 #include "odometry/sim/scene/scene.h"
+#include "tests/support/triangle_distance.h"
 
 namespace uf::sim::test {
+
+using uf::testing::PointTriangleDistance;
 
 // Appends an axis-aligned box [lo, hi] as 12 triangles (two per face) of one material.
 inline void AddBox(TriangleMesh& mesh, const Eigen::Vector3f& lo, const Eigen::Vector3f& hi,
@@ -61,30 +64,6 @@ inline Scene BoxRoomScene() {
   AddBox(scene.mesh, {2, -9, -2}, {3, -8, 4}, Material::kMetal);
   AddBox(scene.mesh, {-12, 6, -1}, {-9, 9, 0.5f}, Material::kCarPaint);
   return scene;
-}
-
-// Distance from p to triangle abc (Ericson, Real-Time Collision Detection, 5.1.5: closest point by regions).
-inline double PointTriangleDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
-                                    const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
-  const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return (p - a).norm();
-  const Eigen::Vector3d bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return (p - b).norm();
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return (p - (a + d1 / (d1 - d3) * ab)).norm();
-  const Eigen::Vector3d cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return (p - c).norm();
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return (p - (a + d2 / (d2 - d6) * ac)).norm();
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-    return (p - (b + (d4 - d3) / ((d4 - d3) + (d5 - d6)) * (c - b))).norm();
-  }
-  const double denominator = 1.0 / (va + vb + vc);
-  return (p - (a + ab * (vb * denominator) + ac * (vc * denominator))).norm();
 }
 
 // Distance from p to the nearest triangle of the mesh, by brute force.
