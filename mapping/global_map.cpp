@@ -50,7 +50,7 @@ GlobalMap::Impl::Impl(const GlobalMapConfig& c) : config(c) {
   openvdb::initialize();  // idempotent; registers the grid types for I/O
   index = openvdb::Int32Grid::create(-1);
   index->setTransform(VoxelTransform(config.voxel_size_m));
-  index->setName("index");
+  index->setName("voxel_index");  // the grid map.vdb holds (map_file.h)
 }
 
 void GlobalMap::Impl::Evict() {

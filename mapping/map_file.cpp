@@ -1,11 +1,15 @@
 #include "mapping/map_file.h"
 
+#include <openvdb/io/File.h>
 #include <openvdb/io/Stream.h>
 
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstring>
+#include <fstream>
 #include <string>
+#include <vector>
 
 #include "mapping/global_map_impl.h"
 #include "odometry/io/atomic_file.h"
@@ -13,22 +17,72 @@
 namespace uf::mapping {
 namespace {
 
-constexpr int kFormatVersion = 2;  // 2: georef_T_enu_map added
+constexpr int kFormatVersion = 3;  // 2: georef_T_enu_map; 3: attributes in map.voxels beside the index grid
 
-// The grids of the file, by name (see map_file.h).
-struct MapGrids {
-  openvdb::Vec3SGrid::Ptr offset, view_sum, color_mean;
-  openvdb::Int32Grid::Ptr count, color_count;
-  openvdb::Int64Grid::Ptr last_stamp;
-  openvdb::FloatGrid::Ptr intensity, color_m2;
-};
+// map.voxels: a header, then one fixed-size little-endian record per voxel, in index order.
+constexpr char kVoxelsMagic[8] = {'U', 'F', 'M', 'A', 'P', 'V', 'O', 'X'};
+constexpr std::uint32_t kVoxelsVersion = 1;
+constexpr std::size_t kHeaderSize = 8 + 4 + 4 + 8;  // magic, version, record size, count
+// ijk 3 x int32, offset_mean, view_sum, color_mean 3 x float each, color_m2, intensity_mean float,
+// count, color_count uint32, last_stamp int64.
+constexpr std::size_t kRecordSize = 12 + 36 + 8 + 8 + 8;
+constexpr std::size_t kChunkRecords = 65536;
 
-template <typename GridT>
-typename GridT::Ptr MakeGrid(const char* name, double voxel_size) {
-  typename GridT::Ptr grid = GridT::create();
-  grid->setName(name);
-  grid->setTransform(VoxelTransform(voxel_size));
-  return grid;
+template <typename T>
+void Put(char*& out, T value) {
+  std::memcpy(out, &value, sizeof(T));
+  out += sizeof(T);
+}
+template <typename T>
+T Get(const char*& in) {
+  T value;
+  std::memcpy(&value, in, sizeof(T));
+  in += sizeof(T);
+  return value;
+}
+
+void PutRecord(const VoxelData& v, char* out) {
+  for (int i = 0; i < 3; ++i) Put<std::int32_t>(out, v.ijk[i]);
+  for (const Eigen::Vector3f* f : {&v.offset_mean, &v.view_sum, &v.color_mean})
+    for (int i = 0; i < 3; ++i) Put<float>(out, (*f)[i]);
+  Put<float>(out, v.color_m2);
+  Put<float>(out, v.intensity_mean);
+  Put<std::uint32_t>(out, v.count);
+  Put<std::uint32_t>(out, v.color_count);
+  Put<std::int64_t>(out, v.last_stamp);
+}
+
+VoxelData GetRecord(const char* in) {
+  VoxelData v;
+  for (int i = 0; i < 3; ++i) v.ijk[i] = Get<std::int32_t>(in);
+  for (Eigen::Vector3f* f : {&v.offset_mean, &v.view_sum, &v.color_mean})
+    for (int i = 0; i < 3; ++i) (*f)[i] = Get<float>(in);
+  v.color_m2 = Get<float>(in);
+  v.intensity_mean = Get<float>(in);
+  v.count = Get<std::uint32_t>(in);
+  v.color_count = Get<std::uint32_t>(in);
+  v.last_stamp = Get<std::int64_t>(in);
+  return v;
+}
+
+Status WriteVoxels(const std::vector<VoxelData>& voxels, const std::filesystem::path& file) {
+  AtomicFileWriter writer(file.string());
+  if (Status status = writer.status(); !status.ok()) return status;
+  std::vector<char> buffer(kHeaderSize);
+  char* out = buffer.data();
+  std::memcpy(out, kVoxelsMagic, 8);
+  out += 8;
+  Put<std::uint32_t>(out, kVoxelsVersion);
+  Put<std::uint32_t>(out, static_cast<std::uint32_t>(kRecordSize));
+  Put<std::uint64_t>(out, voxels.size());
+  writer.stream().write(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+  for (std::size_t begin = 0; begin < voxels.size() && writer.stream(); begin += kChunkRecords) {
+    const std::size_t n = std::min(kChunkRecords, voxels.size() - begin);
+    buffer.resize(n * kRecordSize);
+    for (std::size_t i = 0; i < n; ++i) PutRecord(voxels[begin + i], buffer.data() + i * kRecordSize);
+    writer.stream().write(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+  }
+  return writer.Commit();
 }
 
 // Exception texts of a corrupt file can carry the garbage bytes they read: keep them short and printable.
@@ -137,46 +191,27 @@ std::string ReadMetadata(const openvdb::MetaMap& meta, GlobalMapConfig& c, Globa
 
 }  // namespace
 
+std::filesystem::path VoxelAttributesFile(const std::filesystem::path& map_file) {
+  std::filesystem::path file = map_file;
+  return file.replace_extension(".voxels");
+}
+
 Status SaveMap(const GlobalMap& map, const std::optional<MapGeoreference>& georef,
                const std::filesystem::path& file) {
   const GlobalMap::Impl& impl = GlobalMapAccess::Of(map);
-  const double s = impl.config.voxel_size_m;
+  // The attributes first: a map.vdb never names records that are not there yet.
+  if (Status s = WriteVoxels(impl.voxels, VoxelAttributesFile(file)); !s.ok())
+    return Status::Error(file.string() + ": cannot write the map's attributes: " + s.message());
   try {
-    MapGrids g{MakeGrid<openvdb::Vec3SGrid>("position_offset", s),
-               MakeGrid<openvdb::Vec3SGrid>("view_direction_sum", s),
-               MakeGrid<openvdb::Vec3SGrid>("color_mean", s),
-               MakeGrid<openvdb::Int32Grid>("count", s),
-               MakeGrid<openvdb::Int32Grid>("color_count", s),
-               MakeGrid<openvdb::Int64Grid>("last_stamp", s),
-               MakeGrid<openvdb::FloatGrid>("intensity", s),
-               MakeGrid<openvdb::FloatGrid>("color_m2", s)};
-    auto offset = g.offset->getAccessor(), view_sum = g.view_sum->getAccessor(),
-         color_mean = g.color_mean->getAccessor();
-    auto count = g.count->getAccessor(), color_count = g.color_count->getAccessor();
-    auto last_stamp = g.last_stamp->getAccessor();
-    auto intensity = g.intensity->getAccessor(), color_m2 = g.color_m2->getAccessor();
-    const auto vec = [](const Eigen::Vector3f& v) { return openvdb::Vec3s(v.x(), v.y(), v.z()); };
-    for (const VoxelData& v : impl.voxels) {
-      offset.setValue(v.ijk, vec(v.offset_mean));
-      view_sum.setValue(v.ijk, vec(v.view_sum));
-      color_mean.setValue(v.ijk, vec(v.color_mean));
-      count.setValue(v.ijk, static_cast<std::int32_t>(v.count));
-      color_count.setValue(v.ijk, static_cast<std::int32_t>(v.color_count));
-      last_stamp.setValue(v.ijk, v.last_stamp);
-      intensity.setValue(v.ijk, v.intensity_mean);
-      color_m2.setValue(v.ijk, v.color_m2);
-    }
     openvdb::MetaMap meta;
     WriteMetadata(impl, georef, meta);
-    const openvdb::GridCPtrVec grids{g.offset,      g.view_sum,   g.color_mean, g.count,
-                                     g.color_count, g.last_stamp, g.intensity,  g.color_m2};
     AtomicFileWriter writer(file.string());
     if (Status status = writer.status(); !status.ok()) return status;
     openvdb::io::Stream stream(writer.stream());
-    // Blosc (LZ4) when available: several times faster than zip at a similar size for these grids.
+    // Blosc (LZ4) when available: several times faster than zip at a similar size.
     if (openvdb::io::Archive::hasBloscCompression())
       stream.setCompression(openvdb::io::COMPRESS_BLOSC | openvdb::io::COMPRESS_ACTIVE_MASK);
-    stream.write(grids, meta);
+    stream.write(openvdb::GridCPtrVec{impl.index}, meta);  // named "voxel_index" by the map
     return writer.Commit();
   } catch (const std::exception& error) {
     return Status::Error(file.string() + ": cannot write the map: " + Printable(error.what()));
@@ -188,95 +223,78 @@ Expected<LoadedMap> LoadMap(const std::filesystem::path& file) {
   std::error_code error;
   if (!std::filesystem::is_regular_file(file, error)) return Status::Error(name + ": no such map file");
   openvdb::initialize();
+  GlobalMapConfig config;
+  GlobalMapStats stats;
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  std::optional<MapGeoreference> georef;
+  std::int64_t voxel_count = 0;
+  openvdb::Int32Grid::Ptr index;
   try {
-    // Grids are read one at a time and released once copied: peak memory is the map plus one attribute
-    // grid, not all eight (sparse 8^3 leaves hold far more than the voxels they keep).
     openvdb::io::File vdb(name);
     vdb.open(/*delayLoad=*/false);
     const openvdb::MetaMap::Ptr meta = vdb.getMetadata();
-    GlobalMapConfig config;
-    GlobalMapStats stats;
-    Eigen::Vector3d origin = Eigen::Vector3d::Zero();
-    std::optional<MapGeoreference> georef;
-    std::int64_t voxel_count = 0;
     if (std::string missing = ReadMetadata(*meta, config, stats, origin, georef, voxel_count);
         !missing.empty())
       return Status::Error(name + ": missing or bad metadata '" + missing + "' (not an ultrafusion map?)");
-    if (Status s = config.Validate(); !s.ok()) return Status::Error(name + ": stored config: " + s.message());
-    if (voxel_count < 0 || static_cast<std::uint64_t>(voxel_count) > config.max_voxels)
-      return Status::Error(name + ": " + std::to_string(voxel_count) + " voxels: not within max_voxels");
-
-    // An attribute grid of type GridT, checked against the metadata, or an error.
-    const auto read = [&]<typename GridT>(const char* grid_name, typename GridT::Ptr& grid) -> Status {
-      grid = vdb.hasGrid(grid_name) ? openvdb::gridPtrCast<GridT>(vdb.readGrid(grid_name)) : nullptr;
-      if (!grid) return Status::Error(name + ": grid '" + grid_name + "' is missing or has the wrong type");
-      if (grid->activeVoxelCount() != static_cast<openvdb::Index64>(voxel_count))
-        return Status::Error(name + ": grid '" + grid_name + "' has " +
-                             std::to_string(grid->activeVoxelCount()) + " voxels, the metadata says " +
-                             std::to_string(voxel_count));
-      if (std::abs(grid->voxelSize()[0] - config.voxel_size_m) > 1e-9 * config.voxel_size_m)
-        return Status::Error(name + ": grid '" + grid_name + "' voxel size differs from voxel_size_m");
-      return {};
-    };
-    auto impl = std::make_unique<GlobalMap::Impl>(config);
-    impl->stats = stats;
-    impl->latest_origin = origin;
-    impl->voxels.reserve(static_cast<std::size_t>(voxel_count));
-    auto index = impl->index->getAccessor();
-    // The voxels, from the count grid.
-    {
-      openvdb::Int32Grid::Ptr count;
-      if (Status s = read.operator()<openvdb::Int32Grid>("count", count); !s.ok()) return s;
-      for (auto it = count->cbeginValueOn(); it; ++it) {
-        if (*it < 1) return Status::Error(name + ": a voxel has count " + std::to_string(*it));
-        VoxelData v;
-        v.ijk = it.getCoord();
-        v.count = static_cast<std::uint32_t>(*it);
-        index.setValue(v.ijk, static_cast<std::int32_t>(impl->voxels.size()));
-        impl->voxels.push_back(v);
-      }
-    }
-    // Every other attribute, voxel by voxel; each grid has exactly the count grid's voxels (same number, and
-    // each one found in the index), so every voxel gets every attribute.
-    const auto fill = [&]<typename GridT, typename Set>(const char* grid_name, Set set) -> Status {
-      typename GridT::Ptr grid;
-      if (Status s = read.template operator()<GridT>(grid_name, grid); !s.ok()) return s;
-      for (auto it = grid->cbeginValueOn(); it; ++it) {
-        std::int32_t i = 0;
-        if (!index.probeValue(it.getCoord(), i))
-          return Status::Error(name + ": grid '" + grid_name + "' has a voxel the count grid does not");
-        set(impl->voxels[static_cast<std::size_t>(i)], *it);
-      }
-      return {};
-    };
-    const auto eigen = [](const openvdb::Vec3s& v) { return Eigen::Vector3f(v.x(), v.y(), v.z()); };
-    using Vec3Grid = openvdb::Vec3SGrid;
-    Status s = fill.operator()<Vec3Grid>(
-        "position_offset", [&](VoxelData& v, const openvdb::Vec3s& x) { v.offset_mean = eigen(x); });
-    if (s.ok())
-      s = fill.operator()<Vec3Grid>("view_direction_sum",
-                                    [&](VoxelData& v, const openvdb::Vec3s& x) { v.view_sum = eigen(x); });
-    if (s.ok())
-      s = fill.operator()<Vec3Grid>("color_mean",
-                                    [&](VoxelData& v, const openvdb::Vec3s& x) { v.color_mean = eigen(x); });
-    if (s.ok())
-      s = fill.operator()<openvdb::Int32Grid>("color_count", [&](VoxelData& v, std::int32_t n) {
-        v.color_count = static_cast<std::uint32_t>(std::max(n, 0));
-      });
-    if (s.ok())
-      s = fill.operator()<openvdb::Int64Grid>("last_stamp",
-                                              [&](VoxelData& v, std::int64_t t) { v.last_stamp = t; });
-    if (s.ok())
-      s = fill.operator()<openvdb::FloatGrid>("intensity",
-                                              [&](VoxelData& v, float x) { v.intensity_mean = x; });
-    if (s.ok())
-      s = fill.operator()<openvdb::FloatGrid>("color_m2", [&](VoxelData& v, float x) { v.color_m2 = x; });
-    if (!s.ok()) return s;
+    if (vdb.hasGrid("voxel_index"))
+      index = openvdb::gridPtrCast<openvdb::Int32Grid>(vdb.readGrid("voxel_index"));
     vdb.close();
-    return LoadedMap{GlobalMapAccess::Wrap(std::move(impl)), georef};
   } catch (const std::exception& e) {
     return Status::Error(name + ": not a readable map file (truncated or corrupt?): " + Printable(e.what()));
   }
+  if (Status s = config.Validate(); !s.ok()) return Status::Error(name + ": stored config: " + s.message());
+  if (!index) return Status::Error(name + ": grid 'voxel_index' is missing or has the wrong type");
+  if (voxel_count < 0 || static_cast<std::uint64_t>(voxel_count) > config.max_voxels ||
+      index->activeVoxelCount() != static_cast<openvdb::Index64>(voxel_count))
+    return Status::Error(name + ": grid 'voxel_index' has " + std::to_string(index->activeVoxelCount()) +
+                         " voxels, the metadata says " + std::to_string(voxel_count) + " (max_voxels " +
+                         std::to_string(config.max_voxels) + ")");
+  if (std::abs(index->voxelSize()[0] - config.voxel_size_m) > 1e-9 * config.voxel_size_m)
+    return Status::Error(name + ": grid 'voxel_index' voxel size differs from voxel_size_m");
+
+  // The attribute records, checked against the index grid: record i must be the voxel whose index is i.
+  const std::filesystem::path voxels_file = VoxelAttributesFile(file);
+  const std::string voxels_name = voxels_file.string();
+  std::ifstream in(voxels_file, std::ios::binary);
+  if (!in) return Status::Error(voxels_name + ": cannot open the voxel attributes of " + name);
+  char header[kHeaderSize];
+  in.read(header, kHeaderSize);
+  const char* h = header + 8;
+  if (!in || std::memcmp(header, kVoxelsMagic, 8) != 0 || Get<std::uint32_t>(h) != kVoxelsVersion ||
+      Get<std::uint32_t>(h) != kRecordSize)
+    return Status::Error(voxels_name + ": not a voxel attribute file of this version");
+  const std::uint64_t records = Get<std::uint64_t>(h);
+  const std::uintmax_t size = std::filesystem::file_size(voxels_file, error);
+  if (records != static_cast<std::uint64_t>(voxel_count) || error ||
+      size != kHeaderSize + records * kRecordSize)
+    return Status::Error(voxels_name + ": holds " + std::to_string(records) + " records in " +
+                         std::to_string(size) + " bytes; " + name + " has " + std::to_string(voxel_count) +
+                         " voxels (truncated, or from another map?)");
+  auto impl = std::make_unique<GlobalMap::Impl>(config);
+  impl->stats = stats;
+  impl->latest_origin = origin;
+  impl->index = index;  // "voxel_index", the map's own name for it
+  impl->index->setTransform(VoxelTransform(config.voxel_size_m));
+  impl->voxels.reserve(static_cast<std::size_t>(voxel_count));
+  auto accessor = impl->index->getConstAccessor();
+  std::vector<char> buffer;
+  for (std::uint64_t begin = 0; begin < records; begin += kChunkRecords) {
+    const std::size_t n = static_cast<std::size_t>(std::min<std::uint64_t>(kChunkRecords, records - begin));
+    buffer.resize(n * kRecordSize);
+    if (!in.read(buffer.data(), static_cast<std::streamsize>(buffer.size())))
+      return Status::Error(voxels_name + ": read error at record " + std::to_string(begin));
+    for (std::size_t i = 0; i < n; ++i) {
+      const VoxelData v = GetRecord(buffer.data() + i * kRecordSize);
+      std::int32_t at = -1;
+      if (!accessor.probeValue(v.ijk, at) || at != static_cast<std::int32_t>(impl->voxels.size()) ||
+          v.count < 1)
+        return Status::Error(voxels_name + ": record " + std::to_string(impl->voxels.size()) + " (voxel " +
+                             std::to_string(v.ijk.x()) + "," + std::to_string(v.ijk.y()) + "," +
+                             std::to_string(v.ijk.z()) + ") does not match " + name + " or has a bad count");
+      impl->voxels.push_back(v);
+    }
+  }
+  return LoadedMap{GlobalMapAccess::Wrap(std::move(impl)), georef};
 }
 
 }  // namespace uf::mapping

@@ -298,7 +298,7 @@ Subcommand AddRunCommand(CLI::App& app) {
                   "Frame of the written trajectory: lidar or imu (needs the LiDAR's T_body_sensor); default: "
                   "lidar for LO, imu for LIO")
       ->check(CLI::IsMember({"lidar", "imu"}));
-  run->add_flag("--no-map", a->no_map, "No map: no map.vdb, map.ply, map.las, map.glb");
+  run->add_flag("--no-map", a->no_map, "No map: no map.vdb, map.voxels, map.ply, map.las, map.glb");
   run->add_option("--map-voxel", a->map_voxel_m, "Voxel size of the colour map, m")
       ->check(CLI::Range(0.001, 100.0))
       ->capture_default_str();

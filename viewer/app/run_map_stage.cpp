@@ -65,7 +65,8 @@ Status WriteRunMap(const std::filesystem::path& out, const KeyframeMapper& mappe
                 georef ? "ENU" : "map (local)", exported->seconds);
   MapSummary summary;
   summary.summary = text;
-  summary.files = mapping::kMapFileName;
+  summary.files = std::string(mapping::kMapFileName) + ", " +
+                  mapping::VoxelAttributesFile(mapping::kMapFileName).string();
   for (const std::string& file : exported->files) summary.files += ", " + file;
   summary.warnings = mapper.warnings();
   report.map = std::move(summary);

@@ -79,10 +79,12 @@ TEST(MapFile, RoundTripGivesTheSameMap) {
   TempDir dir;
   const GlobalMap map = RandomMap();
   const fs::path file = dir.path() / kMapFileName;
-  const MapGeoreference georef{49.0069, 8.4037, 115.25,
-                               SE3(SO3::Exp(Eigen::Vector3d(0.01, -0.02, 0.8)), Eigen::Vector3d(12.5, -3, 0.25))};
+  const MapGeoreference georef{
+      49.0069, 8.4037, 115.25,
+      SE3(SO3::Exp(Eigen::Vector3d(0.01, -0.02, 0.8)), Eigen::Vector3d(12.5, -3, 0.25))};
   ASSERT_TRUE(SaveMap(map, georef, file).ok());
-  EXPECT_EQ(std::distance(fs::directory_iterator(dir.path()), fs::directory_iterator()), 1);  // no temp left
+  // map.vdb and map.voxels, no temporary file left
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir.path()), fs::directory_iterator()), 2);
   auto loaded = LoadMap(file);
   ASSERT_TRUE(loaded.ok()) << loaded.error();
   ASSERT_TRUE(loaded->georef.has_value());
@@ -123,6 +125,7 @@ TEST(MapFile, TruncatedFilesGiveErrors) {
   for (const double fraction : {0.0, 0.001, 0.01, 0.1, 0.3, 0.5, 0.7, 0.9, 0.99}) {
     const fs::path cut = dir.path() / "cut.vdb";
     fs::copy_file(good, cut, fs::copy_options::overwrite_existing);
+    fs::copy_file(VoxelAttributesFile(good), VoxelAttributesFile(cut), fs::copy_options::overwrite_existing);
     fs::resize_file(cut, static_cast<std::uintmax_t>(static_cast<double>(size) * fraction));
     const auto loaded = LoadMap(cut);
     ASSERT_FALSE(loaded.ok()) << "fraction " << fraction;
@@ -142,7 +145,7 @@ TEST(MapFile, MissingOrForeignFilesGiveErrors) {
   ASSERT_FALSE(foreign.ok());
   EXPECT_NE(foreign.error().find(text.string()), std::string::npos);
 
-  // A VDB file with our grids but one removed.
+  // A VDB file with our metadata but without the index grid.
   const fs::path good = dir.path() / kMapFileName;
   ASSERT_TRUE(SaveMap(RandomMap(), std::nullopt, good).ok());
   openvdb::initialize();
@@ -151,14 +154,34 @@ TEST(MapFile, MissingOrForeignFilesGiveErrors) {
   const openvdb::MetaMap::Ptr meta = in.getMetadata();
   openvdb::GridPtrVecPtr grids = in.getGrids();
   in.close();
-  openvdb::GridPtrVec kept;
-  for (const auto& grid : *grids)
-    if (grid->getName() != "color_m2") kept.push_back(grid);
   const fs::path partial = dir.path() / "partial.vdb";
-  openvdb::io::File(partial.string()).write(kept, *meta);
+  fs::copy_file(VoxelAttributesFile(good), VoxelAttributesFile(partial));
+  openvdb::io::File(partial.string()).write(openvdb::GridPtrVec{}, *meta);
   auto broken = LoadMap(partial);
   ASSERT_FALSE(broken.ok());
-  EXPECT_NE(broken.error().find("grid 'color_m2' is missing"), std::string::npos) << broken.error();
+  EXPECT_NE(broken.error().find("grid 'voxel_index' is missing"), std::string::npos) << broken.error();
+
+  // The attributes missing, truncated, or of another map.
+  const fs::path lone = dir.path() / "lone.vdb";
+  fs::copy_file(good, lone);
+  auto no_voxels = LoadMap(lone);
+  ASSERT_FALSE(no_voxels.ok());
+  EXPECT_NE(no_voxels.error().find("lone.voxels: cannot open"), std::string::npos) << no_voxels.error();
+  fs::copy_file(VoxelAttributesFile(good), VoxelAttributesFile(lone));
+  fs::resize_file(VoxelAttributesFile(lone), fs::file_size(VoxelAttributesFile(good)) - 10);
+  auto cut = LoadMap(lone);
+  ASSERT_FALSE(cut.ok());
+  EXPECT_NE(cut.error().find("truncated, or from another map"), std::string::npos) << cut.error();
+  GlobalMap other = RandomMap();
+  const std::vector<Eigen::Vector3f> extra = {{0, 0, 70}};
+  ASSERT_TRUE(other.Insert(WorldScan{5, Eigen::Vector3d::Zero(), extra, {}, {}}).ok());
+  const fs::path other_file = dir.path() / "other.vdb";
+  ASSERT_TRUE(SaveMap(other, std::nullopt, other_file).ok());
+  fs::copy_file(VoxelAttributesFile(other_file), VoxelAttributesFile(lone),
+                fs::copy_options::overwrite_existing);
+  auto mixed = LoadMap(lone);
+  ASSERT_FALSE(mixed.ok());
+  EXPECT_NE(mixed.error().find("lone.voxels"), std::string::npos) << mixed.error();
 
   // A VDB file without our metadata.
   const fs::path bare = dir.path() / "bare.vdb";
