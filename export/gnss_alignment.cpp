@@ -15,12 +15,9 @@ std::optional<SE3> PoseAt(const Trajectory& trajectory, Stamp stamp) {
   const std::size_t j =
       static_cast<std::size_t>(std::lower_bound(stamps.begin(), stamps.end(), stamp) - stamps.begin());
   if (stamps[j] == stamp) return trajectory.poses[j];
-  const SE3& a = trajectory.poses[j - 1];
-  const SE3& b = trajectory.poses[j];
-  const double alpha =
+  const double s =
       static_cast<double>(stamp - stamps[j - 1]) / static_cast<double>(stamps[j] - stamps[j - 1]);
-  const SO3 R = a.so3() * SO3::Exp(alpha * (a.so3().inverse() * b.so3()).Log());
-  return SE3(R, (1 - alpha) * a.translation() + alpha * b.translation());
+  return Interpolate(trajectory.poses[j - 1], trajectory.poses[j], s);
 }
 
 bool HasPosition(const GnssFix& fix) {

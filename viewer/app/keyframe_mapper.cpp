@@ -5,12 +5,10 @@
 namespace uf::app {
 namespace {
 
-// The pose at `stamp` between two keyframes: slerp of the rotation, lerp of the translation.
+// The body pose at `stamp` between two keyframes (slerp of the rotation, lerp of the translation).
 SE3 Interpolate(const Keyframe& a, const Keyframe& b, Stamp stamp) {
-  const double alpha = static_cast<double>(stamp - a.stamp) / static_cast<double>(b.stamp - a.stamp);
-  const SO3 R =
-      a.T_world_body.so3() * SO3::Exp(alpha * (a.T_world_body.so3().inverse() * b.T_world_body.so3()).Log());
-  return SE3(R, (1 - alpha) * a.T_world_body.translation() + alpha * b.T_world_body.translation());
+  const double s = static_cast<double>(stamp - a.stamp) / static_cast<double>(b.stamp - a.stamp);
+  return uf::Interpolate(a.T_world_body, b.T_world_body, s);
 }
 
 }  // namespace
