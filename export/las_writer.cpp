@@ -121,10 +121,9 @@ Status WriteLas(const std::filesystem::path& path, const mapping::PointSource& p
   if (!frame.ok()) return frame.status();
 
   // Pass 1: finite points and a box around their output coordinates, for the scale and offset.
-  const FinitePoints finite = ScanFinitePoints(points);
-  if (finite.finite == 0)
-    return Status::Error(name + ": nothing to write, the map has no point with a finite position (" +
-                         std::to_string(finite.nonfinite) + " non-finite)");
+  Expected<FinitePoints> scanned = ScanWritablePoints(points, name);
+  if (!scanned) return scanned.status();
+  const FinitePoints& finite = *scanned;
   const Eigen::AlignedBox3d box = frame->ApplyToBox(finite.bounds);
   LasHeader header;
   header.file_source_id = options.file_source_id;

@@ -43,6 +43,14 @@ FinitePoints ScanFinitePoints(const mapping::PointSource& points) {
   return result;
 }
 
+Expected<FinitePoints> ScanWritablePoints(const mapping::PointSource& points, const std::string& file) {
+  FinitePoints finite = ScanFinitePoints(points);
+  if (finite.finite == 0)
+    return Status::Error(file + ": nothing to write, the map has no point with a finite position (" +
+                         std::to_string(finite.nonfinite) + " non-finite)");
+  return finite;
+}
+
 Status CheckSecondPass(const std::string& file, const FinitePoints& first, std::size_t written) {
   if (written == first.finite) return {};
   return Status::Error(file + ": the point source changed between passes (" + std::to_string(first.finite) +

@@ -44,6 +44,9 @@ struct FinitePoints {
 // One pass over `points` (positions only).
 FinitePoints ScanFinitePoints(const mapping::PointSource& points);
 
+// One pass over `points` for a writer of `file`: an error naming the file when no point is finite.
+Expected<FinitePoints> ScanWritablePoints(const mapping::PointSource& points, const std::string& file);
+
 // The writers' second pass must see the points the first pass counted: an error naming the file otherwise.
 Status CheckSecondPass(const std::string& file, const FinitePoints& first, std::size_t written);
 

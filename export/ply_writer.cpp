@@ -65,10 +65,9 @@ Status WritePly(const std::filesystem::path& path, const mapping::PointSource& p
   if (!frame.ok()) return frame.status();
 
   // Pass 1: finite points and their bounds, for an exact vertex count and the float/double choice.
-  const FinitePoints finite = ScanFinitePoints(points);
-  if (finite.finite == 0)
-    return Status::Error(name + ": nothing to write, the map has no point with a finite position (" +
-                         std::to_string(finite.nonfinite) + " non-finite)");
+  Expected<FinitePoints> scanned = ScanWritablePoints(points, name);
+  if (!scanned) return scanned.status();
+  const FinitePoints& finite = *scanned;
   const Eigen::AlignedBox3d out_box = frame->ApplyToBox(finite.bounds);
   const bool use_double = options.force_double || options.crs == OutputCrs::kUtm ||
                           out_box.min().cwiseAbs().maxCoeff() > kFloatLimitM ||

@@ -12,6 +12,7 @@
 
 #include "mapping/global_map.h"
 #include "mapping/map_view.h"
+#include "tests/unit/mapping/map_test_support.h"
 
 namespace uf::mapping {
 namespace {
@@ -24,14 +25,7 @@ GlobalMap MakeMap(GlobalMapConfig config = {}) {
   return std::move(map).value();
 }
 
-std::vector<MapPoint> AllPoints(const PointSource& source) {
-  std::vector<MapPoint> points;
-  source.ForEachChunk([&](std::span<const MapPoint> chunk) {
-    points.insert(points.end(), chunk.begin(), chunk.end());
-    return true;
-  });
-  return points;
-}
+using ::uf::mapping::testing::AllPoints;
 
 Status InsertOne(GlobalMap& map, Stamp stamp, const Eigen::Vector3f& p, float intensity = 0,
                  PointColor color = std::nullopt) {

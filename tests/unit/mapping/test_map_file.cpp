@@ -11,6 +11,7 @@
 
 #include "mapping/map_file.h"
 #include "mapping/map_view.h"
+#include "tests/unit/mapping/map_test_support.h"
 
 namespace uf::mapping {
 namespace {
@@ -66,14 +67,7 @@ GlobalMap RandomMap() {
   return std::move(map).value();
 }
 
-std::vector<MapPoint> AllPoints(const PointSource& source) {
-  std::vector<MapPoint> points;
-  source.ForEachChunk([&](std::span<const MapPoint> chunk) {
-    points.insert(points.end(), chunk.begin(), chunk.end());
-    return true;
-  });
-  return points;
-}
+using ::uf::mapping::testing::AllPoints;
 
 TEST(MapFile, RoundTripGivesTheSameMap) {
   TempDir dir;
