@@ -30,6 +30,17 @@ PointToPlaneFactor::PointToPlaneFactor(const Eigen::Vector3d& point_lidar, doubl
 
 bool PointToPlaneFactor::Evaluate(double const* const* parameters, double* residuals,
                                   double** jacobians) const {
+  if (jacobians == nullptr) return EvaluateTangent(parameters, residuals, nullptr);
+  double J_b[6], J_e[6];
+  double* tangent[2] = {jacobians[0] != nullptr ? J_b : nullptr, jacobians[1] != nullptr ? J_e : nullptr};
+  EvaluateTangent(parameters, residuals, tangent);
+  if (jacobians[0] != nullptr) TangentToAmbientJacobian(parameters[0], J_b, 1, jacobians[0]);
+  if (jacobians[1] != nullptr) TangentToAmbientJacobian(parameters[1], J_e, 1, jacobians[1]);
+  return true;
+}
+
+bool PointToPlaneFactor::EvaluateTangent(double const* const* parameters, double* residuals,
+                                         double** jacobians) const {
   const double* pose_b = parameters[0];
   const double* pose_e = parameters[1];
   const Eigen::Map<const Eigen::Vector3d> t_b(pose_b), t_e(pose_e);
@@ -50,15 +61,13 @@ bool PointToPlaneFactor::Evaluate(double const* const* parameters, double* resid
   const Eigen::Matrix3d Jr_u = RightJacobianSO3(u);
   if (jacobians[0] != nullptr) {
     const Eigen::Matrix3d Phi_b = Exp_u.transpose() - alpha_ * Jr_u * LeftJacobianInverseSO3(d);
-    RowVector6d J;
+    Eigen::Map<RowVector6d> J(jacobians[0]);
     J << (1.0 - alpha_) * dr_dt, dr_dphi * Phi_b;
-    TangentToAmbientJacobian(pose_b, J.data(), 1, jacobians[0]);
   }
   if (jacobians[1] != nullptr) {
     const Eigen::Matrix3d Phi_e = alpha_ * Jr_u * RightJacobianInverseSO3(d);
-    RowVector6d J;
+    Eigen::Map<RowVector6d> J(jacobians[1]);
     J << alpha_ * dr_dt, dr_dphi * Phi_e;
-    TangentToAmbientJacobian(pose_e, J.data(), 1, jacobians[1]);
   }
   return true;
 }
@@ -74,15 +83,24 @@ PointToPlaneFactorSinglePose::PointToPlaneFactorSinglePose(const Eigen::Vector3d
 
 bool PointToPlaneFactorSinglePose::Evaluate(double const* const* parameters, double* residuals,
                                             double** jacobians) const {
+  if (jacobians == nullptr || jacobians[0] == nullptr) return EvaluateTangent(parameters, residuals, nullptr);
+  double J[6];
+  double* tangent[1] = {J};
+  EvaluateTangent(parameters, residuals, tangent);
+  TangentToAmbientJacobian(parameters[0], J, 1, jacobians[0]);
+  return true;
+}
+
+bool PointToPlaneFactorSinglePose::EvaluateTangent(double const* const* parameters, double* residuals,
+                                                   double** jacobians) const {
   const double* pose = parameters[0];
   const Eigen::Map<const Eigen::Vector3d> t(pose);
   const Eigen::Matrix3d R = RotationOfBlock(pose);
   residuals[0] = sqrt_information_ * normal_.dot(R * point_body_ + t - plane_point_);
   if (jacobians == nullptr || jacobians[0] == nullptr) return true;
-  RowVector6d J;
+  Eigen::Map<RowVector6d> J(jacobians[0]);
   J << sqrt_information_ * normal_.transpose(),
       -sqrt_information_ * (normal_.transpose() * R) * Hat(point_body_);
-  TangentToAmbientJacobian(pose, J.data(), 1, jacobians[0]);
   return true;
 }
 

@@ -28,17 +28,21 @@
 
 #include <Eigen/Core>
 
+#include "odometry/estimator/factors/tangent_jacobian.h"
 #include "odometry/estimator/lidar/plane_fit.h"
 #include "odometry/types/se3.h"
 
 namespace uf::estimator {
 
-class PointToPlaneFactor : public ceres::SizedCostFunction<1, 7, 7> {
+class PointToPlaneFactor : public ceres::SizedCostFunction<1, 7, 7>, public TangentJacobianCost {
  public:
   // alpha in [0, 1] (asserted), plane.sigma > 0 (asserted), plane.normal of unit length.
   PointToPlaneFactor(const Eigen::Vector3d& point_lidar, double alpha, const Plane& plane,
                      const SE3& T_body_lidar);
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override;
+  // Jacobians 1 x 6 in the tangents [dt; dtheta] (the formulas above).
+  bool EvaluateTangent(double const* const* parameters, double* residuals,
+                       double** tangent_jacobians) const override;
 
  private:
   const Eigen::Vector3d point_body_;  // p_B = T_body_lidar p_L
@@ -48,11 +52,13 @@ class PointToPlaneFactor : public ceres::SizedCostFunction<1, 7, 7> {
   const double sqrt_information_;      // 1 / sigma
 };
 
-class PointToPlaneFactorSinglePose : public ceres::SizedCostFunction<1, 7> {
+class PointToPlaneFactorSinglePose : public ceres::SizedCostFunction<1, 7>, public TangentJacobianCost {
  public:
   // point_body: the point in the body frame at the pose's time.
   PointToPlaneFactorSinglePose(const Eigen::Vector3d& point_body, const Plane& plane);
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override;
+  bool EvaluateTangent(double const* const* parameters, double* residuals,
+                       double** tangent_jacobians) const override;
 
  private:
   const Eigen::Vector3d point_body_;

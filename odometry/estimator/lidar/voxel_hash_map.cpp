@@ -81,6 +81,7 @@ void VoxelHashMap::Remove(Slot slot) {
 }
 
 void VoxelHashMap::Insert(const std::vector<Eigen::Vector3d>& world_points) {
+  ++revision_;
   const double limit = static_cast<double>(kVoxelIndexLimit - 2) * config_.voxel_m;
   empty_voxel_planes_.clear();
   std::vector<Slot> changed;
@@ -106,6 +107,7 @@ void VoxelHashMap::Insert(const std::vector<Eigen::Vector3d>& world_points) {
 }
 
 void VoxelHashMap::RemoveFarFrom(const Eigen::Vector3d& center) {
+  ++revision_;
   empty_voxel_planes_.clear();
   const double max_squared = config_.max_range_m * config_.max_range_m;
   for (Slot slot = 0; slot < static_cast<Slot>(voxels_.size()); ++slot)
@@ -139,6 +141,13 @@ std::optional<Plane> VoxelHashMap::FitBlockAround(const VoxelIndex& index) const
   return FitPlane(block, CenterOf(index), gate_);
 }
 
+std::uint64_t VoxelHashMap::QueryKey(const Eigen::Vector3d& world_point) const {
+  if (!world_point.allFinite()) return kNoQueryKey;
+  if (world_point.cwiseAbs().maxCoeff() >= static_cast<double>(kVoxelIndexLimit - 2) * config_.voxel_m)
+    return kNoQueryKey;
+  return PackVoxelKey(VoxelOf(world_point, inverse_voxel_m_));
+}
+
 std::optional<Plane> VoxelHashMap::PlaneNear(const Eigen::Vector3d& world_point) const {
   if (!world_point.allFinite()) return std::nullopt;
   if (world_point.cwiseAbs().maxCoeff() >= static_cast<double>(kVoxelIndexLimit - 2) * config_.voxel_m)
@@ -168,6 +177,7 @@ std::vector<Eigen::Vector3d> VoxelHashMap::Points() const {
 }
 
 void VoxelHashMap::Clear() {
+  ++revision_;
   voxels_.clear();
   free_slots_.clear();
   slot_of_.clear();

@@ -48,6 +48,13 @@ class VoxelHashMap {
   // The plane of the voxel holding world_point (see the top of this file), or nullopt when the block has
   // fewer than min_plane_points points or fails the eigen-ratio gate.
   std::optional<Plane> PlaneNear(const Eigen::Vector3d& world_point) const;
+  // What PlaneNear's answer depends on: the packed key of the voxel holding world_point, or kNoQueryKey for
+  // a point PlaneNear rejects (non-finite, beyond the key range). While revision() is unchanged, points
+  // with the same key get the same PlaneNear (callers cache planes per point across ICP rounds).
+  static constexpr std::uint64_t kNoQueryKey = ~std::uint64_t{0};
+  std::uint64_t QueryKey(const Eigen::Vector3d& world_point) const;
+  // Counts the changes of the map (Insert, RemoveFarFrom, Clear).
+  std::uint64_t revision() const { return revision_; }
 
   std::size_t voxel_count() const { return slot_of_.size(); }
   std::size_t point_count() const { return point_count_; }
@@ -93,6 +100,7 @@ class VoxelHashMap {
   // Planes fitted around voxels that hold no points, cleared by every Insert, RemoveFarFrom and Clear.
   mutable std::unordered_map<std::uint64_t, std::optional<Plane>, VoxelKeyHash> empty_voxel_planes_;
   std::size_t point_count_ = 0;
+  std::uint64_t revision_ = 0;
 };
 
 }  // namespace uf::estimator

@@ -7,9 +7,12 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
+#include <bit>
 #include <cassert>
 #include <cmath>
 #include <cstdint>
+#include <vector>
 
 namespace uf::estimator {
 
@@ -41,6 +44,34 @@ struct VoxelKeyHash {
     key ^= key >> 31;
     return static_cast<std::size_t>(key);
   }
+};
+
+// Open-addressing set of packed voxel keys with linear probing, sized for `expected` keys at most half
+// full (probes stay short); key ~0 marks an empty slot (it would be the voxel (-1, -1, -1) with the 64th
+// bit set, which PackVoxelKey never produces). Several times faster than std::unordered_set for the
+// per-scan downsampling.
+class VoxelKeySet {
+ public:
+  explicit VoxelKeySet(std::size_t expected) {
+    const std::size_t capacity = std::bit_ceil(std::max<std::size_t>(16, 2 * expected));
+    slots_.assign(capacity, kEmpty);
+    mask_ = capacity - 1;
+  }
+  // True when the key was not in the set yet (and is now). At most `expected` keys may be inserted.
+  bool Insert(std::uint64_t key) {
+    for (std::size_t i = VoxelKeyHash()(key) & mask_;; i = (i + 1) & mask_) {
+      if (slots_[i] == key) return false;
+      if (slots_[i] == kEmpty) {
+        slots_[i] = key;
+        return true;
+      }
+    }
+  }
+
+ private:
+  static constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
+  std::vector<std::uint64_t> slots_;
+  std::size_t mask_ = 0;
 };
 
 }  // namespace uf::estimator

@@ -151,6 +151,7 @@ bool LidarOdometry::Impl::RegisterNewScan(ScanState& current) {
     solved = Solve(&stats.iterations);  // the whole window, once
   }
   stats.residuals = static_cast<int>(current.residuals.size());
+  current.plane_cache = {};  // the map changes next
   const bool finite = AllFinite(nodes);
   const SE3 correction = guess.inverse() * (finite ? NodePose(current.end_node) : guess);
   if (solved && finite && correction.translation().norm() <= config.max_correction_m &&

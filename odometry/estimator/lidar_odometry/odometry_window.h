@@ -56,7 +56,17 @@ struct ScanState {
   std::vector<PreparedPoint> points;  // all prepared points, for the keyframe's deskewed scan
   std::vector<PreparedPoint> registration_points;
   std::vector<Residual> residuals;  // of the last association
-  bool in_map = false;              // registered and inserted into the map
+  // The map's plane for each registration point, from its last query: within the ICP rounds of one scan
+  // the map does not change, so a point still in the same voxel gets the same plane (VoxelHashMap::QueryKey)
+  // and needs no new query. Valid for map revision plane_cache_revision; dropped after registration.
+  struct CachedPlane {
+    std::uint64_t key = VoxelHashMap::kNoQueryKey;
+    bool known = false;
+    std::optional<Plane> plane;
+  };
+  std::vector<CachedPlane> plane_cache;
+  std::uint64_t plane_cache_revision = 0;
+  bool in_map = false;  // registered and inserted into the map
 };
 
 std::string StampText(Stamp stamp);
@@ -65,7 +75,9 @@ std::string StampText(Stamp stamp);
 class StageTimer {
  public:
   explicit StageTimer(double& ms) : ms_(ms), start_(std::chrono::steady_clock::now()) {}
-  ~StageTimer() { ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count(); }
+  ~StageTimer() {
+    ms_ += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start_).count();
+  }
   StageTimer(const StageTimer&) = delete;
   StageTimer& operator=(const StageTimer&) = delete;
 
@@ -122,6 +134,9 @@ struct LidarOdometry::Impl {
 
   // Solve and marginalize (window_solve.cpp).
   bool Solve(int* iterations, bool new_scan_only = false);
+  template <typename PoseSink, typename SpeedBiasSink, typename ResidualSink>
+  void EnumerateProblem(bool new_scan_only, PoseSink&& pose, SpeedBiasSink&& speed_bias,
+                        ResidualSink&& residual);
   void Relinearize();
   void MarginalizeScan(const ScanState& leaving, long keep_from);
 

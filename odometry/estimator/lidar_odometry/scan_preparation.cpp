@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <unordered_set>
 
 #include "odometry/estimator/lidar/voxel_key.h"
 
@@ -26,12 +25,11 @@ std::vector<PreparedPoint> PrepareScan(const LidarScan& scan, double min_range_m
 }
 
 std::vector<PreparedPoint> DownsamplePrepared(const std::vector<PreparedPoint>& points, double voxel_m) {
-  std::unordered_set<std::uint64_t, VoxelKeyHash> seen;
-  seen.reserve(points.size());
+  VoxelKeySet seen(points.size());
   std::vector<PreparedPoint> out;
   const double inverse = 1.0 / voxel_m;
   for (const PreparedPoint& p : points) {
-    if (seen.insert(PackVoxelKey(VoxelOf(p.point_lidar, inverse))).second) out.push_back(p);
+    if (seen.Insert(PackVoxelKey(VoxelOf(p.point_lidar, inverse)))) out.push_back(p);
   }
   return out;
 }

@@ -24,11 +24,22 @@ void LidarOdometry::Impl::Associate(ScanState& scan) {
   const std::size_t step = std::max<std::size_t>(1, n / cap);
   const bool single = scan.begin_node == scan.end_node;
   const SweepPoses sweep = Sweep(scan);
+  if (scan.plane_cache.size() != n || scan.plane_cache_revision != map.revision()) {
+    scan.plane_cache.assign(n, {});
+    scan.plane_cache_revision = map.revision();
+  }
   for (std::size_t offset = 0; offset < step && scan.residuals.size() < cap; ++offset) {
     for (std::size_t i = offset; i < n && scan.residuals.size() < cap; i += step) {
       const PreparedPoint& p = points[i];
       const Eigen::Vector3d p_world = sweep.At(p.alpha) * p.point_lidar;
-      const std::optional<Plane> plane = map.PlaneNear(p_world);
+      ScanState::CachedPlane& cached = scan.plane_cache[i];
+      const std::uint64_t key = map.QueryKey(p_world);
+      if (!cached.known || cached.key != key) {
+        cached.plane = map.PlaneNear(p_world);
+        cached.key = key;
+        cached.known = true;
+      }
+      const std::optional<Plane>& plane = cached.plane;
       // Correspondence gate: a plane farther than max_plane_distance_m from the point is another surface.
       if (!plane || std::abs(plane->normal.dot(p_world - plane->point)) > config.max_plane_distance_m)
         continue;

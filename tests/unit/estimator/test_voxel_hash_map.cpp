@@ -186,6 +186,41 @@ TEST(VoxelHashMap, PlaneCacheFollowsInserts) {
   EXPECT_NEAR(std::abs(after->normal.z()), 1.0, 1e-9);
 }
 
+// The contract the ICP rounds' plane cache relies on: while revision() is unchanged, points with the same
+// QueryKey get the same PlaneNear (points spread within and across voxels of the box room's walls), and
+// every change of the map bumps revision().
+TEST(VoxelHashMap, QueryKeyDecidesThePlaneUntilTheMapChanges) {
+  const BoxRoom room;
+  VoxelHashMap map;
+  std::uint64_t revision = map.revision();
+  map.Insert(room.Points());
+  EXPECT_GT(map.revision(), revision);
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> jitter(-0.3, 0.3);
+  int same_key = 0;
+  for (const Eigen::Vector3d& p : room.Points(0.7)) {
+    const Eigen::Vector3d q = p + Eigen::Vector3d(jitter(rng), jitter(rng), jitter(rng));
+    if (map.QueryKey(p) != map.QueryKey(q)) continue;
+    ++same_key;
+    const std::optional<Plane> a = map.PlaneNear(p), b = map.PlaneNear(q);
+    ASSERT_EQ(a.has_value(), b.has_value());
+    if (a) {
+      EXPECT_EQ(a->normal, b->normal);
+      EXPECT_EQ(a->point, b->point);
+      EXPECT_EQ(a->sigma, b->sigma);
+    }
+  }
+  EXPECT_GT(same_key, 50);
+  EXPECT_EQ(map.QueryKey(Eigen::Vector3d(std::nan(""), 0, 0)), VoxelHashMap::kNoQueryKey);
+  EXPECT_EQ(map.QueryKey(Eigen::Vector3d(1e9, 0, 0)), VoxelHashMap::kNoQueryKey);
+  revision = map.revision();
+  map.RemoveFarFrom(Eigen::Vector3d::Zero());
+  EXPECT_GT(map.revision(), revision);
+  revision = map.revision();
+  map.Clear();
+  EXPECT_GT(map.revision(), revision);
+}
+
 TEST(VoxelHashMap, ValidatesItsConfig) {
   EXPECT_TRUE(VoxelMapConfig{}.Validate().ok());
   const Status bad = VoxelMapConfig{.voxel_m = -0.5}.Validate();
