@@ -14,9 +14,11 @@ struct CommandResult {
   std::string output;  // stdout and stderr together
 };
 
-inline CommandResult Ultrafusion(const std::string& arguments, bool merge_stderr = true) {
-  const std::string command =
-      std::string(UF_EXECUTABLE) + " " + arguments + (merge_stderr ? " 2>&1" : " 2>/dev/null");
+// `environment`: assignments put before the command ("VAR=value ...").
+inline CommandResult Ultrafusion(const std::string& arguments, bool merge_stderr = true,
+                                 const std::string& environment = "") {
+  const std::string command = environment + (environment.empty() ? "" : " ") + std::string(UF_EXECUTABLE) +
+                              " " + arguments + (merge_stderr ? " 2>&1" : " 2>/dev/null");
   FILE* pipe = popen(command.c_str(), "r");
   std::string output;
   std::array<char, 4096> buffer;

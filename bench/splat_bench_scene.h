@@ -1,0 +1,58 @@
+// The splat benchmarks' shared scene: a street of N flat Gaussians on surfaces (55 % ground z = 0 from 2 to
+// 30 m ahead, 35 % side walls x = +-8 m up to 6 m, 10 % a far wall at y = 30 m; local z along the surface
+// normal, tangent sizes 1-10 cm, SH degree 3), world frame z up, the street along +y; and the load average
+// every figure is printed with.
+#pragma once
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <fstream>
+#include <random>
+#include <string>
+
+#include "splat/gaussian_model.h"
+
+namespace uf::bench {
+
+inline std::string LoadAverage() {
+  std::ifstream file("/proc/loadavg");
+  std::string line;
+  std::getline(file, line);
+  return line;
+}
+
+inline uf::splat::GaussianModel StreetScene(std::size_t n, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
+  std::normal_distribution<float> normal(0.0f, 1.0f);
+  uf::splat::GaussianModel model;
+  model.sh_degree = 3;
+  std::vector<float> sh(model.ShStride());
+  for (std::size_t i = 0; i < n; ++i) {
+    // Surface: 55% ground (z = 0), 35% side walls (x = +-8, z in [0, 6]), 10% far wall (y = 30).
+    const float pick = uniform(rng);
+    Eigen::Vector3f position, normal_axis;
+    if (pick < 0.55f) {
+      position = {-8 + 16 * uniform(rng), 2 + 28 * uniform(rng), 0};
+      normal_axis = Eigen::Vector3f::UnitZ();
+    } else if (pick < 0.9f) {
+      position = {uniform(rng) < 0.5f ? -8.0f : 8.0f, 2 + 28 * uniform(rng), 6 * uniform(rng)};
+      normal_axis = Eigen::Vector3f::UnitX();
+    } else {
+      position = {-8 + 16 * uniform(rng), 30, 6 * uniform(rng)};
+      normal_axis = Eigen::Vector3f::UnitY();
+    }
+    // Local z along the surface normal (thin), x and y in the surface, spun about the normal.
+    const Eigen::Quaternionf to_normal =
+        Eigen::Quaternionf::FromTwoVectors(Eigen::Vector3f::UnitZ(), normal_axis);
+    const Eigen::Quaternionf rotation = to_normal * Eigen::Quaternionf(Eigen::AngleAxisf(
+                                                        6.2831853f * uniform(rng), Eigen::Vector3f::UnitZ()));
+    const float s1 = 0.01f + 0.09f * uniform(rng), s2 = 0.01f + 0.09f * uniform(rng);
+    const Eigen::Vector3f log_scale(std::log(s1), std::log(s2), std::log(0.2f * std::min(s1, s2)));
+    for (int k = 0; k < model.ShStride(); ++k) sh[k] = k < 3 ? 1.2f * normal(rng) : 0.1f * normal(rng);
+    model.Add(position, log_scale, rotation, 1.0f + normal(rng), sh.data());
+  }
+  return model;
+}
+
+}  // namespace uf::bench

@@ -1,0 +1,204 @@
+// The Vulkan backward pass (shaders/rasterize_backward.comp, project_backward.comp through
+// SplatRenderer::Backward) against the CPU reference backward (RenderReferenceBackward, itself checked
+// against finite differences in test_reference_backward.cpp) on random scenes of SH degree 0..3 with loss
+// weights on rgb, alpha and the depth sum; chunked uploads, determinism, an empty model and bad input.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <random>
+
+#include "splat/cpu_reference/reference_backward.h"
+#include "splat/splat_renderer.h"
+
+namespace uf::splat {
+namespace {
+
+SplatCamera Camera(int width, int height, const SE3& T_world_camera) {
+  SplatCamera camera;
+  camera.width = width;
+  camera.height = height;
+  camera.fx = camera.fy = 0.9 * width;
+  camera.cx = 0.5 * width - 0.3;
+  camera.cy = 0.5 * height + 0.2;
+  camera.T_world_camera = T_world_camera;
+  return camera;
+}
+
+// n Gaussians in front of the camera (depth 1.5-12 m, every 25th behind it), sizes 2-40 cm, random
+// (unnormalized) rotations, opacities and SH coefficients of the given degree.
+GaussianModel RandomScene(std::uint64_t seed, int n, int sh_degree, const SplatCamera& camera) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
+  std::normal_distribution<float> normal(0.0f, 1.0f);
+  GaussianModel model;
+  model.sh_degree = sh_degree;
+  std::vector<float> sh(model.ShStride());
+  for (int i = 0; i < n; ++i) {
+    const float z = i % 25 == 0 ? -2.0f : 1.5f + 10.5f * uniform(rng);
+    const float x = (uniform(rng) * 1.4f - 0.7f) * z, y = (uniform(rng) * 1.0f - 0.5f) * z;
+    const Eigen::Vector3d p_world = camera.T_world_camera * Eigen::Vector3d(x, y, z);
+    Eigen::Vector3f log_scale;
+    for (int a = 0; a < 3; ++a) log_scale[a] = std::log(0.02f + 0.38f * uniform(rng));
+    const Eigen::Quaternionf q(normal(rng), normal(rng), normal(rng), normal(rng));
+    for (int k = 0; k < model.ShStride(); ++k) sh[k] = (k < 3 ? 1.0f : 0.3f) * normal(rng);
+    model.Add(p_world.cast<float>(), log_scale, q, 3.0f * normal(rng), sh.data());
+  }
+  return model;
+}
+
+// dL/d(images) of a random loss: normal weights on rgb and alpha, and on the depth sum scaled to the scene
+// depth (so that every term matters).
+ViewGradients RandomViewGradients(std::uint64_t seed, int pixels) {
+  std::mt19937_64 rng(seed ^ 0x9e3779b97f4a7c15ull);
+  std::normal_distribution<float> normal(0.0f, 1.0f);
+  ViewGradients g;
+  for (int p = 0; p < 3 * pixels; ++p) g.rgb.push_back(normal(rng));
+  for (int p = 0; p < pixels; ++p) g.alpha.push_back(normal(rng));
+  for (int p = 0; p < pixels; ++p) g.depth_sum.push_back(0.1f * normal(rng));
+  return g;
+}
+
+// Largest |difference| between the two gradient groups relative to the largest |reference| entry of the
+// group. Float rounding: both sides sum the same per-pixel terms in float but in a different order (the
+// reference per Gaussian over pixels in raster order; the shaders per pixel group, subgroup and tile), and
+// the shader recovers T_i by dividing by (1 - a_i) instead of keeping the forward's products: each term
+// carries ~1e-7..1e-6 relative error, and sums of a few hundred terms of both signs leave up to ~1e-5 of the
+// group's largest entry (measured: 0.5e-6..7.3e-6 over these scenes). 5e-5 leaves margin for another exp/log
+// implementation; a wrong formula, sign or index gives >= 1e-2 (a 10 % change of one term of dL/dalpha:
+// 0.016..0.14).
+template <typename Vector>
+float RelativeError(const std::vector<Vector>& gpu, const std::vector<Vector>& reference) {
+  float scale = 0, error = 0;
+  for (std::size_t i = 0; i < reference.size(); ++i) {
+    scale = std::max(scale, Eigen::Ref<const Eigen::VectorXf>(reference[i]).cwiseAbs().maxCoeff());
+    error = std::max(error, Eigen::Ref<const Eigen::VectorXf>(gpu[i] - reference[i]).cwiseAbs().maxCoeff());
+  }
+  return scale > 0 ? error / scale : error;
+}
+float RelativeError(const std::vector<float>& gpu, const std::vector<float>& reference) {
+  float scale = 0, error = 0;
+  for (std::size_t i = 0; i < reference.size(); ++i) {
+    scale = std::max(scale, std::abs(reference[i]));
+    error = std::max(error, std::abs(gpu[i] - reference[i]));
+  }
+  return scale > 0 ? error / scale : error;
+}
+
+class VulkanBackward : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    Expected<std::unique_ptr<SplatRenderer>> created = SplatRenderer::Create();
+    ASSERT_TRUE(created.ok()) << created.error();
+    renderer_ = std::move(created.value()).release();
+  }
+  static void TearDownTestSuite() {
+    delete renderer_;
+    renderer_ = nullptr;
+  }
+  static Expected<GaussianGradients> Run(SplatRenderer& renderer, const GaussianModel& model,
+                                         const SplatCamera& camera, const RenderSettings& settings,
+                                         const ViewGradients& gradients) {
+    if (Status s = renderer.Upload(model); !s.ok()) return s;
+    Expected<RenderedView> view = renderer.Render(camera, settings);
+    if (!view.ok()) return view.status();
+    return renderer.Backward(gradients);
+  }
+  static SplatRenderer* renderer_;
+};
+SplatRenderer* VulkanBackward::renderer_ = nullptr;
+
+const SE3 kPose(SO3::Exp(Eigen::Vector3d(0.2, -0.4, 0.3)), Eigen::Vector3d(3, -1, 2));
+
+TEST_F(VulkanBackward, MatchesTheReferenceBackwardOnRandomScenes) {
+  ASSERT_NE(renderer_, nullptr);
+  struct Case {
+    std::uint64_t seed;
+    int gaussians, sh_degree, width, height;
+  };
+  for (const Case& c : {Case{11, 200, 0, 64, 48}, Case{12, 250, 1, 70, 45}, Case{13, 300, 2, 64, 64},
+                        Case{14, 200, 3, 50, 37}, Case{15, 300, 3, 80, 48}}) {
+    SCOPED_TRACE("seed " + std::to_string(c.seed));
+    const SplatCamera camera = Camera(c.width, c.height, kPose);
+    const GaussianModel model = RandomScene(c.seed, c.gaussians, c.sh_degree, camera);
+    RenderSettings settings;
+    settings.background = {0.1f, 0.3f, 0.2f};
+    const ViewGradients dL_dview = RandomViewGradients(c.seed, c.width * c.height);
+    Expected<GaussianGradients> gpu = Run(*renderer_, model, camera, settings, dL_dview);
+    ASSERT_TRUE(gpu.ok()) << gpu.error();
+    const GaussianGradients reference = RenderReferenceBackward(model, camera, settings, dL_dview);
+    ASSERT_EQ(gpu->position.size(), model.size());
+    ASSERT_EQ(gpu->sh.size(), reference.sh.size());
+    constexpr float kTolerance = 5e-5f;
+    EXPECT_LT(RelativeError(gpu->position, reference.position), kTolerance);
+    EXPECT_LT(RelativeError(gpu->log_scale, reference.log_scale), kTolerance);
+    EXPECT_LT(RelativeError(gpu->rotation, reference.rotation), kTolerance);
+    EXPECT_LT(RelativeError(gpu->opacity_logit, reference.opacity_logit), kTolerance);
+    EXPECT_LT(RelativeError(gpu->sh, reference.sh), kTolerance);
+    EXPECT_LT(RelativeError(gpu->mean_2d, reference.mean_2d), kTolerance);
+    // Not vacuous: most visible Gaussians get gradients.
+    int nonzero = 0;
+    for (const Eigen::Vector3f& g : reference.position) nonzero += g.norm() > 0;
+    EXPECT_GT(nonzero, c.gaussians / 3);
+  }
+}
+
+TEST_F(VulkanBackward, ChunkedUploadAndRepeatedRunsGiveIdenticalGradients) {
+  const SplatCamera camera = Camera(64, 48, kPose);
+  const GaussianModel model = RandomScene(21, 300, 2, camera);
+  const ViewGradients dL_dview = RandomViewGradients(21, 64 * 48);
+  SplatRendererOptions options;
+  options.max_gaussians_per_chunk = 70;  // 5 chunks
+  Expected<std::unique_ptr<SplatRenderer>> chunked = SplatRenderer::Create(options);
+  ASSERT_TRUE(chunked.ok()) << chunked.error();
+  Expected<GaussianGradients> a = Run(*renderer_, model, camera, {}, dL_dview);
+  Expected<GaussianGradients> b = Run(**chunked, model, camera, {}, dL_dview);
+  Expected<GaussianGradients> again = (*chunked)->Backward(dL_dview);
+  ASSERT_TRUE(a.ok() && b.ok() && again.ok());
+  // No atomics: the same sums in the same order, bit for bit.
+  for (const GaussianGradients* other : {&b.value(), &again.value()}) {
+    EXPECT_EQ(a->position, other->position);
+    EXPECT_EQ(a->log_scale, other->log_scale);
+    EXPECT_EQ(a->rotation, other->rotation);
+    EXPECT_EQ(a->opacity_logit, other->opacity_logit);
+    EXPECT_EQ(a->sh, other->sh);
+    EXPECT_EQ(a->mean_2d, other->mean_2d);
+  }
+}
+
+TEST_F(VulkanBackward, EmptyModelAndCulledGaussiansGetNoGradient) {
+  const SplatCamera camera = Camera(40, 30, SE3());
+  const ViewGradients dL_dview = RandomViewGradients(3, 40 * 30);
+  Expected<GaussianGradients> empty = Run(*renderer_, GaussianModel(), camera, {}, dL_dview);
+  ASSERT_TRUE(empty.ok()) << empty.error();
+  EXPECT_TRUE(empty->position.empty() && empty->sh.empty() && empty->mean_2d.empty());
+
+  GaussianModel behind;
+  behind.AddConstantColor({0, 0, -2}, Eigen::Vector3f::Constant(std::log(0.5f)),
+                          Eigen::Quaternionf::Identity(), 5.0f, {1, 1, 1});
+  Expected<GaussianGradients> culled = Run(*renderer_, behind, camera, {}, dL_dview);
+  ASSERT_TRUE(culled.ok()) << culled.error();
+  ASSERT_EQ(culled->position.size(), 1u);
+  EXPECT_EQ(culled->position[0], Eigen::Vector3f::Zero());
+  EXPECT_EQ(culled->opacity_logit[0], 0.0f);
+  EXPECT_EQ(culled->sh, std::vector<float>(3, 0.0f));
+}
+
+TEST_F(VulkanBackward, RejectsBackwardWithoutRenderAndWrongSizes) {
+  const SplatCamera camera = Camera(40, 30, SE3());
+  const GaussianModel model = RandomScene(4, 20, 0, camera);
+  ASSERT_TRUE(renderer_->Upload(model).ok());
+  const ViewGradients dL_dview = RandomViewGradients(4, 40 * 30);
+  Expected<GaussianGradients> before = renderer_->Backward(dL_dview);
+  ASSERT_FALSE(before.ok());
+  EXPECT_NE(before.error().find("Render"), std::string::npos) << before.error();
+  ASSERT_TRUE(renderer_->Render(camera, {}).ok());
+  ViewGradients wrong = dL_dview;
+  wrong.alpha.pop_back();
+  Expected<GaussianGradients> sized = renderer_->Backward(wrong);
+  ASSERT_FALSE(sized.ok());
+  EXPECT_NE(sized.error().find("alpha has 1199 entries, expected 1200"), std::string::npos) << sized.error();
+}
+
+}  // namespace
+}  // namespace uf::splat
