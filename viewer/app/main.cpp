@@ -8,6 +8,7 @@
 #include "viewer/app/exit_codes.h"
 #include "viewer/app/export_command.h"
 #include "viewer/app/info_command.h"
+#include "viewer/app/render_command.h"
 #include "viewer/app/run_command.h"
 #include "viewer/app/sim_command.h"
 
@@ -20,6 +21,7 @@ int main(int argc, char** argv) {
   auto eval = uf::app::AddEvalCommand(app);
   auto exporter = uf::app::AddExportCommand(app);
   auto info = uf::app::AddInfoCommand(app);
+  auto render = uf::app::AddRenderCommand(app);
   auto run = uf::app::AddRunCommand(app);
   auto sim = uf::app::AddSimCommand(app);
 
@@ -33,6 +35,7 @@ int main(int argc, char** argv) {
   if (app.got_subcommand(eval.command)) return eval.run();
   if (app.got_subcommand(exporter.command)) return exporter.run();
   if (app.got_subcommand(info.command)) return info.run();
+  if (app.got_subcommand(render.command)) return render.run();
   if (app.got_subcommand(run.command)) return run.run();
   if (app.got_subcommand(sim.command)) return sim.run();
   return uf::app::kExitUsage;

@@ -1,6 +1,6 @@
-// The end of `ultrafusion run`'s map stage: map.vdb and its exports (map.ply, map.las, map.glb,
-// georef.json) in the run folder, summarised for the report; and where the cameras sit relative to the
-// estimator's body frame.
+// The files of `ultrafusion run`'s map and exports stages: map.vdb, then its exports (map.ply, map.las,
+// map.glb, georef.json) in the run folder, summarised for the report; the georeference from GNSS; and where
+// the cameras sit relative to the estimator's body frame.
 #pragma once
 
 #include <filesystem>
@@ -28,8 +28,17 @@ std::optional<mapping::MapGeoreference> GeoreferenceFromGnss(const DatasetDescri
                                                              std::span<const GnssFix> fixes, bool lio,
                                                              std::vector<std::string>& notes);
 
-// Saves map.vdb and writes the exports (in ENU when georeferenced, else in the map frame); fills report.map.
-Status WriteRunMap(const std::filesystem::path& out, const KeyframeMapper& mapper,
-                   const std::optional<mapping::MapGeoreference>& georef, bool mesh, RunReport& report);
+// The map stage's file: saves map.vdb (and its voxel attributes) and starts report.map (size, colour);
+// returns the files written, relative to `out`.
+Expected<std::vector<std::string>> SaveRunMap(const std::filesystem::path& out, const KeyframeMapper& mapper,
+                                              const std::optional<mapping::MapGeoreference>& georef,
+                                              RunReport& report);
+
+// The exports stage: map.ply, map.las, map.glb and georef.json (in ENU when georeferenced, else in the map
+// frame); completes report.map. Returns the files written, relative to `out`.
+Expected<std::vector<std::string>> WriteRunMapExports(const std::filesystem::path& out,
+                                                      const KeyframeMapper& mapper,
+                                                      const std::optional<mapping::MapGeoreference>& georef,
+                                                      bool mesh, RunReport& report);
 
 }  // namespace uf::app

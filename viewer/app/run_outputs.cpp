@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <numeric>
 
+#include "odometry/eval/plots.h"
 #include "odometry/io/atomic_file.h"
 #include "odometry/io/trajectory_file.h"
 
@@ -39,6 +40,15 @@ Status WriteTimingJson(const std::filesystem::path& path, const TimingSummary& t
       {"skipped", skipped},
       {"warnings", warnings}};
   return WriteTextFileAtomically(path, json.dump(2) + "\n");
+}
+
+Status WriteTimingPlot(const std::filesystem::path& png, const std::vector<Stamp>& stamps,
+                       const std::vector<double>& milliseconds) {
+  std::vector<double> seconds;
+  seconds.reserve(stamps.size());
+  for (Stamp stamp : stamps) seconds.push_back(ToSeconds(stamp - stamps.front()));
+  return WriteErrorPlot(png.string(), seconds, milliseconds, ComputeStats(milliseconds), "Time per scan",
+                        "time from the first scan [s]", "processing time [ms]");
 }
 
 Status WriteTextFileAtomically(const std::filesystem::path& path, const std::string& text) {

@@ -33,6 +33,12 @@ Status WriteTrajectoryFiles(const std::filesystem::path& folder, const Trajector
 Status WriteTimingJson(const std::filesystem::path& path, const TimingSummary& timing, std::int64_t skipped,
                        std::int64_t warnings);
 
+// plots/timing_per_scan.png: milliseconds per scan against the scan's time from the first scan, with the
+// mean, median and RMS as lines (the eval error plot, its "error" series being the time per scan).
+// stamps.size() == milliseconds.size(), not empty.
+Status WriteTimingPlot(const std::filesystem::path& png, const std::vector<Stamp>& stamps,
+                       const std::vector<double>& milliseconds);
+
 Status WriteTextFileAtomically(const std::filesystem::path& path, const std::string& text);
 
 // T_imu_lidar (p_imu = T_imu_lidar * p_lidar) from the calibration that came with the dataset: the LiDAR

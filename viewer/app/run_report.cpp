@@ -1,5 +1,6 @@
 #include "viewer/app/run_report.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <sstream>
 
@@ -72,10 +73,18 @@ std::vector<ReadWarning> GroupWarnings(const std::vector<std::string>& warnings)
 
 std::string FormatRunReport(const RunReport& r) {
   std::string md = "# ultrafusion run\n\n";
+  const auto failed = std::find_if(r.stages.begin(), r.stages.end(),
+                                   [](const StageRecord& s) { return s.status == StageStatus::kFailed; });
+  if (failed != r.stages.end())
+    md += "**Run failed** in the " + failed->name + " stage: " + failed->message +
+          "\n\nThe outputs of the stages before it are kept; the later stages did not run.\n\n";
   md += "- dataset: `" + r.dataset + "` (" + r.format + ")\n";
   md += "- mode: " + r.mode + "\n";
   md += "- output frame: " + r.output_frame + "\n";
   for (const std::string& note : r.notes) md += "- note: " + note + "\n";
+  if (!r.stages.empty()) md += "\n## Stages\n\n" + FormatStageMarkdown(r.stages);
+  if (!r.dataset_summary.empty())
+    md += "\n## Dataset (as `ultrafusion info` prints it)\n\n```\n" + r.dataset_summary + "```\n";
   md += "\n## Counts\n\n| item | count |\n|---|---|\n";
   md += "| LiDAR scans fed | " + std::to_string(r.scans) + " |\n";
   md += "| keyframes (trajectory poses) | " + std::to_string(r.keyframes) + " |\n";
@@ -85,6 +94,7 @@ std::string FormatRunReport(const RunReport& r) {
   md += "| mean [ms] | median [ms] | p95 [ms] | max [ms] |\n|---|---|---|---|\n";
   md += "| " + Format("%.2f", r.timing.mean) + " | " + Format("%.2f", r.timing.median) + " | " +
         Format("%.2f", r.timing.p95) + " | " + Format("%.2f", r.timing.max) + " |\n";
+  if (!r.timing_plot.empty()) md += "\n![time per scan](" + r.timing_plot + ")\n";
   if (r.map) md += "\n## Map\n\n" + r.map->summary + "\n\nFiles: " + r.map->files + "\n";
   md += "\n## Accuracy\n\n";
   if (r.accuracy.evaluated) {
@@ -105,8 +115,9 @@ std::string FormatRunReport(const RunReport& r) {
     AppendWarnings(md, odometry, "odometry");
     AppendWarnings(md, map, "map");
   }
-  md += "\n## Configuration (config.yaml; repeat with `--config config.yaml`)\n\n```yaml\n" + r.config_yaml +
-        "```\n";
+  md += "\n## Configuration (config.yaml)\n\n";
+  if (!r.repeat_command.empty()) md += "Repeat the run with `" + r.repeat_command + "`\n\n";
+  md += "```yaml\n" + r.config_yaml + "```\n";
   return md;
 }
 

@@ -1,7 +1,8 @@
-// report.md of `ultrafusion run`: what was run on what (dataset, mode, resolved config), counts, the
-// per-scan timing table, warnings grouped by kind and, when the dataset has ground truth, the trajectory
-// accuracy computed exactly as `ultrafusion eval GROUND_TRUTH trajectory.tum --align se3` does, with its
-// plots.
+// report.md of `ultrafusion run`: whether the run succeeded (and which stage failed, why), the stages'
+// table, what was run on what (dataset summary as `ultrafusion info` prints it, mode, resolved config),
+// counts, the per-scan timing table and plot, the map's size, warnings grouped by kind and, when the
+// dataset has ground truth, the trajectory accuracy computed exactly as `ultrafusion eval GROUND_TRUTH
+// trajectory.tum --align se3` does, with its plots. report.html (report_html.h) is made from it.
 #pragma once
 
 #include <cstdint>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "odometry/io/dataset_reader.h"
+#include "viewer/app/pipeline_stages.h"
 #include "viewer/app/run_outputs.h"
 
 namespace uf::app {
@@ -47,6 +49,10 @@ struct RunReport {
   std::vector<std::string> odometry_warnings;
   GroundTruthCheck accuracy;
   std::optional<MapSummary> map;  // none with --no-map
+  std::string dataset_summary;    // the dataset stage's table, as `ultrafusion info` prints it
+  std::string timing_plot;        // "plots/timing_per_scan.png" once written
+  std::string repeat_command;     // the command line that repeats the run with config.yaml
+  std::vector<StageRecord> stages;
 };
 
 // Odometry warnings grouped by kind (the text before " ("), first example kept, in order of appearance.
