@@ -58,14 +58,8 @@ SplatCamera DistortedViewResampler::Pinhole(const SE3& T_world_camera) const {
 
 RenderedView DistortedViewResampler::Resample(const RenderedView& pinhole,
                                               const Eigen::Vector3f& background) const {
-  RenderedView view;
-  view.width = width_;
-  view.height = height_;
+  RenderedView view = RenderedView::Sized(width_, height_);
   const std::size_t n = static_cast<std::size_t>(width_) * height_;
-  view.rgb.resize(3 * n);
-  view.alpha.assign(n, 0.0f);
-  view.depth.assign(n, RenderedView::kNoDepth);
-  view.expected_depth.assign(n, RenderedView::kNoDepth);
   const int w = pinhole.width;
   for (std::size_t i = 0; i < n; ++i) {
     for (int c = 0; c < 3; ++c) view.rgb[3 * i + c] = background[c];

@@ -20,4 +20,16 @@ Status SplatCamera::Validate() const {
   return Status::Error(message.str());
 }
 
+RenderedView RenderedView::Sized(int width, int height) {
+  RenderedView view;
+  view.width = width;
+  view.height = height;
+  const std::size_t pixels = static_cast<std::size_t>(width) * height;
+  view.rgb.assign(3 * pixels, 0.0f);
+  view.alpha.assign(pixels, 0.0f);
+  view.depth.assign(pixels, kNoDepth);
+  view.expected_depth.assign(pixels, kNoDepth);
+  return view;
+}
+
 }  // namespace uf::splat

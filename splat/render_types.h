@@ -58,6 +58,9 @@ struct RenderedView {
   std::vector<float> depth;           // Z: median depth (rule 4), inf where never reached
   std::vector<float> expected_depth;  // alpha-weighted mean t_z, inf where alpha < 1e-4
   static constexpr float kNoDepth = std::numeric_limits<float>::infinity();
+
+  // A view of width x height with every channel allocated: rgb and alpha 0, both depths kNoDepth.
+  static RenderedView Sized(int width, int height);
 };
 
 }  // namespace uf::splat

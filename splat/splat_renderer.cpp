@@ -239,14 +239,8 @@ Expected<RenderedView> SplatRenderer::Render(const SplatCamera& camera, const Re
   for (std::size_t i = 0; i < intervals.size() && i < std::size(kStageNames); ++i)
     m.stats.stage_ms.emplace_back(kStageNames[i], intervals[i]);
 
-  RenderedView view;
-  view.width = camera.width;
-  view.height = camera.height;
+  RenderedView view = RenderedView::Sized(camera.width, camera.height);
   const std::size_t pixels = static_cast<std::size_t>(camera.width) * camera.height;
-  view.rgb.resize(3 * pixels);
-  view.alpha.resize(pixels);
-  view.depth.resize(pixels);
-  view.expected_depth.resize(pixels);
   const auto* rgba = static_cast<const float*>(m.colour.data());
   const auto* depths = static_cast<const float*>(m.depth.data());
   for (std::size_t p = 0; p < pixels; ++p) {

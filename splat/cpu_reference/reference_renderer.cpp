@@ -111,14 +111,7 @@ RenderedView RenderReference(const GaussianModel& model, const SplatCamera& came
   std::vector<ProjectedGaussian> projected(model.size());
   for (std::size_t i = 0; i < model.size(); ++i) projected[i] = ProjectGaussian(model, i, fc, settings);
 
-  RenderedView view;
-  view.width = camera.width;
-  view.height = camera.height;
-  const std::size_t pixels = static_cast<std::size_t>(camera.width) * camera.height;
-  view.rgb.resize(3 * pixels);
-  view.alpha.resize(pixels);
-  view.depth.resize(pixels);
-  view.expected_depth.resize(pixels);
+  RenderedView view = RenderedView::Sized(camera.width, camera.height);
 
   std::vector<std::size_t> list;
   for (int y = 0; y < camera.height; ++y) {

@@ -20,6 +20,7 @@
 #include "odometry/eval/evaluation.h"
 #include "odometry/io/trajectory_file.h"
 #include "tests/support/cli_runner.h"
+#include "tests/support/simulated_sequence.h"
 #include "tests/support/temp_dir.h"
 #include "viewer/app/report_html.h"
 
@@ -139,30 +140,10 @@ double Ate(const fs::path& ground_truth, const fs::path& estimate) {
 
 // `ultrafusion ARGUMENTS` run from `folder` (the versioned output then goes under folder/runs).
 test::CommandResult UltrafusionIn(const fs::path& folder, const std::string& arguments) {
-  const std::string command = "cd '" + folder.string() + "' && " + UF_EXECUTABLE + " " + arguments + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  std::string output;
-  char buffer[4096];
-  while (std::size_t n = std::fread(buffer, 1, sizeof(buffer), pipe)) output.append(buffer, n);
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+  return test::Ultrafusion(arguments, true, "cd '" + folder.string() + "' &&");
 }
 
-// A 4 s urban sequence with a 16-beam LiDAR, an IMU and GNSS, simulated once for the suite.
-class CliPipeline : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() {
-    dir_ = std::make_unique<TempDir>();
-    const auto sim =
-        Ultrafusion("sim --scene urban --duration 4 --no-camera --lidar spinning16 --config " +
-                    std::string(UF_SOURCE_DIR) + "/tests/integration/sim_small.yaml --out " + Sequence());
-    ASSERT_EQ(sim.code, 0) << sim.output;
-  }
-  static void TearDownTestSuite() { dir_.reset(); }
-  static std::string Sequence() { return dir_->File("seq"); }
-  static std::unique_ptr<TempDir> dir_;
-};
-std::unique_ptr<TempDir> CliPipeline::dir_;
+class CliPipeline : public testing::SimulatedSequenceTest {};
 
 TEST_F(CliPipeline, EveryStageRunsIntoAVersionedFolderAndEveryOutputParses) {
   TempDir work;

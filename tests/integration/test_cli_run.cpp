@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "tests/support/cli_runner.h"
+#include "tests/support/simulated_sequence.h"
 #include "tests/support/temp_dir.h"
 
 namespace uf {
@@ -44,21 +45,7 @@ double ReportedAte(const std::string& report) {
   return std::stod(report.substr(at + key.size()));
 }
 
-// A 4 s urban sequence with a 16-beam LiDAR and an IMU, simulated once for the suite.
-class CliRun : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() {
-    dir_ = std::make_unique<TempDir>();
-    const auto sim =
-        Ultrafusion("sim --scene urban --duration 4 --no-camera --lidar spinning16 --config " +
-                    std::string(UF_SOURCE_DIR) + "/tests/integration/sim_small.yaml --out " + Sequence());
-    ASSERT_EQ(sim.code, 0) << sim.output;
-  }
-  static void TearDownTestSuite() { dir_.reset(); }
-  static std::string Sequence() { return dir_->File("seq"); }
-  static std::unique_ptr<TempDir> dir_;
-};
-std::unique_ptr<TempDir> CliRun::dir_;
+class CliRun : public testing::SimulatedSequenceTest {};
 
 TEST_F(CliRun, LidarOdometryOnASimulatedSequenceWritesEveryOutput) {
   TempDir out;

@@ -14,11 +14,11 @@ struct CommandResult {
   std::string output;  // stdout and stderr together
 };
 
-// `environment`: assignments put before the command ("VAR=value ...").
+// `prefix` goes before the command: environment assignments ("VAR=value ...") or "cd DIR &&".
 inline CommandResult Ultrafusion(const std::string& arguments, bool merge_stderr = true,
-                                 const std::string& environment = "") {
-  const std::string command = environment + (environment.empty() ? "" : " ") + std::string(UF_EXECUTABLE) +
-                              " " + arguments + (merge_stderr ? " 2>&1" : " 2>/dev/null");
+                                 const std::string& prefix = "") {
+  const std::string command = prefix + (prefix.empty() ? "" : " ") + std::string(UF_EXECUTABLE) + " " +
+                              arguments + (merge_stderr ? " 2>&1" : " 2>/dev/null");
   FILE* pipe = popen(command.c_str(), "r");
   std::string output;
   std::array<char, 4096> buffer;

@@ -10,42 +10,13 @@
 
 #include "splat/cpu_reference/reference_backward.h"
 #include "splat/splat_renderer.h"
+#include "tests/unit/splat/splat_test_support.h"
 
 namespace uf::splat {
 namespace {
 
-SplatCamera Camera(int width, int height, const SE3& T_world_camera) {
-  SplatCamera camera;
-  camera.width = width;
-  camera.height = height;
-  camera.fx = camera.fy = 0.9 * width;
-  camera.cx = 0.5 * width - 0.3;
-  camera.cy = 0.5 * height + 0.2;
-  camera.T_world_camera = T_world_camera;
-  return camera;
-}
-
-// n Gaussians in front of the camera (depth 1.5-12 m, every 25th behind it), sizes 2-40 cm, random
-// (unnormalized) rotations, opacities and SH coefficients of the given degree.
-GaussianModel RandomScene(std::uint64_t seed, int n, int sh_degree, const SplatCamera& camera) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<float> uniform(0.0f, 1.0f);
-  std::normal_distribution<float> normal(0.0f, 1.0f);
-  GaussianModel model;
-  model.sh_degree = sh_degree;
-  std::vector<float> sh(model.ShStride());
-  for (int i = 0; i < n; ++i) {
-    const float z = i % 25 == 0 ? -2.0f : 1.5f + 10.5f * uniform(rng);
-    const float x = (uniform(rng) * 1.4f - 0.7f) * z, y = (uniform(rng) * 1.0f - 0.5f) * z;
-    const Eigen::Vector3d p_world = camera.T_world_camera * Eigen::Vector3d(x, y, z);
-    Eigen::Vector3f log_scale;
-    for (int a = 0; a < 3; ++a) log_scale[a] = std::log(0.02f + 0.38f * uniform(rng));
-    const Eigen::Quaternionf q(normal(rng), normal(rng), normal(rng), normal(rng));
-    for (int k = 0; k < model.ShStride(); ++k) sh[k] = (k < 3 ? 1.0f : 0.3f) * normal(rng);
-    model.Add(p_world.cast<float>(), log_scale, q, 3.0f * normal(rng), sh.data());
-  }
-  return model;
-}
+using testing::Camera;
+using testing::RandomScene;
 
 // dL/d(images) of a random loss: normal weights on rgb and alpha, and on the depth sum scaled to the scene
 // depth (so that every term matters).
@@ -85,17 +56,8 @@ float RelativeError(const std::vector<float>& gpu, const std::vector<float>& ref
   return scale > 0 ? error / scale : error;
 }
 
-class VulkanBackward : public ::testing::Test {
+class VulkanBackward : public testing::SharedRendererTest {
  protected:
-  static void SetUpTestSuite() {
-    Expected<std::unique_ptr<SplatRenderer>> created = SplatRenderer::Create();
-    ASSERT_TRUE(created.ok()) << created.error();
-    renderer_ = std::move(created.value()).release();
-  }
-  static void TearDownTestSuite() {
-    delete renderer_;
-    renderer_ = nullptr;
-  }
   static Expected<GaussianGradients> Run(SplatRenderer& renderer, const GaussianModel& model,
                                          const SplatCamera& camera, const RenderSettings& settings,
                                          const ViewGradients& gradients) {
@@ -104,9 +66,7 @@ class VulkanBackward : public ::testing::Test {
     if (!view.ok()) return view.status();
     return renderer.Backward(gradients);
   }
-  static SplatRenderer* renderer_;
 };
-SplatRenderer* VulkanBackward::renderer_ = nullptr;
 
 const SE3 kPose(SO3::Exp(Eigen::Vector3d(0.2, -0.4, 0.3)), Eigen::Vector3d(3, -1, 2));
 
