@@ -166,8 +166,8 @@ Expected<fs::path> CreateOutputFolder(const RunArguments& a) {
   return fs::path(a.out);
 }
 
-// The stages in order. The splat stage (issue 8) and the rendered views (issue 7) go between exports and
-// accuracy once they exist: one entry each.
+// The stages in order. The splat stage (issue 8) and the views rendered from its splats (SplatRenderer) go
+// between exports and accuracy once the splats exist: one entry each.
 std::vector<Stage> RunStageList(const RunArguments& a, RunState& state) {
   auto bind = [&state](Status (*run)(RunState&, StageContext&)) {
     return [&state, run](StageContext& context) { return run(state, context); };
