@@ -8,8 +8,8 @@
 #include <cstring>
 #include <limits>
 
+#include "export/glb_file.h"
 #include "export/output_frame.h"
-#include "odometry/io/atomic_file.h"
 
 namespace uf::exporting {
 namespace {
@@ -279,18 +279,8 @@ Status WriteGlb(const std::filesystem::path& path, const mapping::PointSource* p
   node.mesh = 0;
   const Eigen::Vector3d translation = ToYUp(origin);
   node.translation = {translation.x(), translation.y(), translation.z()};
-  model.nodes.push_back(node);
-  tinygltf::Scene scene;
-  scene.nodes = {0};
-  model.scenes.push_back(scene);
-  model.defaultScene = 0;
-
-  AtomicFileWriter file(name);
-  if (Status s = file.status(); !s.ok()) return s;
-  tinygltf::TinyGLTF gltf;
-  gltf.WriteGltfSceneToStream(&model, file.stream(), false, true);
-  const std::uint64_t bytes = static_cast<std::uint64_t>(file.stream().tellp());
-  if (Status s = file.Commit(); !s.ok()) return s;
+  std::uint64_t bytes = 0;
+  if (Status s = WriteSingleNodeGlb(model, std::move(node), name, &bytes); !s.ok()) return s;
   if (stats) *stats = {kept, finite.nonfinite, stride, bytes};
   return {};
 }

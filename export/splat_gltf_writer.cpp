@@ -6,10 +6,10 @@
 #include <cstring>
 #include <limits>
 
+#include "export/glb_file.h"
 #include "export/sh_rotation.h"
 #include "export/splat_gltf.h"
 #include "export/splat_gltf_frames.h"
-#include "odometry/io/atomic_file.h"
 
 namespace uf::exporting {
 namespace {
@@ -142,17 +142,7 @@ Status WriteSplatGlb(const splat::GaussianModel& model, const std::string& path)
   tinygltf::Node node;
   node.name = "splats";
   node.mesh = 0;
-  gltf.nodes.push_back(node);
-  tinygltf::Scene scene;
-  scene.nodes = {0};
-  gltf.scenes.push_back(scene);
-  gltf.defaultScene = 0;
-
-  AtomicFileWriter file(path);
-  if (Status s = file.status(); !s.ok()) return s;
-  tinygltf::TinyGLTF writer;
-  writer.WriteGltfSceneToStream(&gltf, file.stream(), false, true);
-  return file.Commit();
+  return WriteSingleNodeGlb(gltf, std::move(node), path);
 }
 
 }  // namespace uf::exporting

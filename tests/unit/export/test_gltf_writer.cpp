@@ -5,18 +5,13 @@
 
 #include "export/gltf_writer.h"
 #include "export_test_util.h"
+#include "gltf_test_util.h"
 #include "mapping/point_source.h"
 
 namespace uf::exporting {
 namespace {
 
-tinygltf::Model LoadGlb(const std::filesystem::path& path) {
-  tinygltf::TinyGLTF loader;
-  tinygltf::Model model;
-  std::string err, warn;
-  EXPECT_TRUE(loader.LoadBinaryFromFile(&model, &err, &warn, path.string())) << err;
-  return model;
-}
+using test::LoadGlb;
 
 template <typename T>
 std::vector<T> AccessorData(const tinygltf::Model& m, int accessor_index, int components) {

@@ -8,6 +8,7 @@
 #include "export/sh_rotation.h"
 #include "export/splat_gltf.h"
 #include "export_test_util.h"
+#include "gltf_test_util.h"
 #include "splat_test_util.h"
 
 namespace uf::exporting {
@@ -15,13 +16,7 @@ namespace {
 
 const std::string kExt = "KHR_gaussian_splatting";
 
-tinygltf::Model LoadGlb(const std::filesystem::path& path) {
-  tinygltf::TinyGLTF loader;
-  tinygltf::Model model;
-  std::string err, warn;
-  EXPECT_TRUE(loader.LoadBinaryFromFile(&model, &err, &warn, path.string())) << err;
-  return model;
-}
+using test::LoadGlb;
 
 template <int N>
 Eigen::Matrix<float, N, 1> Element(const tinygltf::Model& m, int accessor, std::size_t i) {

@@ -11,6 +11,7 @@
 
 #include "export/splat_gltf.h"
 #include "export_test_util.h"
+#include "gltf_test_util.h"
 #include "splat_test_util.h"
 
 namespace uf::exporting {
@@ -63,11 +64,9 @@ TEST(SplatGltfValidator, OnlyTheUnknownExtensionIsReported) {
 void ExpectError(const std::function<void(tinygltf::Model&)>& damage, const std::string& part) {
   test::ScratchDir dir;
   ASSERT_TRUE(WriteSplatGlb(test::RandomModel(1, 5, 4), (dir / "good.glb").string()).ok());
-  tinygltf::TinyGLTF gltf;
-  tinygltf::Model m;
-  std::string err, warn;
-  ASSERT_TRUE(gltf.LoadBinaryFromFile(&m, &err, &warn, (dir / "good.glb").string())) << err;
+  tinygltf::Model m = test::LoadGlb(dir / "good.glb");
   damage(m);
+  tinygltf::TinyGLTF gltf;
   const std::string path = (dir / "bad.glb").string();
   ASSERT_TRUE(gltf.WriteGltfSceneToFile(&m, path, false, true, false, true));
   Expected<splat::GaussianModel> read = ReadSplatGltf(path);
