@@ -9,38 +9,16 @@
 
 #include "export/gltf_writer.h"
 #include "export_test_util.h"
+#include "gltf_test_util.h"
 #include "mapping/point_source.h"
 
 namespace uf::exporting {
 namespace {
 
-std::filesystem::path ValidatorModule() {
-  const char* tools = std::getenv("UF_NPM_TOOLS");
-  const char* home = std::getenv("HOME");
-  const std::filesystem::path root =
-      tools ? tools : std::filesystem::path(home ? home : "/") / ".cache/ultrafusion/npm";
-  return root / "node_modules" / "gltf-validator";
-}
-
-bool HaveNode() { return std::system("node --version > /dev/null 2>&1") == 0; }
-
-// Runs the validator; returns its exit status and appends its output to `log`.
-int Validate(const std::filesystem::path& glb, std::string& log) {
-  const std::string command = "node '" UF_EXPORT_TEST_DIR "/validate_gltf.js' '" +
-                              ValidatorModule().string() + "' '" + glb.string() + "' 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  if (!pipe) return -1;
-  std::array<char, 512> line;
-  while (fgets(line.data(), line.size(), pipe)) log += line.data();
-  const int status = pclose(pipe);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
+using test::Validate;
 
 TEST(GltfValidator, WrittenGlbHasNoErrorsOrWarnings) {
-  if (!HaveNode()) GTEST_SKIP() << "node not found: the Khronos glTF validator cannot run";
-  if (!std::filesystem::exists(ValidatorModule() / "package.json"))
-    GTEST_SKIP() << "glTF validator not installed at " << ValidatorModule()
-                 << ": run scripts/setup-test-tools";
+  if (const std::string why = test::ValidatorUnavailable(); !why.empty()) GTEST_SKIP() << why;
 
   test::ScratchDir dir;
   std::vector<mapping::MapPoint> points = test::MakePoints(5000, Eigen::Vector3d(5000, 2000, 30), 100.0);
