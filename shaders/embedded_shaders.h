@@ -17,6 +17,11 @@ enum class ShaderId {
   kRasterizeForward,   // rasterize_forward.comp: front-to-back blending per tile
   kRasterizeBackward,  // rasterize_backward.comp: per-tile gradients of the blending, per tile-Gaussian pair
   kProjectBackward,    // project_backward.comp: per-Gaussian gradients of projection, SH and opacity
+  kPhotometricLossMoments,       // photometric_loss_moments.comp: row blur of the SSIM moments, depth pairs
+  kPhotometricLossSsim,          // photometric_loss_ssim.comp: column blur, SSIM map and its partials
+  kPhotometricLossPartialsBlur,  // photometric_loss_partials_blur.comp: row blur of the SSIM partials
+  kPhotometricLossGradient,      // photometric_loss_gradient.comp: column blur, dL/d(images), loss sums
+  kAdamStep,           // adam_step.comp: one Adam step per chunk and the densification statistics
 };
 
 std::span<const std::uint32_t> ShaderCode(ShaderId id);

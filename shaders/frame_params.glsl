@@ -11,7 +11,8 @@ struct FrameParams {
   vec4 blend;           // min_alpha, max_alpha, transmittance_cutoff, unused
   vec4 background;      // rgb, unused
   ivec4 size;           // width, height, tiles_x, tiles_y
-  uvec4 counts;         // num_gaussians, sh_degree, pair_capacity, unused
+  uvec4 counts;         // num_gaussians, sh_degree (model: SH stride), pair_capacity, active SH degree
+                        // (<= sh_degree: bands above it are evaluated as zero, their gradients are zero)
 };
 
 // Counters buffer (uint array), zeroed at the start of each frame:

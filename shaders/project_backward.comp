@@ -4,10 +4,10 @@
 // opacity sigmoid to the model parameters. Recomputes the forward's intermediates as project_gaussians.comp.
 #version 460
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
 #include "frame_params.glsl"
 
 layout(local_size_x = 64) in;
-const uint kFields = 10;
 
 layout(std430, binding = 0) readonly buffer Frame { FrameParams frame; };
 // Chunk geometry, 3 vec4 per Gaussian: (mu xyz, opacity logit), (log_scale xyz, 0), (quaternion w x y z).
@@ -15,7 +15,8 @@ layout(std430, binding = 1) readonly buffer Geometry { vec4 geometry[]; };
 layout(std430, binding = 2) readonly buffer Sh { float sh[]; };  // chunk, coefficient-major
 layout(std430, binding = 3) readonly buffer Rects { ivec4 rects[]; };        // global; 0 if culled
 layout(std430, binding = 4) readonly buffer Offsets { uint offsets[]; };     // global, first pair slot
-layout(std430, binding = 5) readonly buffer PairGradients { float v_pairs[]; };  // 10 per slot, see rasterize
+// 3 vec4 per slot (see rasterize_backward.comp): (u, v, conic a, conic b), (conic c, t_z, r, g), (b, opacity, 0, 0).
+layout(std430, binding = 5) readonly buffer PairGradients { vec4 v_pairs[]; };
 // Chunk outputs. v_geometry, 4 vec4 per Gaussian: (dL/dmu xyz, dL/dopacity_logit), (dL/dlog_scale xyz, 0),
 // (dL/dq w x y z of the stored quaternion), (dL/d(u, v) summed over pixels, 0, 0). v_sh like sh.
 layout(std430, binding = 6) writeonly buffer GeometryGradients { vec4 v_geometry[]; };
@@ -72,19 +73,28 @@ vec3 ShBackward(uint first, uint degree, vec3 d, vec3 v_colour) {
   basis[15] = kC3[6] * x * (xx - 3.0 * yy);
   grad[15] = kC3[6] * vec3(3.0 * xx - 3.0 * yy, -6.0 * xy, 0.0);
   uint n = (degree + 1) * (degree + 1);
-  vec3 colour = vec3(0.0), v_d = vec3(0.0);
-  for (uint k = 0; k < n; ++k)
-    colour += basis[k] * vec3(sh[first + 3 * k], sh[first + 3 * k + 1], sh[first + 3 * k + 2]);
+  // One pass reading the coefficients (each storage access is a loop over the lanes on lavapipe): the colour
+  // and per channel M_c = sum_k sh_kc dY_k/dd, so that dL/dd = sum_c dL/dcolour_c M_c once the clamp is known.
+  // Unrolled (constant indices keep basis and grad in registers; a dynamic index would put them in
+  // per-lane scratch memory on lavapipe); coefficients past the degree are masked off.
+  vec3 colour = vec3(0.0), m_r = vec3(0.0), m_g = vec3(0.0), m_b = vec3(0.0);
+  [[unroll]] for (uint k = 0; k < 16; ++k) {
+    if (k >= n) break;
+    vec3 c = vec3(sh[first + 3 * k], sh[first + 3 * k + 1], sh[first + 3 * k + 2]);
+    colour += basis[k] * c;
+    m_r += c.r * grad[k];
+    m_g += c.g * grad[k];
+    m_b += c.b * grad[k];
+  }
   // No gradient through a channel clamped at 0 (colour = max(0, SH + 0.5)).
   v_colour = mix(v_colour, vec3(0.0), lessThan(colour + 0.5, vec3(0.0)));
-  for (uint k = 0; k < n; ++k) {
-    vec3 c = vec3(sh[first + 3 * k], sh[first + 3 * k + 1], sh[first + 3 * k + 2]);
+  [[unroll]] for (uint k = 0; k < 16; ++k) {
+    if (k >= n) break;
     v_sh[first + 3 * k] = basis[k] * v_colour.r;
     v_sh[first + 3 * k + 1] = basis[k] * v_colour.g;
     v_sh[first + 3 * k + 2] = basis[k] * v_colour.b;
-    v_d += dot(c, v_colour) * grad[k];
   }
-  return v_d;
+  return v_colour.r * m_r + v_colour.g * m_g + v_colour.b * m_b;
 }
 
 // dL/dq of R(q) for a unit quaternion q = (w, x, y, z) given G = dL/dR (G[c][r] = dL/dR_rc), R as in
@@ -106,20 +116,28 @@ void main() {
   uint local = gl_GlobalInvocationID.x;
   if (local >= count) return;
   uint global_index = base + local;
+  // SH: the model's stride; only the coefficients up to the active degree (counts.w) are read and their
+  // gradients written. Those above it have zero gradient: the host keeps them zero in v_sh (backward_pass.cpp).
   uint degree = frame.counts.y, stride = 3 * (degree + 1) * (degree + 1);
+  uint active_degree = frame.counts.w, active_floats = 3 * (active_degree + 1) * (active_degree + 1);
   ivec4 rect = rects[global_index];
   int tiles = (rect.z - rect.x) * (rect.w - rect.y);
   if (tiles <= 0) {  // culled: no gradient
     for (uint f = 0; f < 4; ++f) v_geometry[4 * local + f] = vec4(0.0);
-    for (uint k = 0; k < stride; ++k) v_sh[local * stride + k] = 0.0;
+    for (uint k = 0; k < active_floats; ++k) v_sh[local * stride + k] = 0.0;
     return;
   }
-  // Upstream: the sum over the Gaussian's tiles, (u, v, conic a, b, c, t_z, r, g, b, opacity).
-  float up[kFields] = float[kFields](0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
-  for (uint s = offsets[global_index], e = s + uint(tiles); s < e; ++s)
-    for (uint f = 0; f < kFields; ++f) up[f] += v_pairs[kFields * s + f];
-  vec2 v_uv = vec2(up[0], up[1]);
-  vec3 v_conic = vec3(up[2], up[3], up[4]);
+  // Upstream: the sum over the Gaussian's tiles, in tile order.
+  vec4 up0 = vec4(0.0), up1 = vec4(0.0), up2 = vec4(0.0);
+  for (uint s = offsets[global_index], e = s + uint(tiles); s < e; ++s) {
+    up0 += v_pairs[3 * s];
+    up1 += v_pairs[3 * s + 1];
+    up2 += v_pairs[3 * s + 2];
+  }
+  vec2 v_uv = up0.xy;
+  vec3 v_conic = vec3(up0.zw, up1.x);
+  float v_depth = up1.y, v_opacity = up2.y;
+  vec3 v_colour = vec3(up1.zw, up2.x);
 
   // Forward intermediates, as project_gaussians.comp.
   vec4 g0 = geometry[3 * local], g1 = geometry[3 * local + 1], g2 = geometry[3 * local + 2];
@@ -148,12 +166,12 @@ void main() {
 
   // Opacity o = sigmoid(l): do/dl = o (1 - o).
   float opacity = 1.0 / (1.0 + exp(-g0.w));
-  float v_logit = up[9] * opacity * (1.0 - opacity);
+  float v_logit = v_opacity * opacity * (1.0 - opacity);
 
   // Colour: SH at d = v / |v|, v = mu - camera centre; dd/dv = (I - d d^T) / |v|.
   vec3 view = mu - frame.centre_world.xyz;
   vec3 d = normalize(view);
-  vec3 v_d = ShBackward(local * stride, degree, d, vec3(up[6], up[7], up[8]));
+  vec3 v_d = ShBackward(local * stride, active_degree, d, v_colour);
   vec3 v_mu = (v_d - d * dot(d, v_d)) / length(view);
 
   // Conic Q = Sigma_2D^-1 stored (A, B, C); G_Q = [[gA, gB/2], [gB/2, gC]]; G_Sigma2D = -Q G_Q Q.
@@ -184,7 +202,7 @@ void main() {
   // (u, v) = (fx t_x / t_z + cx, fy t_y / t_z + cy) with the unclamped t; depth t_z.
   v_t.x += v_uv.x * fx / tz;
   v_t.y += v_uv.y * fy / tz;
-  v_t.z += -v_uv.x * fx * t.x / tz2 - v_uv.y * fy * t.y / tz2 + up[5];
+  v_t.z += -v_uv.x * fx * t.x / tz2 - v_uv.y * fy * t.y / tz2 + v_depth;
   v_mu += transpose(W) * v_t;
 
   // Sigma = M M^T, M = R S: dL/dM = 2 G_Sigma M, dL/dlog s_k = s_k R_k . (dL/dM)_k, dL/dR = dL/dM S.

@@ -4,6 +4,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_ballot : require
+#extension GL_EXT_control_flow_attributes : require
 #include "frame_params.glsl"
 
 layout(local_size_x = 64) in;
@@ -47,10 +48,14 @@ vec3 ShColour(uint first, uint degree, vec3 d) {
   basis[13] = -0.4570457994644658 * x * (4.0 * zz - xx - yy);
   basis[14] = 1.445305721320277 * z * (xx - yy);
   basis[15] = -0.5900435899266435 * x * (xx - 3.0 * yy);
+  // Unrolled: constant indices keep basis in registers (a dynamic index puts it in per-lane scratch memory on
+  // lavapipe); each coefficient read is a loop over the lanes, so only the active ones are read.
   uint n = (degree + 1) * (degree + 1);
   vec3 colour = vec3(0.0);
-  for (uint k = 0; k < n; ++k)
+  [[unroll]] for (uint k = 0; k < 16; ++k) {
+    if (k >= n) break;
     colour += basis[k] * vec3(sh[first + 3 * k], sh[first + 3 * k + 1], sh[first + 3 * k + 2]);
+  }
   return colour;
 }
 
@@ -103,10 +108,12 @@ bool Project(uint local, uint global_index) {
                      TileBound(v + r + float(kTileSize - 1), frame.size.w));
   if (rect.x >= rect.z || rect.y >= rect.w) return false;
 
-  // Rule 2: SH colour at the viewing direction, + 0.5, clamped >= 0.
+  // Rule 2: SH colour at the viewing direction, + 0.5, clamped >= 0; bands above the active degree
+  // (counts.w) count as zero.
   uint degree = frame.counts.y;
   uint stride = 3 * (degree + 1) * (degree + 1);
-  vec3 colour = max(ShColour(local * stride, degree, normalize(mu - frame.centre_world.xyz)) + 0.5, 0.0);
+  vec3 colour =
+      max(ShColour(local * stride, frame.counts.w, normalize(mu - frame.centre_world.xyz)) + 0.5, 0.0);
   float opacity = 1.0 / (1.0 + exp(-g0.w));
 
   projected[3 * global_index] = vec4(u, v, c / det, -b / det);

@@ -1,244 +1,254 @@
 // Backward tile rasterization (render rule 4 of splat/render_types.h backwards; the CPU specification is
-// RasterizeReferenceBackward in splat/cpu_reference): dL/d(images) -> dL/d(projected Gaussian), one entry per
-// tile-Gaussian pair. One workgroup per 16x16 tile, 64 invocations with 4 pixels each (lavapipe: subgroups of
-// 8 lanes on a CPU core; several pixels per invocation amortize the shared-memory loads). Invocation l owns
-// the column of 4 pixels x = 8 ((l / 8) % 2) + l % 8, y = 4 (l / 16) + j, so that a subgroup of 8 lanes covers
-// a compact 8 x 4 block and skips, in a uniform branch, the Gaussians that cannot reach its block.
+// RasterizeReferenceBackward in splat/cpu_reference): dL/d(images) -> dL/d(projected Gaussian), one record per
+// tile-Gaussian pair. Same layout as rasterize_forward.comp: one workgroup per 16x16 tile, split into four
+// 8x8 blocks of 8 invocations (lavapipe's subgroup); lane l of a block owns the pixel column x = l, rows 0..7.
 //
-// Phase 1 replays the forward front to back (same decisions as rasterize_forward.comp) to get per pixel the
-// final transmittance T_N and `last` = one past the last blended pair. Phase 2 walks the tile's pairs back to
-// front from the largest `last`; per pixel, with T_i the transmittance in front of blended Gaussian i,
-// recovered as T_i = T_{i+1} / (1 - a_i) (the same rounded factor the forward multiplied by), and B_i what
-// lies behind i (B = bg, then B <- a_i c_i + (1 - a_i) B):
+// Per pixel the forward left (pixel_state) its final transmittance T_N and `end`: the pixel blended exactly
+// the pairs before `end` whose alpha reaches min_alpha. Walking the tile's pairs back to front, with T_i the
+// transmittance in front of blended Gaussian i, recovered as T_i = T_{i+1} / (1 - a_i) (the same rounded
+// factor the forward multiplied by), and B_i what lies behind i (B = bg, then B <- a_i c_i + (1 - a_i) B):
 //   dL/dc_i += T_i a_i dL/drgb,   dL/dz_i += T_i a_i dL/dD,
 //   dL/da_i  = T_i (dL/drgb . (c_i - B_i) + dL/dA (1 - B^A_i) + dL/dD (z_i - B^D_i))  (B^A: bg 0, colour 1;
 //              B^D: bg 0, colour z),
 //   a = o G (unclamped), G = exp(power), power = -0.5 (A dx^2 + C dy^2) - B dx dy, (dx, dy) = pixel - (u, v):
 //   dL/do += dL/da G,  dL/d(A, B, C) += dL/da o G (-dx^2 / 2, -dx dy, -dy^2 / 2),
 //   dL/d(u, v) += dL/da o G (A dx + B dy, B dx + C dy).   (a clamped at max_alpha: only c and z get gradients)
-// Per Gaussian of a batch, the invocation sums its pixels, subgroupAdd sums the subgroup, the subgroup
-// partials meet in shared memory and one invocation writes the tile's total to the pair's slot. No atomics:
-// the result is deterministic.
+// Few registers per pixel: with w_i = dL/drgb . c_i + dL/dA + dL/dD z_i, dL/da_i = T_i (w_i - S_i), where
+// S_i = dL/drgb . B_i + dL/dA B^A_i + dL/dD B^D_i obeys the recursion of B: S = dL/drgb . bg, then
+// S <- a_i w_i + (1 - a_i) S.
+//
+// Why it is fast on lavapipe (an `if` runs both sides under a mask; every cross-lane operation and every
+// shared/storage access is a loop over the 8 lanes; only loop trip counts save work): as in the forward, each
+// batch of 64 pairs gets one 64-bit mask per block of the Gaussians that may reach min_alpha on it (a
+// superset of what the forward blended there), cut at the block's largest `end`; each block loops over its
+// set bits only, highest first (= back to front). Per (block, Gaussian): 3 shared loads, 10 block sums, one
+// shared store of the block's record; each pair's record is then the sum of its blocks' records in block
+// order. No atomics on floats: the result is deterministic.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
-#extension GL_KHR_shader_subgroup_vote : require
+#extension GL_KHR_shader_subgroup_shuffle : require
 #extension GL_EXT_control_flow_attributes : require
 #include "frame_params.glsl"
 
-layout(local_size_x = 64) in;
-const uint kBatch = 32;
-const uint kMaxSubgroups = 16;  // 64 invocations in subgroups of >= 4 lanes
-const uint kPixelsPerInvocation = 4;  // a column of 4 pixels per invocation, see above
-const uint kFields = 10;
+const uint kRows = 8;                                 // pixels per invocation: a column of its block
+const uint kBlockWidth = 8;                           // columns of a block (one per lane)
+const uint kBlocksX = kTileSize / kBlockWidth;        // 2
+const uint kBlocks = kBlocksX * (kTileSize / kRows);  // 4
+const uint kInvocations = kBlocks * kBlockWidth;      // 32
+const uint kBatch = 64;                               // pairs per batch: two mask words
+const uint kLoadsPerInvocation = kBatch / kInvocations;
+layout(local_size_x = kInvocations) in;
 
-layout(std430, binding = 0) readonly buffer Frame { FrameParams frame; };
-layout(std430, binding = 1) readonly buffer Ranges { uvec2 ranges[]; };       // per tile [begin, end)
-layout(std430, binding = 2) readonly buffer Values { uint sorted_ids[]; };    // Gaussian index per pair
-layout(std430, binding = 3) readonly buffer Projected { vec4 projected[]; };  // see project_gaussians.comp
-layout(std430, binding = 4) readonly buffer Rects { ivec4 rects[]; };         // touched tiles [x0, x1) x [y0, y1)
-layout(std430, binding = 5) readonly buffer Offsets { uint offsets[]; };      // first pair slot per Gaussian
+// The frame parameters this shader needs (as FrameParams; pushed: the pass has one binding left for them).
+layout(push_constant) uniform Push {
+  ivec4 size;        // width, height, tiles_x, tiles_y
+  vec4 blend;        // min_alpha, max_alpha, transmittance_cutoff, 0
+  vec4 background;   // rgb, 0
+};
+layout(std430, binding = 0) readonly buffer Ranges { uvec2 ranges[]; };       // per tile [begin, end)
+layout(std430, binding = 1) readonly buffer Values { uint sorted_ids[]; };    // Gaussian index per pair
+layout(std430, binding = 2) readonly buffer Projected { vec4 projected[]; };  // see project_gaussians.comp
+layout(std430, binding = 3) readonly buffer Rects { ivec4 rects[]; };         // touched tiles [x0, x1) x [y0, y1)
+layout(std430, binding = 4) readonly buffer Offsets { uint offsets[]; };      // first pair slot per Gaussian
 // dL/d(images), 2 vec4 per pixel: (dL/dr, dL/dg, dL/db, dL/dalpha), (dL/dD, 0, 0, 0), D = sum T a t_z.
-layout(std430, binding = 6) readonly buffer ViewGradients { vec4 v_image[]; };
-// Output, 10 floats per pair slot: (u, v, conic a, b, c, t_z, r, g, b, opacity). Gaussian i's tile (tx, ty)
-// has slot offsets[i] + (ty - y0) (x1 - x0) + (tx - x0), the slot emit_tile_keys.comp gave that pair.
-layout(std430, binding = 7) writeonly buffer PairGradients { float v_pairs[]; };
+layout(std430, binding = 5) readonly buffer ViewGradients { vec4 v_image[]; };
+layout(std430, binding = 6) readonly buffer PixelState { uvec2 pixel_state[]; };  // (T_N bits, end) per pixel
+// Output, 3 vec4 per pair slot: (u, v, conic a, conic b), (conic c, t_z, r, g), (b, opacity, 0, 0). Gaussian
+// i's tile (tx, ty) has slot offsets[i] + (ty - y0) (x1 - x0) + (tx - x0), the slot emit_tile_keys.comp gave.
+layout(std430, binding = 7) writeonly buffer PairGradients { vec4 v_pairs[]; };
 
-shared vec4 s_mean_conic[kBatch];     // (u, v, conic a, conic b)
-shared vec4 s_conic_opacity[kBatch];  // (conic c, opacity, t_z, skip_below: power below it gives alpha < min)
-shared vec4 s_colour[kBatch];        // (r, g, b, lambda_min of the conic)
+shared vec4 s_mean_conic[kBatch];             // (u, v, conic a, conic b)
+shared vec4 s_conic_opacity[kBatch];          // (conic c, opacity, t_z, colour r)
+shared vec2 s_colour_gb[kBatch];              // (colour g, colour b)
 shared uint s_slot[kBatch];
-shared float s_partial[kBatch * kFields * kMaxSubgroups];  // [Gaussian][field][subgroup]
-shared uint s_finished, s_end;
+shared uint s_block_mask[2][kBlocks][2];      // [batch parity][block][word]: Gaussians that may reach it
+shared uint s_block_end[kBlocks];             // largest pixel `end` of the block
+shared uint s_tile_end;
+// Per pair and block: the block's 10 sums (v_pairs' layout without its two zeros), stored by its 8 lanes
+// (lane l: sums l and 8 + l) so that a record costs two shared stores instead of twelve masked ones.
+const uint kRecordFloats = 10;
+shared float s_record[kBatch][kBlocks][kRecordFloats];
+
+// Sum / max over the 8 lanes of a block: the whole subgroup on lavapipe, else a butterfly within groups of 8.
+float BlockSum(float x) {
+  if (gl_SubgroupSize == kBlockWidth) return subgroupAdd(x);
+  x += subgroupShuffleXor(x, 1);
+  x += subgroupShuffleXor(x, 2);
+  return x + subgroupShuffleXor(x, 4);
+}
+vec2 BlockSum(vec2 x) { return vec2(BlockSum(x.x), BlockSum(x.y)); }
+vec3 BlockSum(vec3 x) { return vec3(BlockSum(x.x), BlockSum(x.y), BlockSum(x.z)); }
+uint BlockMax(uint x) {
+  if (gl_SubgroupSize == kBlockWidth) return subgroupMax(x);
+  x = max(x, subgroupShuffleXor(x, 1));
+  x = max(x, subgroupShuffleXor(x, 2));
+  return max(x, subgroupShuffleXor(x, 4));
+}
+
+// min over d in [lo, hi] (a box) of q(d) = a dx^2 + 2 b dx dy + c dy^2 (a, c > 0, ac > b^2), as in
+// rasterize_forward.comp: 0 when the box holds the origin, else the minimum lies on an edge.
+float MinQuadraticOverRect(vec2 lo, vec2 hi, float a, float b, float c) {
+  if (all(lessThanEqual(lo, vec2(0.0))) && all(greaterThanEqual(hi, vec2(0.0)))) return 0.0;
+  float best = uintBitsToFloat(0x7f800000u);
+  [[unroll]] for (uint e = 0; e < 2; ++e) {
+    float x = e == 0 ? lo.x : hi.x, y = clamp(-b * x / c, lo.y, hi.y);
+    best = min(best, a * x * x + 2.0 * b * x * y + c * y * y);
+    y = e == 0 ? lo.y : hi.y;
+    x = clamp(-b * y / a, lo.x, hi.x);
+    best = min(best, a * x * x + 2.0 * b * x * y + c * y * y);
+  }
+  return best;
+}
 
 uint Slot(uint g) {
   ivec4 rect = rects[g];
   return offsets[g] + uint((int(gl_WorkGroupID.y) - rect.y) * (rect.z - rect.x) + int(gl_WorkGroupID.x) - rect.x);
 }
 
-void Load(uint pair, uint k, bool with_colour) {
-  uint g = sorted_ids[pair];
-  vec4 mc = projected[3 * g], co = projected[3 * g + 1];
-  s_mean_conic[k] = mc;
-  // alpha < min_alpha <=> power < ln(min_alpha / opacity); less a 1e-3 margin, far above rounding.
-  s_conic_opacity[k] = vec4(co.xyz, log(frame.blend.x / co.y) - 1e-3);
-  // power <= -0.5 lambda_min |d|^2 bounds the Gaussian on any set of pixels by the nearest one (Reaches).
-  float mid = 0.5 * (mc.z + co.x), det = mc.z * co.x - mc.w * mc.w;
-  float lambda_min = det / (mid + sqrt(max(0.0, mid * mid - det)));
-  s_colour[k] = vec4(with_colour ? projected[3 * g + 2].xyz : vec3(0.0), lambda_min);
-  if (with_colour) s_slot[k] = Slot(g);
-}
-
-// Whether Gaussian k can reach min_alpha at one of the invocation's pixels (x = px, y in [py0, py0 + 3]):
-// false only when even the nearest of them has power below skip_below (with a 0.1 % margin).
-bool Reaches(uint k, int px, int py0) {
-  vec2 mean = s_mean_conic[k].xy;
-  vec2 gap = mean - clamp(mean, vec2(px, py0), vec2(px, py0 + 3));
-  return -0.5 * 0.999 * s_colour[k].w * dot(gap, gap) >= s_conic_opacity[k].w;
-}
-
-// One pixel's part of the back-to-front step for one Gaussian (see the top comment); `g` accumulates the
-// invocation's pixels. T_j: transmittance behind the Gaussian on entry, in front of it on return.
-struct Gradient {
-  vec2 mean;
-  vec3 conic, colour;
-  float depth, opacity;
-  bool touched;
-};
-void PixelBackward(bool in_front, float dx, float dy, vec4 mc, vec4 co, vec3 colour, vec4 v_rgba, float v_D,
-                   inout float T_j, inout float S_j, inout Gradient g) {
-  if (!in_front) return;
-  float power = -0.5 * (mc.z * dx * dx + co.x * dy * dy) - mc.w * dx * dy;
-  if (power < co.w) return;
-  float G = exp(power), unclamped = co.y * G;
-  float alpha = min(frame.blend.y, unclamped);
-  if (alpha < frame.blend.x) return;
-  g.touched = true;
-  T_j = T_j / (1.0 - alpha);
-  float weight = T_j * alpha;
-  g.colour += weight * v_rgba.rgb;
-  g.depth += weight * v_D;
-  float w = dot(v_rgba.rgb, colour) + v_rgba.a + v_D * co.z;
-  float v_alpha = T_j * (w - S_j);
-  S_j = alpha * w + (1.0 - alpha) * S_j;
-  if (unclamped > frame.blend.y) return;  // alpha clamped at max_alpha
-  g.opacity += v_alpha * G;
-  float v_power = v_alpha * co.y * G;
-  g.conic += v_power * vec3(-0.5 * dx * dx, -dx * dy, -0.5 * dy * dy);
-  g.mean += v_power * vec2(mc.z * dx + mc.w * dy, mc.w * dx + co.x * dy);
-}
+// Bits [0, n) of a mask word (n clamped to [0, 32]).
+uint LowBits(int n) { return n >= 32 ? 0xffffffffu : n <= 0 ? 0u : (1u << uint(n)) - 1u; }
 
 void main() {
   uint lid = gl_LocalInvocationID.x;
-  int width = frame.size.x, height = frame.size.y;
-  uvec2 range = ranges[gl_WorkGroupID.y * frame.size.z + gl_WorkGroupID.x];
-  int px = int(gl_WorkGroupID.x * kTileSize + 8 * ((lid / 8) % 2) + lid % 8);
-  int py0 = int(gl_WorkGroupID.y * kTileSize + 4 * (lid / 16));
-  float min_alpha = frame.blend.x, max_alpha = frame.blend.y, cutoff = frame.blend.z;
+  uint block = lid / kBlockWidth;
+  int width = size.x, height = size.y;
+  uvec2 range = ranges[gl_WorkGroupID.y * size.z + gl_WorkGroupID.x];
+  ivec2 tile_first_pixel = ivec2(gl_WorkGroupID.xy * kTileSize);
+  ivec2 block_first_pixel =
+      tile_first_pixel + ivec2((block % kBlocksX) * kBlockWidth, (block / kBlocksX) * kRows);
+  int px = block_first_pixel.x + int(lid % kBlockWidth), py0 = block_first_pixel.y;
+  float min_alpha = blend.x, max_alpha = blend.y;
 
-  // Phase 1: the forward, front to back, keeping T_N and one past the last blended pair per pixel.
-  float T[kPixelsPerInvocation];
-  uint last[kPixelsPerInvocation];
-  bool done[kPixelsPerInvocation], inside[kPixelsPerInvocation];
-  [[unroll]] for (uint j = 0; j < kPixelsPerInvocation; ++j) {
-    T[j] = 1.0;
-    last[j] = range.x;
-    inside[j] = px < width && py0 + int(j) < height;
-    done[j] = !inside[j];
+  // Per pixel: T (behind the current Gaussian, in front of it after its step), S, dL/d(rgb, A), dL/dD, end.
+  float T[kRows], S[kRows], v_D[kRows];
+  vec4 v_rgba[kRows];
+  uint end[kRows];
+  uint my_end = range.x;
+  [[unroll]] for (uint j = 0; j < kRows; ++j) {
+    bool inside = px < width && py0 + int(j) < height;
+    uint p = inside ? uint((py0 + int(j)) * width + px) : 0u;
+    uvec2 state = pixel_state[p];
+    T[j] = uintBitsToFloat(state.x);
+    end[j] = inside ? state.y : range.x;
+    v_rgba[j] = inside ? v_image[2 * p] : vec4(0.0);
+    v_D[j] = inside ? v_image[2 * p + 1].x : 0.0;
+    S[j] = dot(v_rgba[j].rgb, background.rgb);
+    my_end = max(my_end, end[j]);
   }
-  bool finished = done[0] && done[1] && done[2] && done[3];
-  if (lid == 0) {
-    s_finished = 0;
-    s_end = range.x;
+  uint block_end = BlockMax(my_end);
+  if (lid == 0) s_tile_end = range.x;
+  if (lid < kBlocks * 2) {
+    s_block_mask[0][lid / 2][lid % 2] = 0;
+    s_block_mask[1][lid / 2][lid % 2] = 0;
   }
   barrier();
-  if (finished) atomicAdd(s_finished, 1);
-  for (uint batch = range.x; batch < range.y; batch += kBatch) {
-    barrier();
-    if (s_finished == gl_WorkGroupSize.x) break;
-    if (batch + lid < range.y && lid < kBatch) Load(batch + lid, lid, false);
-    barrier();
-    if (finished) continue;
-    uint n = min(kBatch, range.y - batch);
-    for (uint k = 0; k < n; ++k) {
-      if (!subgroupAny(Reaches(k, px, py0))) continue;  // uniform branch: no pixel of the subgroup
-      vec4 mc = s_mean_conic[k], co = s_conic_opacity[k];
-      [[unroll]] for (uint j = 0; j < kPixelsPerInvocation; ++j) {
-        if (done[j]) continue;
-        float dx = float(px) - mc.x, dy = float(py0 + int(j)) - mc.y;
-        float power = -0.5 * (mc.z * dx * dx + co.x * dy * dy) - mc.w * dx * dy;
-        if (power < co.w) continue;
-        float alpha = min(max_alpha, co.y * exp(power));
-        if (alpha < min_alpha) continue;
-        float next_T = T[j] * (1.0 - alpha);
-        if (next_T < cutoff) {
-          done[j] = true;
-          continue;
-        }
-        T[j] = next_T;
-        last[j] = batch + k + 1;
-      }
-    }
-    if (done[0] && done[1] && done[2] && done[3]) {
-      finished = true;
-      atomicAdd(s_finished, 1);
-    }
+  if (lid % kBlockWidth == 0) {
+    s_block_end[block] = block_end;
+    atomicMax(s_tile_end, block_end);
   }
-  uint my_end = max(max(last[0], last[1]), max(last[2], last[3]));
-  uint subgroup_end = subgroupMax(my_end);
-  if (subgroupElect()) atomicMax(s_end, subgroup_end);
   barrier();
-  uint end = s_end;
+  uint tile_end = s_tile_end;
 
-  // Pairs no pixel reached get zero gradients (every slot of the frame is written exactly once).
-  for (uint pair = end + lid; pair < range.y; pair += gl_WorkGroupSize.x) {
+  // Pairs no pixel reached get zero records (every slot of the frame is written exactly once).
+  for (uint pair = tile_end + lid; pair < range.y; pair += kInvocations) {
     uint slot = Slot(sorted_ids[pair]);
-    for (uint f = 0; f < kFields; ++f) v_pairs[kFields * slot + f] = 0.0;
+    [[unroll]] for (uint r = 0; r < 3; ++r) v_pairs[3 * slot + r] = vec4(0.0);
   }
 
-  // Phase 2: back to front.
-  // Few registers per pixel (llvmpipe keeps every value as a SIMD register): with the loss-weighted colour
-  // w_i = dL/drgb . c_i + dL/dA + dL/dD z_i of Gaussian i, dL/da_i = T_i (w_i - S_i), where
-  // S_i = dL/drgb . B_i + dL/dA B^A_i + dL/dD B^D_i obeys the same recursion as B: S = dL/drgb . bg, then
-  // S <- a_i w_i + (1 - a_i) S.
-  vec4 v_rgba[kPixelsPerInvocation];  // (dL/drgb, dL/dA)
-  float v_D[kPixelsPerInvocation], S[kPixelsPerInvocation];
-  [[unroll]] for (uint j = 0; j < kPixelsPerInvocation; ++j) {
-    uint p = uint((py0 + int(j)) * width + px);
-    v_rgba[j] = inside[j] ? v_image[2 * p] : vec4(0.0);
-    v_D[j] = inside[j] ? v_image[2 * p + 1].x : 0.0;
-    S[j] = dot(v_rgba[j].rgb, frame.background.rgb);
-  }
-  for (uint batch_end = end; batch_end > range.x;) {
+  uint parity = 0;
+  for (uint batch_end = tile_end; batch_end > range.x; parity ^= 1) {
     uint n = min(kBatch, batch_end - range.x), batch_start = batch_end - n;
-    barrier();  // the previous batch's shared data is consumed
-    if (lid < n) Load(batch_start + lid, lid, true);
-    barrier();
-    for (int k = int(n) - 1; k >= 0; --k) {
-      uint pair = batch_start + uint(k);
-      vec4 mc = s_mean_conic[k], co = s_conic_opacity[k];
-      vec3 colour = s_colour[k].rgb;
-      uint base = uint(k) * kFields * kMaxSubgroups + gl_SubgroupID;  // + field * kMaxSubgroups
-      // Uniform branch: skip when no pixel of the subgroup is in front of its last pair or reached.
-      if (!subgroupAny(pair < my_end && Reaches(k, px, py0))) {
-        for (uint f = gl_SubgroupInvocationID; f < kFields; f += gl_SubgroupSize)
-          s_partial[base + f * kMaxSubgroups] = 0.0;
-        continue;
-      }
-      Gradient acc = Gradient(vec2(0.0), vec3(0.0), vec3(0.0), 0.0, 0.0, false);
-      // The 4 pixels written out (not a loop: llvmpipe then keeps the per-pixel state in registers).
-      float dx = float(px) - mc.x, dy = float(py0) - mc.y;
-      PixelBackward(pair < last[0], dx, dy, mc, co, colour, v_rgba[0], v_D[0], T[0], S[0], acc);
-      PixelBackward(pair < last[1], dx, dy + 1.0, mc, co, colour, v_rgba[1], v_D[1], T[1], S[1], acc);
-      PixelBackward(pair < last[2], dx, dy + 2.0, mc, co, colour, v_rgba[2], v_D[2], T[2], S[2], acc);
-      PixelBackward(pair < last[3], dx, dy + 3.0, mc, co, colour, v_rgba[3], v_D[3], T[3], S[3], acc);
-      // Subgroup sums (skipped when no lane of the subgroup touched the Gaussian: uniform branch).
-      if (subgroupAny(acc.touched)) {
-        vec2 mean = subgroupAdd(acc.mean);
-        vec3 conic = subgroupAdd(acc.conic), colour_sum = subgroupAdd(acc.colour);
-        vec2 depth_opacity = subgroupAdd(vec2(acc.depth, acc.opacity));
-        // Lane f stores field f (one store per lane instead of ten single-lane stores: cheaper on llvmpipe).
-        for (uint f = gl_SubgroupInvocationID; f < kFields; f += gl_SubgroupSize) {
-          float v = f < 2   ? mean[f]
-                    : f < 5 ? conic[f - 2]
-                    : f < 6 ? depth_opacity.x
-                    : f < 9 ? colour_sum[f - 6]
-                            : depth_opacity.y;
-          s_partial[base + f * kMaxSubgroups] = v;
+    barrier();  // the previous batch's records and masks are consumed
+    // Load: each invocation brings kLoadsPerInvocation pairs and marks the blocks their Gaussian may reach.
+    [[unroll]] for (uint i = 0; i < kLoadsPerInvocation; ++i) {
+      uint q = i * kInvocations + lid;
+      if (q < n) {
+        uint g = sorted_ids[batch_start + q];
+        vec4 mc = projected[3 * g], co = projected[3 * g + 1], colour = projected[3 * g + 2];
+        s_mean_conic[q] = mc;
+        s_conic_opacity[q] = vec4(co.xyz, colour.r);
+        s_colour_gb[q] = colour.gb;
+        s_slot[q] = Slot(g);
+        // The forward's test (alpha >= min_alpha only where q(d) <= r2) with a wider margin (1.02 instead of
+        // 1.01): a superset of the blocks the forward blended the Gaussian on.
+        float r2 = -2.0 * (log(min_alpha / co.y) - 1e-3);
+        vec2 mean_in_tile = mc.xy - vec2(tile_first_pixel);
+        [[unroll]] for (uint b = 0; b < kBlocks; ++b) {
+          vec2 b0 = vec2((b % kBlocksX) * kBlockWidth, (b / kBlocksX) * kRows);
+          vec2 b1 = b0 + vec2(kBlockWidth - 1, kRows - 1);
+          if (MinQuadraticOverRect(b0 - mean_in_tile, b1 - mean_in_tile, mc.z, mc.w, co.x) <= 1.02 * r2)
+            atomicOr(s_block_mask[parity][b][q / 32], 1u << (q % 32));
         }
-      } else {
-        for (uint f = gl_SubgroupInvocationID; f < kFields; f += gl_SubgroupSize)
-          s_partial[base + f * kMaxSubgroups] = 0.0;
       }
     }
     barrier();
-    if (lid < n) {
-      uint slot = s_slot[lid];
-      for (uint f = 0; f < kFields; ++f) {
-        float total = 0.0;
-        for (uint s = 0; s < gl_NumSubgroups; ++s)
-          total += s_partial[(lid * kFields + f) * kMaxSubgroups + s];
-        v_pairs[kFields * slot + f] = total;
+    // The other parity's masks were read in the previous batch: clear them for the next one.
+    if (lid < kBlocks * 2) s_block_mask[parity ^ 1][lid / 2][lid % 2] = 0;
+    // The block's Gaussians back to front; pairs at or after the block's end were blended by none of its pixels.
+    int block_limit = int(min(n, max(block_end, batch_start) - batch_start));
+    [[unroll]] for (int word = 1; word >= 0; --word) {
+      uint bits = s_block_mask[parity][block][word] & LowBits(block_limit - 32 * word);
+      while (bits != 0) {
+        uint bit = uint(findMSB(bits));
+        bits &= ~(1u << bit);
+        uint k = uint(word) * 32 + bit, pair = batch_start + k;
+        vec4 mc = s_mean_conic[k], co = s_conic_opacity[k];
+        vec3 colour = vec3(co.w, s_colour_gb[k]);
+        float dx = float(px) - mc.x;
+        vec2 v_mean = vec2(0.0);
+        vec3 v_conic = vec3(0.0), v_colour = vec3(0.0);
+        float v_depth = 0.0, v_opacity = 0.0;
+        [[unroll]] for (uint j = 0; j < kRows; ++j) {
+          // alpha exactly as the forward computed it (same expression), so the same blend decisions.
+          float dy = float(py0 + int(j)) - mc.y;
+          float power = -0.5 * (mc.z * dx * dx + co.x * dy * dy) - mc.w * dx * dy;
+          float G = exp(power), unclamped = co.y * G;
+          float alpha = min(max_alpha, unclamped);
+          bool blend = pair < end[j] && alpha >= min_alpha;
+          T[j] = blend ? T[j] / (1.0 - alpha) : T[j];
+          float weight = blend ? T[j] * alpha : 0.0;
+          v_colour += weight * v_rgba[j].rgb;
+          v_depth += weight * v_D[j];
+          float w = dot(v_rgba[j].rgb, colour) + v_rgba[j].a + v_D[j] * co.z;
+          float v_alpha = T[j] * (w - S[j]);
+          S[j] = blend ? alpha * w + (1.0 - alpha) * S[j] : S[j];
+          float v_G = blend && unclamped <= max_alpha ? v_alpha * G : 0.0;  // clamped: no gradient to o, G
+          v_opacity += v_G;
+          float v_power = v_G * co.y;
+          v_conic += v_power * vec3(-0.5 * dx * dx, -dx * dy, -0.5 * dy * dy);
+          v_mean += v_power * vec2(mc.z * dx + mc.w * dy, mc.w * dx + co.x * dy);
+        }
+        v_mean = BlockSum(v_mean);
+        v_conic = BlockSum(v_conic);
+        v_colour = BlockSum(v_colour);
+        v_depth = BlockSum(v_depth);
+        v_opacity = BlockSum(v_opacity);
+        // Every lane holds the sums; lane l stores sum l (and lanes 0, 1 sums 8, 9), picked by selects.
+        uint lane = lid % kBlockWidth;
+        float sum_low = lane == 0 ? v_mean.x : lane == 1 ? v_mean.y : lane == 2 ? v_conic.x
+                      : lane == 3 ? v_conic.y : lane == 4 ? v_conic.z : lane == 5 ? v_depth
+                      : lane == 6 ? v_colour.r : v_colour.g;
+        s_record[k][block][lane] = sum_low;
+        if (lane < kRecordFloats - kBlockWidth) s_record[k][block][kBlockWidth + lane] = lane == 0 ? v_colour.b : v_opacity;
+      }
+    }
+    barrier();
+    // Each pair's record: the sum of the records of the blocks that processed it, in block order.
+    [[unroll]] for (uint i = 0; i < kLoadsPerInvocation; ++i) {
+      uint q = i * kInvocations + lid;
+      if (q < n) {
+        float record[kRecordFloats];
+        [[unroll]] for (uint f = 0; f < kRecordFloats; ++f) record[f] = 0.0;
+        [[unroll]] for (uint b = 0; b < kBlocks; ++b) {
+          bool processed = (s_block_mask[parity][b][q / 32] & (1u << (q % 32))) != 0 &&
+                           batch_start + q < s_block_end[b];
+          [[unroll]] for (uint f = 0; f < kRecordFloats; ++f) record[f] += processed ? s_record[q][b][f] : 0.0;
+        }
+        uint slot = s_slot[q];
+        v_pairs[3 * slot] = vec4(record[0], record[1], record[2], record[3]);
+        v_pairs[3 * slot + 1] = vec4(record[4], record[5], record[6], record[7]);
+        v_pairs[3 * slot + 2] = vec4(record[8], record[9], 0.0, 0.0);
       }
     }
     batch_end = batch_start;

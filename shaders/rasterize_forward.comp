@@ -16,6 +16,9 @@
 // Counted statistic: pixel-Gaussian pairs processed = for every pixel, the tile-list Gaussians it visits
 // before it stops (what a 3DGS rasterizer evaluates), including the pruned ones: the list length, or the
 // position of the Gaussian that stopped the pixel plus one.
+// For the backward (rasterize_backward.comp), per pixel: the final T as float bits and `end` = the absolute
+// index of the pair that stopped the pixel (not blended), or the tile's range end: the pixel blended exactly
+// the pairs before `end` whose alpha reaches min_alpha.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
@@ -38,6 +41,7 @@ layout(std430, binding = 3) readonly buffer Projected { vec4 projected[]; };   /
 layout(std430, binding = 4) writeonly buffer Colour { vec4 out_colour[]; };    // per pixel (rgb, alpha)
 layout(std430, binding = 5) writeonly buffer Depth { vec2 out_depth[]; };      // per pixel (median, expected)
 layout(std430, binding = 6) buffer Counters { uint counters[]; };
+layout(std430, binding = 7) writeonly buffer PixelState { uvec2 pixel_state[]; };  // (T bits, end), see above
 
 shared vec4 s_mean_conic[kBatch];       // (u, v, conic a, conic b)
 shared vec4 s_conic_opacity[kBatch];    // (conic c, opacity, t_z, colour r)
@@ -162,6 +166,8 @@ void main() {
     float alpha = 1.0 - T[j];
     out_colour[p] = vec4(C[j] + T[j] * frame.background.rgb, alpha);
     out_depth[p] = vec2(median[j], alpha < 1e-4 ? kInf : D[j] / alpha);
+    // Inside the image `done` means stopped, at list position visited - 1.
+    pixel_state[p] = uvec2(floatBitsToUint(T[j]), done[j] ? range.x + visited[j] - 1 : range.y);
   }
 
   // Pixel-Gaussian pairs visited: subgroup reduction, one 64-bit (lo, carry) atomic per subgroup.

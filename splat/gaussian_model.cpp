@@ -1,5 +1,7 @@
 #include "splat/gaussian_model.h"
 
+#include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <sstream>
 
@@ -71,6 +73,18 @@ Status GaussianModel::Validate(const std::string& context) const {
                              coefficients[k], "not finite");
   }
   return Status();
+}
+
+GaussianModel WithShDegree(const GaussianModel& model, int degree) {
+  assert(degree >= 0 && degree <= kMaxShDegree);
+  GaussianModel out = model;
+  out.sh_degree = degree;
+  const std::size_t from = model.ShStride(), to = out.ShStride(), kept = std::min(from, to);
+  out.sh.assign(model.size() * to, 0.0f);
+  for (std::size_t i = 0; i < model.size(); ++i)
+    std::copy_n(model.sh.begin() + static_cast<std::ptrdiff_t>(i * from), kept,
+                out.sh.begin() + static_cast<std::ptrdiff_t>(i * to));
+  return out;
 }
 
 }  // namespace uf::splat

@@ -51,4 +51,7 @@ struct GaussianModel {
   Status Validate(const std::string& context = "splats") const;
 };
 
+// The model at another SH degree: higher bands are added as zeros (the colour is unchanged) or dropped.
+GaussianModel WithShDegree(const GaussianModel& model, int degree);
+
 }  // namespace uf::splat

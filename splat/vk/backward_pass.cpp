@@ -4,18 +4,24 @@
 #include <cassert>
 
 #include "shaders/embedded_shaders.h"
+#include "splat/vk/frame_params.h"
 
 namespace uf::splat::vk {
 
 namespace {
 constexpr std::uint32_t kWorkgroup = 64;
 constexpr std::size_t kGeometryGradientFloats = 16;  // 4 vec4 per Gaussian
+// Push constants of rasterize_backward.comp (FrameParams' size, blend and background).
+struct RasterizePush {
+  std::int32_t size[4];
+  float blend[4], background[4];
+};
 }  // namespace
 
 Expected<std::unique_ptr<BackwardPass>> BackwardPass::Create(const Context& context) {
   std::unique_ptr<BackwardPass> pass(new BackwardPass(context));
-  auto rasterize =
-      ComputePipeline::Create(context, ShaderCode(ShaderId::kRasterizeBackward), 8, 0, "rasterize_backward");
+  auto rasterize = ComputePipeline::Create(context, ShaderCode(ShaderId::kRasterizeBackward), 8,
+                                           sizeof(RasterizePush), "rasterize_backward");
   if (!rasterize.ok()) return rasterize.status();
   pass->rasterize_ = std::move(rasterize.value());
   auto project =
@@ -39,7 +45,9 @@ Status BackwardPass::Prepare(const ForwardState& forward) {
   const GaussianBuffers& gaussians = *forward.gaussians;
   const std::size_t stride = 3 * static_cast<std::size_t>(ShCoefficientsPerChannel(gaussians.sh_degree));
   chunks_.resize(gaussians.chunks.size());
+  sh_floats_written_.resize(chunks_.size());
   for (std::size_t c = 0; c < chunks_.size(); ++c) {
+    const void* previous_sh = chunks_[c].sh.data();
     const std::size_t count = std::max<std::uint32_t>(gaussians.chunks[c].count, 1);
     const std::string name = "gradients of chunk " + std::to_string(c);
     if (Status s = EnsureBuffer(context_, chunks_[c].geometry,
@@ -49,7 +57,10 @@ Status BackwardPass::Prepare(const ForwardState& forward) {
     if (Status s = EnsureBuffer(context_, chunks_[c].sh, count * stride * sizeof(float), name + " SH");
         !s.ok())
       return s;
+    // A new buffer or another model stride: contents unknown.
+    if (chunks_[c].sh.data() != previous_sh || stride != sh_stride_) sh_floats_written_[c] = ~0u;
   }
+  sh_stride_ = stride;
   return Status();
 }
 
@@ -70,17 +81,32 @@ void BackwardPass::UploadViewGradients(const ViewGradients& gradients, std::size
 }
 
 void BackwardPass::Record(FrameCommands& frame, const ForwardState& forward) const {
+  // The frame parameters rasterize_backward needs, pushed (FrameCommands binds at most 8 buffers); the
+  // forward's Prepare wrote them to the host-visible parameter buffer before this frame was recorded.
+  const auto& params = *static_cast<const FrameParams*>(forward.params->data());
+  RasterizePush push{};
+  std::copy_n(params.size, 4, push.size);
+  std::copy_n(params.blend, 4, push.blend);
+  std::copy_n(params.background, 4, push.background);
+  // Stage 2 writes the SH gradients up to the active degree only; those above it must be zero: zero-filled
+  // (before the barrier after stage 1) when an earlier frame may have written them.
+  const std::vector<GaussianChunk>& chunks = forward.gaussians->chunks;
+  const std::uint32_t active = params.counts[3];
+  const std::uint32_t active_floats = 3 * (active + 1) * (active + 1);
   frame.Timestamp();
+  for (std::size_t c = 0; c < chunks.size(); ++c) {
+    if (sh_floats_written_[c] > active_floats) frame.Fill(chunks_[c].sh, 0);
+    sh_floats_written_[c] = active_floats;
+  }
   // 1. Per tile: dL/d(images) -> one gradient record per tile-Gaussian pair (every slot written once).
   frame.Dispatch(*rasterize_,
-                 {forward.params, forward.tile_ranges, forward.sorted_ids, forward.projected, forward.rects,
-                  forward.offsets, &view_gradients_, &pair_gradients_},
-                 nullptr, static_cast<std::uint32_t>(forward.tiles_x),
+                 {forward.tile_ranges, forward.sorted_ids, forward.projected, forward.rects, forward.offsets,
+                  &view_gradients_, forward.pixel_state, &pair_gradients_},
+                 &push, static_cast<std::uint32_t>(forward.tiles_x),
                  static_cast<std::uint32_t>(forward.tiles_y));
   frame.Barrier();
   frame.Timestamp();
   // 2. Per Gaussian, chunk by chunk: sum of its pair records -> model parameters.
-  const std::vector<GaussianChunk>& chunks = forward.gaussians->chunks;
   for (std::size_t c = 0; c < chunks.size(); ++c) {
     const std::uint32_t push[2] = {chunks[c].first, chunks[c].count};
     frame.Dispatch(*project_,

@@ -31,7 +31,8 @@ struct ForwardState {
   const Buffer* offsets = nullptr;      // first pair slot per Gaussian
   const GaussianBuffers* gaussians = nullptr;
   int width = 0, height = 0, tiles_x = 0, tiles_y = 0;
-  std::size_t pairs = 0;  // tile-Gaussian pairs of the frame
+  const Buffer* pixel_state = nullptr;  // per pixel: what the forward's blending ended with
+  std::size_t pairs = 0;  // tile-Gaussian pair slots of the frame (the key capacity, >= the pairs)
 };
 
 // Gradient buffers of one model chunk: geometry 4 vec4 per Gaussian = (dL/dmu, dL/dopacity_logit),
@@ -42,18 +43,19 @@ struct GradientChunk {
 
 class BackwardPass {
  public:
-  static constexpr std::size_t kPairGradientFloats = 10;  // see shaders/rasterize_backward.comp
+  static constexpr std::size_t kPairGradientFloats = 12;  // 3 vec4, see shaders/rasterize_backward.comp
 
   static Expected<std::unique_ptr<BackwardPass>> Create(const Context& context);
 
   // Sizes the view-gradient, pair and output buffers for this frame. Errors: a buffer over the device's
-  // binding limit (the pair buffer holds 40 bytes per tile-Gaussian pair).
+  // binding limit (the pair buffer holds 48 bytes per tile-Gaussian pair).
   Status Prepare(const ForwardState& forward);
   // dL/d(images) into the view-gradient buffer (2 vec4 per pixel: (dL/drgb, dL/dalpha), (dL/dD, 0, 0, 0)).
   // A loss shader may write that buffer instead (view_gradients()).
   void UploadViewGradients(const ViewGradients& gradients, std::size_t pixels);
   // Records both stages (with the barriers between and after them) into the open frame, with timestamps
-  // before, between and after them (3).
+  // before, between and after them (3). Reads the frame parameters the forward's Prepare wrote (pushed; its
+  // active SH degree: the SH gradients above it are zero).
   void Record(FrameCommands& frame, const ForwardState& forward) const;
   // Reads the gradients back after the frame ran (sizes `out` for `count` Gaussians of `sh_degree`).
   void Download(const ForwardState& forward, GaussianGradients* out) const;
@@ -67,6 +69,10 @@ class BackwardPass {
   std::unique_ptr<ComputePipeline> rasterize_, project_;
   Buffer view_gradients_, pair_gradients_;
   std::vector<GradientChunk> chunks_;
+  // Per chunk: SH floats per Gaussian (from the first) that may be nonzero in its SH gradient buffer; the
+  // rest are zero. The shader writes only the active ones; Record zero-fills when this exceeds them.
+  mutable std::vector<std::uint32_t> sh_floats_written_;
+  std::size_t sh_stride_ = 0;
 };
 
 }  // namespace uf::splat::vk

@@ -18,12 +18,14 @@ struct FrameParams {
   float blend[4];           // min_alpha, max_alpha, transmittance_cutoff, 0
   float background[4];      // rgb, 0
   std::int32_t size[4];     // width, height, tiles_x, tiles_y
-  std::uint32_t counts[4];  // num_gaussians, sh_degree, pair_capacity, 0
+  std::uint32_t counts[4];  // num_gaussians, sh_degree, pair_capacity, active SH degree (<= sh_degree)
 };
 static_assert(sizeof(FrameParams) == 11 * 16, "must match shaders/frame_params.glsl");
 
+// active_sh_degree: the SH bands evaluated (those above count as zero); < 0 or > sh_degree: sh_degree.
 inline FrameParams MakeFrameParams(const FloatCamera& camera, const RenderSettings& settings,
-                                   std::uint32_t num_gaussians, int sh_degree, std::uint32_t pair_capacity) {
+                                   std::uint32_t num_gaussians, int sh_degree, std::uint32_t pair_capacity,
+                                   int active_sh_degree = -1) {
   FrameParams p{};
   for (int c = 0; c < 3; ++c) {
     p.R_row0[c] = camera.R_camera_world(0, c);
@@ -51,6 +53,8 @@ inline FrameParams MakeFrameParams(const FloatCamera& camera, const RenderSettin
   p.counts[0] = num_gaussians;
   p.counts[1] = static_cast<std::uint32_t>(sh_degree);
   p.counts[2] = pair_capacity;
+  p.counts[3] = static_cast<std::uint32_t>(
+      active_sh_degree < 0 || active_sh_degree > sh_degree ? sh_degree : active_sh_degree);
   return p;
 }
 

@@ -57,4 +57,27 @@ Status UploadGaussians(const Context& context, const GaussianModel& model, std::
   return Status();
 }
 
+GaussianModel DownloadGaussians(const GaussianBuffers& buffers) {
+  GaussianModel model;
+  model.sh_degree = buffers.sh_degree;
+  const std::size_t n = buffers.count, stride = static_cast<std::size_t>(model.ShStride());
+  model.positions.resize(n);
+  model.log_scales.resize(n);
+  model.rotations.resize(n);
+  model.opacity_logits.resize(n);
+  model.sh.resize(n * stride);
+  for (const GaussianChunk& chunk : buffers.chunks) {
+    const auto* g = static_cast<const float*>(chunk.geometry.data());
+    for (std::uint32_t k = 0; k < chunk.count; ++k, g += 12) {
+      const std::size_t i = chunk.first + k;
+      model.positions[i] = {g[0], g[1], g[2]};
+      model.opacity_logits[i] = g[3];
+      model.log_scales[i] = {g[4], g[5], g[6]};
+      model.rotations[i] = Eigen::Quaternionf(g[8], g[9], g[10], g[11]);
+    }
+    chunk.sh.Download(model.sh.data() + chunk.first * stride, chunk.count * stride * sizeof(float));
+  }
+  return model;
+}
+
 }  // namespace uf::splat::vk

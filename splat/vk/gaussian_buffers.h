@@ -34,4 +34,7 @@ std::size_t GaussiansPerChunk(const Context& context, int sh_degree, std::size_t
 Status UploadGaussians(const Context& context, const GaussianModel& model, std::size_t max_per_chunk,
                        GaussianBuffers& buffers);
 
+// Reads the model back from the device chunks (all memory is host-visible; after the frame that wrote it).
+GaussianModel DownloadGaussians(const GaussianBuffers& buffers);
+
 }  // namespace uf::splat::vk

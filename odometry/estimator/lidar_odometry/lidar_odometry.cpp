@@ -1,5 +1,6 @@
 #include "odometry/estimator/lidar_odometry/lidar_odometry.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <string>
@@ -135,16 +136,24 @@ bool LidarOdometry::Impl::RegisterNewScan(ScanState& current) {
   const SE3 guess = NodePose(current.end_node);
   bool solved = true;
   // Re-query the planes after each solve until the new scan's begin and end poses move less than
-  // kConvergedTranslation / kConvergedRotation in a round, or association_rounds is reached.
+  // kConvergedTranslation / kConvergedRotation in a round, or come back to where an earlier round left them
+  // (the association then cycles through the same few plane sets: further rounds only repeat the cycle), or
+  // association_rounds is reached.
+  std::vector<std::pair<SE3, SE3>> visited;  // (begin, end) poses after each round
+  auto near = [](const SE3& a, const SE3& b) {
+    const SE3 step = a.inverse() * b;
+    return step.translation().norm() < kConvergedTranslation && step.so3().angle() < kConvergedRotation;
+  };
+  visited.emplace_back(NodePose(current.begin_node), NodePose(current.end_node));
   for (int round = 0; round < config.association_rounds && solved; ++round) {
-    const SE3 begin_before = NodePose(current.begin_node), end_before = NodePose(current.end_node);
     Associate(current);
     solved = Solve(&stats.iterations, /*new_scan_only=*/true);
-    const SE3 step_begin = begin_before.inverse() * NodePose(current.begin_node);
-    const SE3 step_end = end_before.inverse() * NodePose(current.end_node);
-    if (std::max(step_begin.translation().norm(), step_end.translation().norm()) < kConvergedTranslation &&
-        std::max(step_begin.so3().angle(), step_end.so3().angle()) < kConvergedRotation)
-      break;
+    const SE3 begin = NodePose(current.begin_node), end = NodePose(current.end_node);
+    const bool repeated = std::any_of(visited.begin(), visited.end(), [&](const std::pair<SE3, SE3>& seen) {
+      return near(seen.first, begin) && near(seen.second, end);
+    });
+    if (repeated) break;
+    visited.emplace_back(begin, end);
   }
   if (solved && (config.window_size > 2 || inertial)) {
     Relinearize();

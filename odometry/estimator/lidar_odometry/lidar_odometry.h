@@ -16,7 +16,8 @@
 //   scans; up to max_residuals_per_scan points with a plane within max_plane_distance_m, taken at an even
 //   stride over the scan so they spread over it; Huber loss (huber_m). ICP style: up to association_rounds
 //   rounds of (re-query planes, max_iterations LM iterations moving only the new scan's nodes) until a
-//   round moves them < 5 mm / 1 mrad; then one solve of the whole window. Older scans keep the factors of
+//   round leaves them within 5 mm / 1 mrad of where this or an earlier round left them (converged, or the
+//   association cycling through the same plane sets); then one solve of the whole window. Older scans keep the factors of
 //   their own registration (planes fixed), so the window smooths the trajectory through the motion factors.
 //   The very first scan (nothing to register against) gets a single node at its middle.
 // - Map update right after the new scan's registration, with the scan deskewed by its solved poses: the

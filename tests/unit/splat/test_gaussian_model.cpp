@@ -30,6 +30,23 @@ TEST(GaussianModel, ConstantColourIsTheDcTermAndTheRestIsZero) {
   EXPECT_TRUE(model.Validate().ok());
 }
 
+TEST(GaussianModel, WithShDegreePadsWithZerosAndTruncates) {
+  GaussianModel model = OneGaussian(1);
+  model.AddConstantColor(Eigen::Vector3f::Zero(), Eigen::Vector3f::Zero(), Eigen::Quaternionf::Identity(), 0,
+                         Eigen::Vector3f(0.1f, 0.3f, 0.7f));
+  for (std::size_t k = 0; k < model.sh.size(); ++k) model.sh[k] = static_cast<float>(k + 1);
+  const GaussianModel up = WithShDegree(model, 3);
+  ASSERT_EQ(up.sh.size(), 2u * 48);
+  for (int i = 0; i < 2; ++i)
+    for (int k = 0; k < 48; ++k)
+      EXPECT_EQ(up.sh[i * 48 + k], k < 12 ? static_cast<float>(i * 12 + k + 1) : 0.0f) << i << " " << k;
+  const GaussianModel down = WithShDegree(up, 0);
+  ASSERT_EQ(down.sh.size(), 2u * 3);
+  for (int i = 0; i < 2; ++i)
+    for (int c = 0; c < 3; ++c) EXPECT_EQ(down.sh[i * 3 + c], static_cast<float>(i * 12 + c + 1));
+  EXPECT_EQ(down.positions, model.positions);
+}
+
 TEST(GaussianModel, ValidateNamesTheGaussianAndTheField) {
   GaussianModel model = OneGaussian(1);
   model.AddConstantColor(Eigen::Vector3f::Zero(), Eigen::Vector3f::Zero(), Eigen::Quaternionf::Identity(),

@@ -9,6 +9,7 @@
 #include <random>
 
 #include "splat/cpu_reference/reference_backward.h"
+#include "splat/cpu_reference/reference_renderer.h"
 #include "splat/splat_renderer.h"
 #include "tests/unit/splat/splat_test_support.h"
 
@@ -101,6 +102,35 @@ TEST_F(VulkanBackward, MatchesTheReferenceBackwardOnRandomScenes) {
     for (const Eigen::Vector3f& g : reference.position) nonzero += g.norm() > 0;
     EXPECT_GT(nonzero, c.gaussians / 3);
   }
+}
+
+// Opaque, overlapping Gaussians: most pixels stop at the transmittance cut-off and many alphas are clamped
+// at max_alpha (no gradient through the clamp), which is where the backward's use of the forward's per-pixel
+// end index and final transmittance must agree with the reference exactly.
+TEST_F(VulkanBackward, MatchesTheReferenceWhereBlendingStopsEarlyAndAlphaIsClamped) {
+  ASSERT_NE(renderer_, nullptr);
+  const SplatCamera camera = Camera(64, 48, kPose);
+  GaussianModel model = RandomScene(31, 400, 1, camera);
+  for (std::size_t i = 0; i < model.size(); ++i) {
+    model.opacity_logits[i] = i % 2 ? 6.0f : 2.0f;           // opacity 0.9975 (clamped at 0.99) or 0.88
+    model.log_scales[i] += Eigen::Vector3f::Constant(0.7f);  // twice the size: heavy overlap
+  }
+  const RenderSettings settings;
+  const RenderedView reference_view = RenderReference(model, camera, settings);
+  int saturated = 0;
+  for (const float alpha : reference_view.alpha) saturated += alpha > 1.0f - 2e-3f;
+  ASSERT_GT(saturated, static_cast<int>(reference_view.alpha.size()) / 2) << "the cut-off must matter";
+  const ViewGradients dL_dview = RandomViewGradients(31, 64 * 48);
+  Expected<GaussianGradients> gpu = Run(*renderer_, model, camera, settings, dL_dview);
+  ASSERT_TRUE(gpu.ok()) << gpu.error();
+  const GaussianGradients reference = RenderReferenceBackward(model, camera, settings, dL_dview);
+  constexpr float kTolerance = 5e-5f;  // as above
+  EXPECT_LT(RelativeError(gpu->position, reference.position), kTolerance);
+  EXPECT_LT(RelativeError(gpu->log_scale, reference.log_scale), kTolerance);
+  EXPECT_LT(RelativeError(gpu->rotation, reference.rotation), kTolerance);
+  EXPECT_LT(RelativeError(gpu->opacity_logit, reference.opacity_logit), kTolerance);
+  EXPECT_LT(RelativeError(gpu->sh, reference.sh), kTolerance);
+  EXPECT_LT(RelativeError(gpu->mean_2d, reference.mean_2d), kTolerance);
 }
 
 TEST_F(VulkanBackward, ChunkedUploadAndRepeatedRunsGiveIdenticalGradients) {

@@ -1,0 +1,84 @@
+#include "splat/training/image_metrics.h"
+
+#include <cassert>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+
+namespace uf::splat {
+
+const std::array<double, 2 * kSsimRadius + 1>& SsimWindow() {
+  static const std::array<double, 2 * kSsimRadius + 1> window = [] {
+    std::array<double, 2 * kSsimRadius + 1> g{};
+    double sum = 0;
+    for (int k = -kSsimRadius; k <= kSsimRadius; ++k) {
+      g[k + kSsimRadius] = std::exp(-k * k / (2 * kSsimSigma * kSsimSigma));
+      sum += g[k + kSsimRadius];
+    }
+    for (double& value : g) value /= sum;
+    return g;
+  }();
+  return window;
+}
+
+std::vector<double> BlurWithSsimWindow(const std::vector<double>& image, int width, int height) {
+  assert(width > 0 && height > 0 && image.size() == static_cast<std::size_t>(width) * height);
+  const auto& g = SsimWindow();
+  std::vector<double> rows(image.size(), 0.0), out(image.size(), 0.0);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      double sum = 0;
+      for (int k = -kSsimRadius; k <= kSsimRadius; ++k)
+        if (x + k >= 0 && x + k < width) sum += g[k + kSsimRadius] * image[y * width + x + k];
+      rows[y * width + x] = sum;
+    }
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      double sum = 0;
+      for (int k = -kSsimRadius; k <= kSsimRadius; ++k)
+        if (y + k >= 0 && y + k < height) sum += g[k + kSsimRadius] * rows[(y + k) * width + x];
+      out[y * width + x] = sum;
+    }
+  return out;
+}
+
+double Psnr(const std::vector<float>& a, const std::vector<float>& b) {
+  assert(a.size() == b.size() && !a.empty());
+  double sum = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const double d = static_cast<double>(a[i]) - b[i];
+    sum += d * d;
+  }
+  const double mse = sum / static_cast<double>(a.size());
+  return mse > 0 ? 10.0 * std::log10(1.0 / mse) : std::numeric_limits<double>::infinity();
+}
+
+double Ssim(const std::vector<float>& a, const std::vector<float>& b, int width, int height) {
+  const std::size_t pixels = static_cast<std::size_t>(width) * height;
+  assert(width > 0 && height > 0 && a.size() == 3 * pixels && b.size() == 3 * pixels);
+  double total = 0;
+  std::vector<double> x(pixels), y(pixels), xx(pixels), yy(pixels), xy(pixels);
+  for (int c = 0; c < 3; ++c) {
+    for (std::size_t p = 0; p < pixels; ++p) {
+      x[p] = a[3 * p + c];
+      y[p] = b[3 * p + c];
+      xx[p] = x[p] * x[p];
+      yy[p] = y[p] * y[p];
+      xy[p] = x[p] * y[p];
+    }
+    const std::vector<double> mu_x = BlurWithSsimWindow(x, width, height);
+    const std::vector<double> mu_y = BlurWithSsimWindow(y, width, height);
+    const std::vector<double> m_xx = BlurWithSsimWindow(xx, width, height);
+    const std::vector<double> m_yy = BlurWithSsimWindow(yy, width, height);
+    const std::vector<double> m_xy = BlurWithSsimWindow(xy, width, height);
+    for (std::size_t p = 0; p < pixels; ++p) {
+      const double s_x = m_xx[p] - mu_x[p] * mu_x[p], s_y = m_yy[p] - mu_y[p] * mu_y[p];
+      const double s_xy = m_xy[p] - mu_x[p] * mu_y[p];
+      total += ((2 * mu_x[p] * mu_y[p] + kSsimC1) * (2 * s_xy + kSsimC2)) /
+               ((mu_x[p] * mu_x[p] + mu_y[p] * mu_y[p] + kSsimC1) * (s_x + s_y + kSsimC2));
+    }
+  }
+  return total / (3.0 * static_cast<double>(pixels));
+}
+
+}  // namespace uf::splat
