@@ -65,10 +65,7 @@ shared uint s_slot[kBatch];
 shared uint s_block_mask[2][kBlocks][2];      // [batch parity][block][word]: Gaussians that may reach it
 shared uint s_block_end[kBlocks];             // largest pixel `end` of the block
 shared uint s_tile_end;
-// Per pair and block: the block's 10 sums (v_pairs' layout without its two zeros), stored by its 8 lanes
-// (lane l: sums l and 8 + l) so that a record costs two shared stores instead of twelve masked ones.
-const uint kRecordFloats = 10;
-shared float s_record[kBatch][kBlocks][kRecordFloats];
+shared vec4 s_record[kBatch][kBlocks][3];     // per pair and block: the block's sums, laid out as v_pairs
 
 // Sum / max over the 8 lanes of a block: the whole subgroup on lavapipe, else a butterfly within groups of 8.
 float BlockSum(float x) {
@@ -224,13 +221,11 @@ void main() {
         v_colour = BlockSum(v_colour);
         v_depth = BlockSum(v_depth);
         v_opacity = BlockSum(v_opacity);
-        // Every lane holds the sums; lane l stores sum l (and lanes 0, 1 sums 8, 9), picked by selects.
-        uint lane = lid % kBlockWidth;
-        float sum_low = lane == 0 ? v_mean.x : lane == 1 ? v_mean.y : lane == 2 ? v_conic.x
-                      : lane == 3 ? v_conic.y : lane == 4 ? v_conic.z : lane == 5 ? v_depth
-                      : lane == 6 ? v_colour.r : v_colour.g;
-        s_record[k][block][lane] = sum_low;
-        if (lane < kRecordFloats - kBlockWidth) s_record[k][block][kBlockWidth + lane] = lane == 0 ? v_colour.b : v_opacity;
+        if (lid % kBlockWidth == 0) {
+          s_record[k][block][0] = vec4(v_mean, v_conic.xy);
+          s_record[k][block][1] = vec4(v_conic.z, v_depth, v_colour.rg);
+          s_record[k][block][2] = vec4(v_colour.b, v_opacity, 0.0, 0.0);
+        }
       }
     }
     barrier();
@@ -238,17 +233,15 @@ void main() {
     [[unroll]] for (uint i = 0; i < kLoadsPerInvocation; ++i) {
       uint q = i * kInvocations + lid;
       if (q < n) {
-        float record[kRecordFloats];
-        [[unroll]] for (uint f = 0; f < kRecordFloats; ++f) record[f] = 0.0;
+        vec4 record[3] = vec4[3](vec4(0.0), vec4(0.0), vec4(0.0));
         [[unroll]] for (uint b = 0; b < kBlocks; ++b) {
           bool processed = (s_block_mask[parity][b][q / 32] & (1u << (q % 32))) != 0 &&
                            batch_start + q < s_block_end[b];
-          [[unroll]] for (uint f = 0; f < kRecordFloats; ++f) record[f] += processed ? s_record[q][b][f] : 0.0;
+          [[unroll]] for (uint r = 0; r < 3; ++r)
+            record[r] += processed ? s_record[q][b][r] : vec4(0.0);
         }
         uint slot = s_slot[q];
-        v_pairs[3 * slot] = vec4(record[0], record[1], record[2], record[3]);
-        v_pairs[3 * slot + 1] = vec4(record[4], record[5], record[6], record[7]);
-        v_pairs[3 * slot + 2] = vec4(record[8], record[9], 0.0, 0.0);
+        [[unroll]] for (uint r = 0; r < 3; ++r) v_pairs[3 * slot + r] = record[r];
       }
     }
     batch_end = batch_start;

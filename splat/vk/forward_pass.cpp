@@ -56,7 +56,10 @@ Status ForwardPass::Prepare(const GaussianBuffers& gaussians, const FloatCamera&
                          std::to_string(limit / kProjectedBytes) + " on " + context_.device_name());
   const std::size_t pixels = static_cast<std::size_t>(camera.width) * camera.height;
   const std::size_t tiles = static_cast<std::size_t>(camera.tiles_x) * camera.tiles_y;
-  if (pair_capacity_ == 0) pair_capacity_ = std::max<std::size_t>(4096, 4 * n);
+  // A first guess of the tile-Gaussian pairs (grown by Finish when a frame has more): one per Gaussian, so
+  // that the backward's per-pair records (48 bytes each) of a large model do not start over the binding
+  // limit.
+  if (pair_capacity_ == 0) pair_capacity_ = std::max<std::size_t>(4096, n);
   const std::size_t histogram_bytes = 256 * sizeof(std::uint32_t) * sort_lanes_;
   for (const auto& [buffer, bytes, name] : {
            std::tuple{&params_, sizeof(FrameParams), "frame parameters"},

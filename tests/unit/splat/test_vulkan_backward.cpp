@@ -1,7 +1,8 @@
 // The Vulkan backward pass (shaders/rasterize_backward.comp, project_backward.comp through
 // SplatRenderer::Backward) against the CPU reference backward (RenderReferenceBackward, itself checked
 // against finite differences in test_reference_backward.cpp) on random scenes of SH degree 0..3 with loss
-// weights on rgb, alpha and the depth sum; chunked uploads, determinism, an empty model and bad input.
+// weights on rgb, alpha and the depth sum; chunked uploads, determinism, an empty model and bad input; the
+// passes with an active SH degree below the model's (training) against the reference on the truncated model.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -11,6 +12,8 @@
 #include "splat/cpu_reference/reference_backward.h"
 #include "splat/cpu_reference/reference_renderer.h"
 #include "splat/splat_renderer.h"
+#include "splat/vk/backward_pass.h"
+#include "splat/vk/forward_pass.h"
 #include "tests/unit/splat/splat_test_support.h"
 
 namespace uf::splat {
@@ -188,6 +191,88 @@ TEST_F(VulkanBackward, RejectsBackwardWithoutRenderAndWrongSizes) {
   Expected<GaussianGradients> sized = renderer_->Backward(wrong);
   ASSERT_FALSE(sized.ok());
   EXPECT_NE(sized.error().find("alpha has 1199 entries, expected 1200"), std::string::npos) << sized.error();
+}
+
+// The forward and backward passes (as the trainer records them) with active SH degree a < 3 on a degree-3
+// model whose higher bands are nonzero: the image and the gradients must be those of the model truncated to
+// degree a (WithShDegree; CPU reference), the SH gradients above a exactly zero. Degrees in the order
+// 3, 0, 2, 1 on the same passes: the zero gradients above a must hold after a frame that wrote them.
+TEST(VulkanBackwardActiveSh, MatchesTheReferenceOfTheTruncatedModel) {
+  auto context = vk::Context::Create({});
+  ASSERT_TRUE(context.ok()) << context.error();
+  auto frame = vk::FrameCommands::Create(**context, 64, 24);
+  ASSERT_TRUE(frame.ok()) << frame.error();
+  auto forward = vk::ForwardPass::Create(**context);
+  ASSERT_TRUE(forward.ok()) << forward.error();
+  auto backward = vk::BackwardPass::Create(**context);
+  ASSERT_TRUE(backward.ok()) << backward.error();
+  const SplatCamera camera = Camera(64, 48, kPose);
+  const GaussianModel model = RandomScene(21, 250, 3, camera);
+  vk::GaussianBuffers gaussians;
+  ASSERT_TRUE(vk::UploadGaussians(**context, model, 100, gaussians).ok());  // 3 chunks
+  RenderSettings settings;
+  settings.background = {0.2f, 0.1f, 0.3f};
+  const ViewGradients dL_dview = RandomViewGradients(21, camera.width * camera.height);
+  const std::size_t stride = model.ShStride();
+  for (int active : {3, 0, 2, 1}) {
+    SCOPED_TRACE("active SH degree " + std::to_string(active));
+    bool done = false;
+    for (int attempt = 0; attempt < 2 && !done; ++attempt) {
+      ASSERT_TRUE((*forward)->Prepare(gaussians, MakeFloatCamera(camera), settings, active).ok());
+      ASSERT_TRUE((*frame)->Begin().ok());
+      (*forward)->Record(**frame, gaussians);
+      const vk::ForwardState state = (*forward)->State(gaussians);
+      ASSERT_TRUE((*backward)->Prepare(state).ok());
+      (*backward)->UploadViewGradients(dL_dview, static_cast<std::size_t>(camera.width) * camera.height);
+      (*backward)->Record(**frame, state);
+      ASSERT_TRUE((*frame)->SubmitAndWait().ok());
+      SplatFrameStats stats;
+      done = (*forward)->Finish(&stats);
+    }
+    ASSERT_TRUE(done);
+    RenderedView view;
+    (*forward)->ReadView(&view);
+    GaussianGradients gpu;
+    (*backward)->Download((*forward)->State(gaussians), &gpu);
+
+    const GaussianModel truncated = WithShDegree(model, active);
+    const RenderedView expected_view = RenderReference(truncated, camera, settings);
+    float rgb_error = 0;
+    for (std::size_t i = 0; i < view.rgb.size(); ++i)
+      rgb_error = std::max(rgb_error, std::abs(view.rgb[i] - expected_view.rgb[i]));
+    EXPECT_LT(rgb_error, 1e-4f);  // as test_vulkan_renderer's image tolerance
+
+    const GaussianGradients reference = RenderReferenceBackward(truncated, camera, settings, dL_dview);
+    constexpr float kTolerance = 5e-5f;  // as above
+    EXPECT_LT(RelativeError(gpu.position, reference.position), kTolerance);
+    EXPECT_LT(RelativeError(gpu.log_scale, reference.log_scale), kTolerance);
+    EXPECT_LT(RelativeError(gpu.rotation, reference.rotation), kTolerance);
+    EXPECT_LT(RelativeError(gpu.opacity_logit, reference.opacity_logit), kTolerance);
+    EXPECT_LT(RelativeError(gpu.mean_2d, reference.mean_2d), kTolerance);
+    // SH: the active coefficients as the truncated model's, the others exactly zero.
+    const std::size_t active_floats = truncated.ShStride();
+    ASSERT_EQ(gpu.sh.size(), model.size() * stride);
+    std::vector<float> gpu_active;
+    int nonzero_above = 0;
+    for (std::size_t i = 0; i < model.size(); ++i)
+      for (std::size_t k = 0; k < stride; ++k) {
+        const float g = gpu.sh[i * stride + k];
+        if (k < active_floats)
+          gpu_active.push_back(g);
+        else
+          nonzero_above += g != 0.0f;
+      }
+    EXPECT_LT(RelativeError(gpu_active, reference.sh), kTolerance);
+    EXPECT_EQ(nonzero_above, 0);
+    // Not vacuous: the higher bands change the image (the first case renders all of them).
+    if (active == 0) {
+      const RenderedView full = RenderReference(model, camera, settings);
+      float difference = 0;
+      for (std::size_t i = 0; i < full.rgb.size(); ++i)
+        difference = std::max(difference, std::abs(full.rgb[i] - expected_view.rgb[i]));
+      EXPECT_GT(difference, 1e-2f);
+    }
+  }
 }
 
 }  // namespace

@@ -60,6 +60,10 @@ class VulkanLoss : public ::testing::Test {
     pass_ = std::move(pass.value());
   }
   static void TearDownTestSuite() {
+    // The buffers before the device they live on (static storage would otherwise outlive the context).
+    colour_ = Buffer();
+    depth_ = Buffer();
+    gradients_ = Buffer();
     pass_.reset();
     frame_.reset();
     context_.reset();
