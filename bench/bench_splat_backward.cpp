@@ -54,16 +54,7 @@ int main(int argc, char** argv) {
   auto renderer = uf::splat::SplatRenderer::Create(options);
   if (!renderer.ok()) return Fail(renderer.error());
   if (auto s = (*renderer)->Upload(StreetScene(gaussians, 7)); !s.ok()) return Fail(s.message());
-  // Camera 1.5 m above the street looking along +y: camera x = world x, y = -world z, z = world y.
-  uf::splat::SplatCamera camera;
-  camera.width = width;
-  camera.height = height;
-  camera.fx = camera.fy = 0.8 * width;
-  camera.cx = 0.5 * width;
-  camera.cy = 0.5 * height;
-  Eigen::Matrix3d R_world_camera;
-  R_world_camera << 1, 0, 0, 0, 0, 1, 0, -1, 0;
-  camera.T_world_camera = uf::SE3(uf::SO3(R_world_camera), Eigen::Vector3d(0, 0, 1.5));
+  const uf::splat::SplatCamera camera = uf::bench::StreetCamera(width, height);
 
   const std::size_t pixels = static_cast<std::size_t>(width) * height;
   std::mt19937_64 rng(11);

@@ -67,16 +67,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "bench_splat_render: %s\n", s.message().c_str());
     return 1;
   }
-  // Camera 1.5 m above the street looking along +y: camera x = world x, y = -world z, z = world y.
-  uf::splat::SplatCamera camera;
-  camera.width = width;
-  camera.height = height;
-  camera.fx = camera.fy = 0.8 * width;
-  camera.cx = 0.5 * width;
-  camera.cy = 0.5 * height;
-  Eigen::Matrix3d R_world_camera;
-  R_world_camera << 1, 0, 0, 0, 0, 1, 0, -1, 0;
-  camera.T_world_camera = uf::SE3(uf::SO3(R_world_camera), Eigen::Vector3d(0, 0, 1.5));
+  const uf::splat::SplatCamera camera = uf::bench::StreetCamera(width, height);
 
   std::printf("device: %s\n", (*renderer)->device_name().c_str());
   std::printf("scene: %zu Gaussians (SH degree 3), %d x %d px\n", gaussians, width, height);

@@ -29,6 +29,7 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 using uf::bench::LoadAverage;
+using uf::bench::StreetCamera;
 using uf::bench::StreetScene;
 
 int Fail(const std::string& message) {
@@ -42,22 +43,6 @@ double PeakMemoryMiB() {
   for (std::string line; std::getline(status, line);)
     if (line.rfind("VmHWM:", 0) == 0) return std::atof(line.c_str() + 6) / 1024.0;
   return 0;
-}
-
-// Camera 1.5 m above the street at y looking along +y (camera x = world x, y = -world z, z = world y),
-// turned by yaw about the world z axis.
-uf::splat::SplatCamera StreetCamera(int width, int height, double y, double yaw) {
-  uf::splat::SplatCamera camera;
-  camera.width = width;
-  camera.height = height;
-  camera.fx = camera.fy = 0.8 * width;
-  camera.cx = 0.5 * width;
-  camera.cy = 0.5 * height;
-  Eigen::Matrix3d R_world_camera;
-  R_world_camera << 1, 0, 0, 0, 0, 1, 0, -1, 0;
-  const Eigen::Matrix3d yaw_rotation = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  camera.T_world_camera = uf::SE3(uf::SO3(yaw_rotation * R_world_camera), Eigen::Vector3d(0, y, 1.5));
-  return camera;
 }
 
 uf::splat::GaussianModel Perturbed(uf::splat::GaussianModel model, std::uint64_t seed) {

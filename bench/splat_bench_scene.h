@@ -11,6 +11,7 @@
 #include <string>
 
 #include "splat/gaussian_model.h"
+#include "splat/render_types.h"
 
 namespace uf::bench {
 
@@ -53,6 +54,22 @@ inline uf::splat::GaussianModel StreetScene(std::size_t n, std::uint64_t seed) {
     model.Add(position, log_scale, rotation, 1.0f + normal(rng), sh.data());
   }
   return model;
+}
+
+// Camera 1.5 m above the street at y looking along +y (camera x = world x, y = -world z, z = world y), turned
+// by yaw (rad) about the world z axis; focal length 0.8 x width.
+inline uf::splat::SplatCamera StreetCamera(int width, int height, double y = 0, double yaw = 0) {
+  uf::splat::SplatCamera camera;
+  camera.width = width;
+  camera.height = height;
+  camera.fx = camera.fy = 0.8 * width;
+  camera.cx = 0.5 * width;
+  camera.cy = 0.5 * height;
+  Eigen::Matrix3d R_world_camera;
+  R_world_camera << 1, 0, 0, 0, 0, 1, 0, -1, 0;
+  const Eigen::Matrix3d turn = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  camera.T_world_camera = uf::SE3(uf::SO3(turn * R_world_camera), Eigen::Vector3d(0, y, 1.5));
+  return camera;
 }
 
 }  // namespace uf::bench

@@ -1,6 +1,7 @@
 #include "splat/seeding.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <sstream>
 #include <unordered_map>
@@ -121,6 +122,25 @@ Expected<SeedResult> SeedGaussians(const mapping::PointSource& map, const SeedOp
     model.AddConstantColor(positions[i], scale.array().log(), rotation, opacity_logit, colours[i]);
   }
   return result;
+}
+
+void AddBackgroundSphere(GaussianModel& model, const Eigen::Vector3d& centre, double radius, int count,
+                         double opacity) {
+  assert(radius > 0 && count > 0 && opacity > 0 && opacity < 1);
+  const double spacing = radius * std::sqrt(4.0 * M_PI / count);
+  const float tangent = static_cast<float>(std::log(0.5 * spacing));
+  const Eigen::Vector3f log_scale(tangent, tangent, tangent - std::log(10.0f));
+  const float logit = static_cast<float>(std::log(opacity / (1.0 - opacity)));
+  // Fibonacci lattice: z evenly spaced in (-1, 1), longitude advancing by the golden angle.
+  const double golden_angle = M_PI * (3.0 - std::sqrt(5.0));
+  for (int i = 0; i < count; ++i) {
+    const double z = 1.0 - (2.0 * i + 1.0) / count, r = std::sqrt(1.0 - z * z), longitude = golden_angle * i;
+    const Eigen::Vector3d direction(r * std::cos(longitude), r * std::sin(longitude), z);
+    const Eigen::Quaternionf rotation =
+        Eigen::Quaternionf::FromTwoVectors(Eigen::Vector3f::UnitZ(), direction.cast<float>());
+    model.AddConstantColor((centre + radius * direction).cast<float>(), log_scale, rotation, logit,
+                           Eigen::Vector3f::Constant(0.5f));
+  }
 }
 
 }  // namespace uf::splat

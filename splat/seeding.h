@@ -41,4 +41,11 @@ struct SeedResult {
 
 Expected<SeedResult> SeedGaussians(const mapping::PointSource& map, const SeedOptions& options = {});
 
+// Gaussians for what the map does not hold (the sky, far background), as 3DGS' random far points do:
+// `count` flat discs on a sphere of `radius` m around `centre` (a Fibonacci lattice: even spacing
+// s = radius sqrt(4 pi / count)), each facing the centre (local z along the radius), tangent scale s / 2,
+// normal scale s / 20, grey (0.5), opacity `opacity`. The optimizer colours them from the images.
+void AddBackgroundSphere(GaussianModel& model, const Eigen::Vector3d& centre, double radius, int count,
+                         double opacity);
+
 }  // namespace uf::splat

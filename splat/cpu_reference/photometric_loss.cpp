@@ -31,24 +31,13 @@ double Sign(double v) { return v > 0 ? 1.0 : (v < 0 ? -1.0 : 0.0); }
 double AddSsimChannel(const std::vector<double>& x, const std::vector<double>& y, int width, int height,
                       int channel, double scale, std::vector<double>* gradient) {
   const std::size_t pixels = x.size();
-  std::vector<double> xx(pixels), yy(pixels), xy(pixels);
-  for (std::size_t p = 0; p < pixels; ++p) {
-    xx[p] = x[p] * x[p];
-    yy[p] = y[p] * y[p];
-    xy[p] = x[p] * y[p];
-  }
-  const std::vector<double> mu_x = BlurWithSsimWindow(x, width, height);
-  const std::vector<double> mu_y = BlurWithSsimWindow(y, width, height);
-  const std::vector<double> m_xx = BlurWithSsimWindow(xx, width, height);
-  const std::vector<double> m_yy = BlurWithSsimWindow(yy, width, height);
-  const std::vector<double> m_xy = BlurWithSsimWindow(xy, width, height);
+  const SsimMoments m = LocalSsimMoments(x, y, width, height);
+  const std::vector<double>&mu_x = m.mu_x, &mu_y = m.mu_y;
   std::vector<double> a(pixels), b(pixels), c(pixels);
   double sum = 0;
   for (std::size_t p = 0; p < pixels; ++p) {
-    const double s_x = m_xx[p] - mu_x[p] * mu_x[p], s_y = m_yy[p] - mu_y[p] * mu_y[p];
-    const double s_xy = m_xy[p] - mu_x[p] * mu_y[p];
-    const double A1 = 2 * mu_x[p] * mu_y[p] + kSsimC1, A2 = 2 * s_xy + kSsimC2;
-    const double B1 = mu_x[p] * mu_x[p] + mu_y[p] * mu_y[p] + kSsimC1, B2 = s_x + s_y + kSsimC2;
+    const double A1 = 2 * mu_x[p] * mu_y[p] + kSsimC1, A2 = 2 * m.s_xy[p] + kSsimC2;
+    const double B1 = mu_x[p] * mu_x[p] + mu_y[p] * mu_y[p] + kSsimC1, B2 = m.s_x[p] + m.s_y[p] + kSsimC2;
     const double S = A1 * A2 / (B1 * B2);
     sum += S;
     b[p] = -S / B2;

@@ -53,30 +53,43 @@ double Psnr(const std::vector<float>& a, const std::vector<float>& b) {
   return mse > 0 ? 10.0 * std::log10(1.0 / mse) : std::numeric_limits<double>::infinity();
 }
 
+SsimMoments LocalSsimMoments(const std::vector<double>& x, const std::vector<double>& y, int width,
+                             int height) {
+  const std::size_t pixels = x.size();
+  std::vector<double> xx(pixels), yy(pixels), xy(pixels);
+  for (std::size_t p = 0; p < pixels; ++p) {
+    xx[p] = x[p] * x[p];
+    yy[p] = y[p] * y[p];
+    xy[p] = x[p] * y[p];
+  }
+  SsimMoments m;
+  m.mu_x = BlurWithSsimWindow(x, width, height);
+  m.mu_y = BlurWithSsimWindow(y, width, height);
+  m.s_x = BlurWithSsimWindow(xx, width, height);
+  m.s_y = BlurWithSsimWindow(yy, width, height);
+  m.s_xy = BlurWithSsimWindow(xy, width, height);
+  for (std::size_t p = 0; p < pixels; ++p) {
+    m.s_x[p] -= m.mu_x[p] * m.mu_x[p];
+    m.s_y[p] -= m.mu_y[p] * m.mu_y[p];
+    m.s_xy[p] -= m.mu_x[p] * m.mu_y[p];
+  }
+  return m;
+}
+
 double Ssim(const std::vector<float>& a, const std::vector<float>& b, int width, int height) {
   const std::size_t pixels = static_cast<std::size_t>(width) * height;
   assert(width > 0 && height > 0 && a.size() == 3 * pixels && b.size() == 3 * pixels);
   double total = 0;
-  std::vector<double> x(pixels), y(pixels), xx(pixels), yy(pixels), xy(pixels);
+  std::vector<double> x(pixels), y(pixels);
   for (int c = 0; c < 3; ++c) {
     for (std::size_t p = 0; p < pixels; ++p) {
       x[p] = a[3 * p + c];
       y[p] = b[3 * p + c];
-      xx[p] = x[p] * x[p];
-      yy[p] = y[p] * y[p];
-      xy[p] = x[p] * y[p];
     }
-    const std::vector<double> mu_x = BlurWithSsimWindow(x, width, height);
-    const std::vector<double> mu_y = BlurWithSsimWindow(y, width, height);
-    const std::vector<double> m_xx = BlurWithSsimWindow(xx, width, height);
-    const std::vector<double> m_yy = BlurWithSsimWindow(yy, width, height);
-    const std::vector<double> m_xy = BlurWithSsimWindow(xy, width, height);
-    for (std::size_t p = 0; p < pixels; ++p) {
-      const double s_x = m_xx[p] - mu_x[p] * mu_x[p], s_y = m_yy[p] - mu_y[p] * mu_y[p];
-      const double s_xy = m_xy[p] - mu_x[p] * mu_y[p];
-      total += ((2 * mu_x[p] * mu_y[p] + kSsimC1) * (2 * s_xy + kSsimC2)) /
-               ((mu_x[p] * mu_x[p] + mu_y[p] * mu_y[p] + kSsimC1) * (s_x + s_y + kSsimC2));
-    }
+    const SsimMoments m = LocalSsimMoments(x, y, width, height);
+    for (std::size_t p = 0; p < pixels; ++p)
+      total += ((2 * m.mu_x[p] * m.mu_y[p] + kSsimC1) * (2 * m.s_xy[p] + kSsimC2)) /
+               ((m.mu_x[p] * m.mu_x[p] + m.mu_y[p] * m.mu_y[p] + kSsimC1) * (m.s_x[p] + m.s_y[p] + kSsimC2));
   }
   return total / (3.0 * static_cast<double>(pixels));
 }

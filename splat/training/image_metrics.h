@@ -29,6 +29,14 @@ const std::array<double, 2 * kSsimRadius + 1>& SsimWindow();
 // the correlation and the convolution.
 std::vector<double> BlurWithSsimWindow(const std::vector<double>& image, int width, int height);
 
+// The local statistics SSIM compares, per pixel p of one channel of x and y: the window means mu, variances
+// s_x = (G * x^2) - mu_x^2, s_y likewise, and covariance s_xy = (G * xy) - mu_x mu_y.
+struct SsimMoments {
+  std::vector<double> mu_x, mu_y, s_x, s_y, s_xy;
+};
+SsimMoments LocalSsimMoments(const std::vector<double>& x, const std::vector<double>& y, int width,
+                             int height);
+
 // 10 log10(1 / MSE) in dB with MSE the mean squared difference over all entries (rgb in [0, 1]); +inf for
 // identical images. The sizes must match (asserted).
 double Psnr(const std::vector<float>& a, const std::vector<float>& b);

@@ -12,11 +12,14 @@
 #include <fstream>
 #include <iterator>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <regex>
 #include <set>
 #include <sstream>
 #include <vector>
 
+#include "export/exr_view.h"
+#include "export/splat_ply.h"
 #include "odometry/eval/evaluation.h"
 #include "odometry/io/trajectory_file.h"
 #include "tests/support/cli_runner.h"
@@ -274,6 +277,79 @@ TEST_F(CliPipeline, FromMapRemakesTheMapFromTheEarlierTrajectory) {
   const auto nothing = Ultrafusion("run " + Sequence() + " --from map --out " + dir.File("empty"));
   EXPECT_EQ(nothing.code, 2) << nothing.output;
   EXPECT_NE(nothing.output.find("trajectory.tum"), std::string::npos) << nothing.output;
+}
+
+// The same tiny sequence with its camera: the splat and views stages run with a budget of a few tens of
+// iterations at 80 x 60, and their outputs parse.
+class CliPipelineSplats : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = std::make_unique<TempDir>();
+    const auto sim = test::Ultrafusion("sim --scene urban --duration 4 --lidar spinning16 --config " +
+                                       std::string(UF_SOURCE_DIR) +
+                                       "/tests/integration/sim_small.yaml --out " + dir_->File("seq"));
+    ASSERT_EQ(sim.code, 0) << sim.output;
+  }
+  static void TearDownTestSuite() { dir_.reset(); }
+  static inline std::unique_ptr<TempDir> dir_;
+};
+
+TEST_F(CliPipelineSplats, SplatAndViewsStagesWriteSplatsMetricsAndExrViewsIntoTheReport) {
+  TempDir dir;
+  const std::string config =
+      dir.Write("tiny.yaml", "splat:\n  iterations: 30\n  resolution: [80, 60]\n  comparisons: 2\n");
+  const fs::path run = dir.path() / "run";
+  const auto result =
+      Ultrafusion("run " + dir_->File("seq") + " --config " + config + " --no-mesh --out " + run.string());
+  ASSERT_EQ(result.code, 0) << result.output;
+  for (const char* stage : {"map", "exports", "splat", "views", "accuracy"})
+    EXPECT_TRUE(std::regex_search(result.output, std::regex(std::string("\\n  ") + stage + " +ok ")))
+        << stage << "\n"
+        << result.output;
+
+  std::ifstream metrics_file(run / "metrics.json");
+  const nlohmann::json metrics = nlohmann::json::parse(metrics_file);
+  for (const char* key : {"psnr_test", "ssim_test", "iterations", "iterations_per_s", "gaussians", "device",
+                          "views_train", "views_test", "psnr_train", "seconds", "resolution"})
+    EXPECT_TRUE(metrics.contains(key)) << key;
+  EXPECT_EQ(metrics["iterations"], 30);
+  EXPECT_GT(metrics["psnr_test"].get<double>(), 8);
+  EXPECT_LT(metrics["psnr_test"].get<double>(), 60);
+  EXPECT_GT(metrics["ssim_test"].get<double>(), 0);
+  EXPECT_GT(metrics["iterations_per_s"].get<double>(), 0);
+  Expected<splat::GaussianModel> splats = exporting::ReadSplatPly((run / "splats.ply").string());
+  ASSERT_TRUE(splats.ok()) << splats.error();
+  EXPECT_EQ(splats->size(), metrics["gaussians"].get<std::size_t>());
+  EXPECT_TRUE(fs::exists(run / "splats.glb"));
+
+  // One EXR per held-out view at the camera's own size (sim_small.yaml: 160 x 120), with its PNG.
+  int views = 0;
+  for (const nlohmann::json& view : metrics["test_views"]) {
+    const std::string stamp = std::to_string(view["stamp_ns"].get<std::int64_t>());
+    Expected<exporting::ExrImage> exr = exporting::ReadExr((run / "views" / (stamp + ".exr")).string());
+    ASSERT_TRUE(exr.ok()) << exr.error();
+    EXPECT_EQ(exr->width, 160);
+    EXPECT_EQ(exr->height, 120);
+    for (const char* channel : {"R", "G", "B", "A", "Z"})
+      EXPECT_TRUE(exr->channels.count(channel)) << channel;
+    EXPECT_TRUE(fs::exists(run / "views" / (stamp + ".png")));
+    ++views;
+  }
+  EXPECT_EQ(views, metrics["views_test"].get<int>());
+  EXPECT_GE(views, 1);
+  EXPECT_TRUE(fs::exists(run / "views/poses.tum"));
+  EXPECT_TRUE(fs::exists(run / "views/camera.yaml"));
+
+  const std::string report = ReadText((run / "report.md").string());
+  for (const char* text : {"## Splats", "held-out PSNR [dB] (psnr_test)", "iterations per second",
+                           "![splat training loss](plots/splat_loss.png)", "held-out views rendered"})
+    EXPECT_NE(report.find(text), std::string::npos) << text << "\n" << report;
+  const std::string html = ReadText((run / "report.html").string());
+  // The loss plot and a held-out comparison are inlined in the HTML report.
+  const std::string stamp = std::to_string(metrics["test_views"][0]["stamp_ns"].get<std::int64_t>());
+  for (const fs::path& png : {run / "plots/splat_loss.png", run / "comparisons" / (stamp + "_compare.png")})
+    EXPECT_NE(html.find(app::Base64(ReadBytes(png))), std::string::npos) << png << " is not inlined";
+  EXPECT_NE(ReadText((run / "config.yaml").string()).find("splat:\n  iterations: 30\n"), std::string::npos);
 }
 
 }  // namespace

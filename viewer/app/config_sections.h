@@ -9,7 +9,8 @@
 
 namespace uf::app {
 
-inline constexpr std::array<std::string_view, 5> kConfigSections = {"dataset", "sim", "calibration", "lo", "lio"};
+inline constexpr std::array<std::string_view, 6> kConfigSections = {"dataset", "sim", "calibration",
+                                                                    "lo",      "lio", "splat"};
 
 inline bool IsKnownConfigSection(std::string_view name) {
   for (std::string_view known : kConfigSections) {
@@ -18,7 +19,7 @@ inline bool IsKnownConfigSection(std::string_view name) {
   return false;
 }
 
-// "dataset, sim, calibration, lo, lio": for error messages.
+// "dataset, sim, calibration, lo, lio, splat": for error messages.
 inline std::string KnownConfigSectionsList() {
   std::string list;
   for (std::string_view known : kConfigSections) {

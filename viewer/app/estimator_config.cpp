@@ -1,7 +1,5 @@
 #include "viewer/app/estimator_config.h"
 
-#include <yaml-cpp/yaml.h>
-
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -9,105 +7,45 @@
 #include <map>
 #include <optional>
 
+#include "viewer/app/yaml_fields.h"
+
 namespace uf::app {
 namespace {
 
 using estimator::LidarOdometryConfig;
 using estimator::VoxelMapConfig;
 
-// "FILE: lo.map.voxel_m (line 7): what"
-Status KeyError(const std::string& file, const std::string& path, const YAML::Node& node,
-                const std::string& what) {
-  std::string where = file + ": " + path;
-  if (node.Mark().line >= 0) where += " (line " + std::to_string(node.Mark().line + 1) + ")";
-  return Status::Error(where + ": " + what);
-}
-
-std::string Scalar(const YAML::Node& node) {
-  return node.IsScalar() ? node.Scalar() : std::string("<not a scalar>");
-}
-
-// A setter per key: parses the node into its field or returns the error text.
-using Setter = std::function<std::optional<std::string>(const YAML::Node&)>;
-
-Setter Number(double& field) {
-  return [&field](const YAML::Node& node) -> std::optional<std::string> {
-    double value = 0;
-    if (!node.IsScalar() || !YAML::convert<double>::decode(node, value) || !std::isfinite(value))
-      return "expected a number, got '" + Scalar(node) + "'";
-    field = value;
-    return std::nullopt;
-  };
-}
-
-Setter Integer(int& field) {
-  return [&field](const YAML::Node& node) -> std::optional<std::string> {
-    int value = 0;
-    if (!node.IsScalar() || !YAML::convert<int>::decode(node, value))
-      return "expected a whole number, got '" + Scalar(node) + "'";
-    field = value;
-    return std::nullopt;
-  };
-}
-
-Setter Boolean(bool& field) {
-  return [&field](const YAML::Node& node) -> std::optional<std::string> {
-    bool value = false;
-    if (!node.IsScalar() || !YAML::convert<bool>::decode(node, value))
-      return "expected true or false, got '" + Scalar(node) + "'";
-    field = value;
-    return std::nullopt;
-  };
-}
-
-// Nested sections by key: parse the sub-map at the given path.
-using Nested = std::map<std::string, std::function<Status(const std::string&, const YAML::Node&)>>;
-
-Status ParseMap(const std::string& file, const std::string& path, const YAML::Node& node,
-                const std::map<std::string, Setter>& setters, const Nested& nested = {}) {
-  if (!node.IsMap()) return KeyError(file, path, node, "expected a map of settings");
-  std::string expected;
-  for (const auto& [key, setter] : setters) expected += (expected.empty() ? "" : ", ") + key;
-  for (const auto& [key, parse] : nested) expected += ", " + key;
-  for (const auto& kv : node) {
-    const std::string key = kv.first.as<std::string>();
-    if (const auto sub = nested.find(key); sub != nested.end()) {
-      if (Status s = sub->second(path + "." + key, kv.second); !s.ok()) return s;
-      continue;
-    }
-    const auto setter = setters.find(key);
-    if (setter == setters.end())
-      return KeyError(file, path + "." + key, kv.first, "unknown key (expected " + expected + ")");
-    if (auto error = setter->second(kv.second)) return KeyError(file, path + "." + key, kv.second, *error);
-  }
-  return {};
-}
+using yaml::Boolean;
+using yaml::FormatNumber;
+using yaml::Nested;
+using yaml::Number;
+using yaml::ParseMap;
+using yaml::Setter;
+using yaml::Whole;
 
 Status ParseLoSection(const std::string& file, const YAML::Node& node, LidarOdometryConfig& c) {
   VoxelMapConfig& m = c.map;
-  const std::map<std::string, Setter> map_setters = {
-      {"voxel_m", Number(m.voxel_m)},
-      {"max_points_per_voxel", Integer(m.max_points_per_voxel)},
-      {"max_range_m", Number(m.max_range_m)},
-      {"plane_eigen_ratio", Number(m.plane_eigen_ratio)},
-      {"min_plane_points", Integer(m.min_plane_points)},
-      {"min_plane_sigma_m", Number(m.min_plane_sigma_m)}};
-  const std::map<std::string, Setter> setters = {
-      {"input_voxel_m", Number(c.input_voxel_m)},
-      {"window_size", Integer(c.window_size)},
-      {"max_iterations", Integer(c.max_iterations)},
-      {"max_solver_time_s", Number(c.max_solver_time_s)},
-      {"max_residuals_per_scan", Integer(c.max_residuals_per_scan)},
-      {"huber_m", Number(c.huber_m)},
-      {"min_range_m", Number(c.min_range_m)},
-      {"max_range_m", Number(c.max_range_m)},
-      {"map_insert_voxel_m", Number(c.map_insert_voxel_m)},
-      {"association_rounds", Integer(c.association_rounds)},
-      {"max_correction_m", Number(c.max_correction_m)},
-      {"max_correction_rad", Number(c.max_correction_rad)},
-      {"min_points", Integer(c.min_points)},
-      {"max_plane_distance_m", Number(c.max_plane_distance_m)},
-      {"marginalize", Boolean(c.marginalize)}};
+  const std::map<std::string, Setter> map_setters = {{"voxel_m", Number(m.voxel_m)},
+                                                     {"max_points_per_voxel", Whole(m.max_points_per_voxel)},
+                                                     {"max_range_m", Number(m.max_range_m)},
+                                                     {"plane_eigen_ratio", Number(m.plane_eigen_ratio)},
+                                                     {"min_plane_points", Whole(m.min_plane_points)},
+                                                     {"min_plane_sigma_m", Number(m.min_plane_sigma_m)}};
+  const std::map<std::string, Setter> setters = {{"input_voxel_m", Number(c.input_voxel_m)},
+                                                 {"window_size", Whole(c.window_size)},
+                                                 {"max_iterations", Whole(c.max_iterations)},
+                                                 {"max_solver_time_s", Number(c.max_solver_time_s)},
+                                                 {"max_residuals_per_scan", Whole(c.max_residuals_per_scan)},
+                                                 {"huber_m", Number(c.huber_m)},
+                                                 {"min_range_m", Number(c.min_range_m)},
+                                                 {"max_range_m", Number(c.max_range_m)},
+                                                 {"map_insert_voxel_m", Number(c.map_insert_voxel_m)},
+                                                 {"association_rounds", Whole(c.association_rounds)},
+                                                 {"max_correction_m", Number(c.max_correction_m)},
+                                                 {"max_correction_rad", Number(c.max_correction_rad)},
+                                                 {"min_points", Whole(c.min_points)},
+                                                 {"max_plane_distance_m", Number(c.max_plane_distance_m)},
+                                                 {"marginalize", Boolean(c.marginalize)}};
   const std::map<std::string, Setter> motion_setters = {
       {"acc_density", Number(c.motion.acc_density)},
       {"angular_acc_density", Number(c.motion.angular_acc_density)}};
@@ -132,7 +70,7 @@ Status ParseLioSection(const std::string& file, const YAML::Node& node, LidarOdo
       {"max_accel_bias_change", Number(imu.max_accel_bias_change)},
       {"max_gyro_bias_change", Number(imu.max_gyro_bias_change)}};
   const std::map<std::string, Setter> init_setters = {
-      {"window_scans", Integer(init.window_scans)},
+      {"window_scans", Whole(init.window_scans)},
       {"static_max_gyro_std", Number(init.static_max_gyro_std)},
       {"static_max_acc_std", Number(init.static_max_acc_std)},
       {"static_max_motion_m", Number(init.static_max_motion_m)},
@@ -147,16 +85,6 @@ Status ParseLioSection(const std::string& file, const YAML::Node& node, LidarOdo
          return ParseMap(file, path, map, init_setters);
        }}};
   return ParseMap(file, "lio", node, setters, nested);
-}
-
-// Shortest text that reads back to the same double.
-std::string FormatNumber(double value) {
-  char text[32];
-  for (int digits = 6; digits <= 17; ++digits) {
-    std::snprintf(text, sizeof(text), "%.*g", digits, value);
-    if (std::strtod(text, nullptr) == value) break;
-  }
-  return text;
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include "viewer/app/render_command.h"
 #include "viewer/app/run_command.h"
 #include "viewer/app/sim_command.h"
+#include "viewer/app/splat_command.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"ultrafusion: multi-sensor odometry, mapping and Gaussian splatting"};
@@ -24,6 +25,7 @@ int main(int argc, char** argv) {
   auto render = uf::app::AddRenderCommand(app);
   auto run = uf::app::AddRunCommand(app);
   auto sim = uf::app::AddSimCommand(app);
+  auto splat = uf::app::AddSplatCommand(app);
 
   try {
     app.parse(argc, argv);
@@ -38,5 +40,6 @@ int main(int argc, char** argv) {
   if (app.got_subcommand(render.command)) return render.run();
   if (app.got_subcommand(run.command)) return run.run();
   if (app.got_subcommand(sim.command)) return sim.run();
+  if (app.got_subcommand(splat.command)) return splat.run();
   return uf::app::kExitUsage;
 }

@@ -14,7 +14,10 @@
 #include "viewer/app/run_folder.h"
 #include "viewer/app/run_map_stage.h"
 #include "viewer/app/run_outputs.h"
+#include "viewer/app/run_splat_stage.h"
 #include "viewer/app/run_stages.h"
+#include "viewer/app/splat_config.h"
+#include "viewer/app/splat_run_inputs.h"
 #include "viewer/app/stage_map_from_trajectory.h"
 
 namespace uf::app {
@@ -24,7 +27,7 @@ namespace fs = std::filesystem;
 
 struct RunArguments {
   std::string dataset, out, config, mode = "auto", output_frame;  // output_frame "": the mode's body
-  std::string from;  // "map": re-run from the map stage on the trajectory.tum in --out
+  std::string from;  // "map" / "splat": re-run from that stage on the outputs of an earlier run in --out
   bool no_map = false, no_splat = false, no_mesh = false;
   double map_voxel_m = 0.05;
 };
@@ -61,7 +64,8 @@ std::string RepeatCommand(const RunArguments& a, const RunState& state) {
   std::to_chars(voxel, voxel + sizeof(voxel) - 1, a.map_voxel_m);  // shortest text that reads back exactly
   return "ultrafusion run " + fs::absolute(a.dataset).string() + " --config config.yaml --mode " +
          (state.lio ? "lio" : "lo") + " --output-frame " + state.output_frame + " --map-voxel " + voxel +
-         (a.no_map ? " --no-map" : "") + (a.no_mesh ? " --no-mesh" : "") + " --out NEW_FOLDER";
+         (a.no_map ? " --no-map" : "") + (a.no_mesh ? " --no-mesh" : "") + (a.no_splat ? " --no-splat" : "") +
+         " --out NEW_FOLDER";
 }
 
 // Everything resolved before a file is written: a failure here leaves no output folder behind. Returns
@@ -73,8 +77,11 @@ std::optional<int> Prepare(const RunArguments& a, RunState& state) {
     if (!dataset) return ReportUsageError(dataset.status());
     Expected<estimator::LidarOdometryConfig> lo = LoadLidarOdometryConfig(a.config);
     if (!lo) return ReportUsageError(lo.status());
+    Expected<SplatConfig> splat = LoadSplatConfig(a.config);
+    if (!splat) return ReportUsageError(splat.status());
     state.dataset_config = *dataset;
     lo_config = *lo;
+    state.splat_config = *splat;
   }
   std::error_code error;
   if (!a.from.empty()) {
@@ -82,7 +89,12 @@ std::optional<int> Prepare(const RunArguments& a, RunState& state) {
       return ReportUsageError(
           Status::Error("--from " + a.from + ": needs --out, an earlier run's folder with " +
                         "trajectory.tum" + (a.out.empty() ? "" : " (" + a.out + " has none)")));
-    if (a.no_map) return ReportUsageError(Status::Error("--from map and --no-map: nothing would run"));
+    if (a.no_map)
+      return ReportUsageError(Status::Error("--from " + a.from + " and --no-map: nothing would run"));
+    if (a.from == "splat" && a.no_splat)
+      return ReportUsageError(Status::Error("--from splat and --no-splat: nothing would run"));
+    if (a.from == "splat" && !fs::exists(fs::path(a.out) / mapping::kMapFileName, error))
+      return ReportUsageError(Status::Error("--from splat: " + a.out + " has no map.vdb to seed the splats"));
   } else if (!a.out.empty() && fs::exists(a.out, error) &&
              !(fs::is_directory(a.out, error) && fs::is_empty(a.out, error))) {
     return ReportUsageError(
@@ -116,7 +128,7 @@ std::optional<int> Prepare(const RunArguments& a, RunState& state) {
   state.output_frame = a.output_frame.empty() ? (*lio ? "imu" : "lidar") : a.output_frame;
   report.output_frame = state.output_frame;
   for (const std::string& note : report.notes) std::cerr << "ultrafusion: warning: " << note << "\n";
-  if (a.no_splat) report.notes.push_back("--no-splat: accepted; no splatting stage exists yet");
+  if (a.no_splat) report.notes.push_back("--no-splat: no splats trained");
   if (a.no_map) report.notes.push_back("--no-map: no map written");
   if (state.output_frame == "imu" && !sensors.T_imu_lidar)
     return ReportUsageError(Status::Error("--output-frame imu: " + a.dataset +
@@ -132,7 +144,11 @@ std::optional<int> Prepare(const RunArguments& a, RunState& state) {
   state.mesh = !a.no_mesh;
   state.min_range_m = lo_config.min_range_m;
   state.max_range_m = lo_config.max_range_m;
-  if (!a.from.empty()) {
+  if (a.from == "splat")
+    report.notes.push_back(
+        "--from splat: the splats are trained on map.vdb and trajectory.tum of the earlier "
+        "run in this folder");
+  if (a.from == "map") {
     report.notes.push_back(
         "--from map: the trajectory is trajectory.tum of the earlier run in this folder, the "
         "map made from the dataset's scans deskewed with it; the odometry's figures are in "
@@ -140,14 +156,15 @@ std::optional<int> Prepare(const RunArguments& a, RunState& state) {
     if (fs::exists(fs::path(a.out) / "plots/timing_per_scan.png", error))
       report.timing_plot = "plots/timing_per_scan.png";
   }
-  if (!a.no_map) {
+  if (!a.no_map && a.from != "splat") {
     KeyframeMapperOptions options;
     options.map.voxel_size_m = a.map_voxel_m;
     Expected<KeyframeMapper> created = KeyframeMapper::Create(options, description, state.T_estimator_body);
     if (!created) return ReportUsageError(created.status());
     state.mapper.emplace(std::move(*created));
   }
-  report.config_yaml = EmitDatasetConfig(state.dataset_config) + EmitLidarOdometryConfig(lo_config);
+  report.config_yaml = EmitDatasetConfig(state.dataset_config) + EmitLidarOdometryConfig(lo_config) +
+                       (a.no_splat ? "" : EmitSplatConfig(state.splat_config));
   report.repeat_command = RepeatCommand(a, state);
   return std::nullopt;
 }
@@ -166,24 +183,47 @@ Expected<fs::path> CreateOutputFolder(const RunArguments& a) {
   return fs::path(a.out);
 }
 
-// The stages in order. The splat stage (issue 8) and the views rendered from its splats (SplatRenderer) go
-// between exports and accuracy once the splats exist: one entry each.
+// The stages in order; with --from map or --from splat the stages before it reuse the earlier run's files.
 std::vector<Stage> RunStageList(const RunArguments& a, RunState& state) {
   auto bind = [&state](Status (*run)(RunState&, StageContext&)) {
     return [&state, run](StageContext& context) { return run(state, context); };
   };
-  const bool truth = state.stream->description().ground_truth.has_value();
-  const bool from_map = a.from == "map";
-  const std::string reuse = from_map ? "--from map: trajectory.tum of the earlier run" : "";
+  const DatasetDescription& description = state.stream->description();
+  const bool truth = description.ground_truth.has_value();
+  const bool from_map = a.from == "map", from_splat = a.from == "splat";
+  const std::string reuse = from_map     ? "--from map: trajectory.tum of the earlier run"
+                            : from_splat ? "--from splat: the earlier run's outputs"
+                                         : "";
+  const std::string no_splat = a.no_splat ? "--no-splat"
+                               : a.no_map ? "--no-map: no map to seed the splats from"
+                                          : SplatSkipReason(description, state.output_frame);
   return {
       {"dataset", "the dataset", reuse, bind(RunDatasetStage)},
       {"odometry", state.lio ? "LiDAR and IMU streams" : "LiDAR stream", reuse, bind(RunOdometryStage)},
       from_map ? Stage{"map", "trajectory.tum, the dataset's scans", "", bind(RunMapFromTrajectoryStage)}
-               : Stage{"map", "keyframes (odometry)", a.no_map ? "--no-map" : "", bind(RunMapStage)},
-      {"exports", "map (map stage)", a.no_map ? "--no-map: no map to export" : "", bind(RunExportsStage)},
+               : Stage{"map", "keyframes (odometry)", a.no_map ? "--no-map" : reuse, bind(RunMapStage)},
+      {"exports", "map (map stage)",
+       a.no_map     ? "--no-map: no map to export"
+       : from_splat ? reuse
+                    : "",
+       bind(RunExportsStage)},
+      {"splat", "map.vdb, trajectory.tum, camera images", no_splat, bind(RunSplatStage)},
+      {"views", "splats (splat stage)", no_splat.empty() ? "" : "no splats", bind(RunViewsStage)},
       {"accuracy", "trajectory.tum, ground truth", truth ? "" : "no ground truth beside the dataset",
        bind(RunAccuracyStage)},
   };
+}
+
+// run.json: what `ultrafusion splat RUN_DIR` needs to read the dataset again and place its images. --from
+// splat keeps the earlier run's (its trajectory and map are the ones trained on).
+Status WriteRunInfo(const RunArguments& a, const RunState& state) {
+  if (a.from == "splat" && ReadRunJson(state.out).ok()) return {};
+  RunInfo info;
+  info.dataset = fs::absolute(a.dataset).string();
+  info.output_frame = state.output_frame;
+  info.mode = state.lio ? "lio" : "lo";
+  info.map_from = a.from == "map" ? "trajectory" : "odometry";
+  return WriteRunJson(state.out, info);
 }
 
 // report.md and report.html; written whether or not a stage failed.
@@ -204,6 +244,14 @@ void PrintSummary(const fs::path& out, const RunState& state, const PipelineResu
   if (report.accuracy.evaluated)
     std::printf("  ATE (SE3-aligned RMSE): %.4f m\n", report.accuracy.ape_rmse_m);
   if (report.map) std::printf("  map: %s\n", report.map->summary.c_str());
+  if (state.splat) {
+    const SplatMetrics& m = state.splat->metrics;
+    std::printf(
+        "  splats: %zu Gaussians, held-out PSNR %.2f dB, SSIM %.3f (%zu views), %d iterations at %.2f/s on "
+        "%s\n",
+        m.gaussians, m.test.psnr, m.test.ssim, m.views_test, m.iterations, m.iterations_per_s(),
+        m.device.c_str());
+  }
   std::printf("  wrote %s (report.md, report.html, config.yaml and the outputs above)\n", out.c_str());
 }
 
@@ -216,6 +264,7 @@ int RunRun(const RunArguments& a) {
   const std::string config = "# The resolved configuration of this run. Repeat it exactly with\n#   " +
                              state.report.repeat_command + "\n" + state.report.config_yaml;
   if (Status s = WriteTextFileAtomically(state.out / "config.yaml", config); !s.ok()) return ReportError(s);
+  if (Status s = WriteRunInfo(a, state); !s.ok()) return ReportError(s);
 
   ProgressLine progress("run");
   const PipelineResult result = RunStages(RunStageList(a, state), progress, "run");
@@ -239,9 +288,10 @@ Subcommand AddRunCommand(CLI::App& app) {
       ->required();
   run->add_option("--out", a->out,
                   "Output folder (new or empty); default: a new runs/<UTC time>/ with runs/latest");
-  run->add_option(
-         "--config", a->config,
-         "YAML file with dataset:, lo: and lio: sections (see configs/kitti.yaml, configs/run-sim.yaml)")
+  run->add_option("--config", a->config,
+                  "YAML file with dataset:, lo:, lio: and splat: sections (see configs/kitti.yaml, "
+                  "configs/run-sim.yaml, "
+                  "configs/splat.yaml)")
       ->check(CLI::ExistingFile);
   run->add_option(
          "--mode", a->mode,
@@ -254,14 +304,15 @@ Subcommand AddRunCommand(CLI::App& app) {
       ->check(CLI::IsMember({"lidar", "imu"}));
   run->add_option("--from", a->from,
                   "Re-run from this stage on an earlier run's outputs in --out: map (reuses trajectory.tum, "
-                  "re-reads the scans; give the options of that run, e.g. the command in its config.yaml)")
-      ->check(CLI::IsMember({"map"}));
+                  "re-reads the scans; give the options of that run, e.g. the command in its config.yaml) or "
+                  "splat (reuses map.vdb and trajectory.tum, re-reads the images)")
+      ->check(CLI::IsMember({"map", "splat"}));
   run->add_flag("--no-map", a->no_map, "No map: no map.vdb, map.voxels, map.ply, map.las, map.glb");
   run->add_option("--map-voxel", a->map_voxel_m, "Voxel size of the colour map, m")
       ->check(CLI::Range(0.001, 100.0))
       ->capture_default_str();
   run->add_flag("--no-mesh", a->no_mesh, "No surface mesh in map.glb (points only; faster on big maps)");
-  run->add_flag("--no-splat", a->no_splat, "No splatting (accepted; a no-op until the splat stage exists)");
+  run->add_flag("--no-splat", a->no_splat, "No splats: no splats.ply, splats.glb, metrics.json, views/");
   return {run, [a] { return RunRun(*a); }};
 }
 

@@ -14,11 +14,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string Format(const char* format, double value) {
-  char text[64];
-  std::snprintf(text, sizeof(text), format, value);
-  return text;
-}
 
 void AppendWarnings(std::string& md, const std::vector<ReadWarning>& warnings, const char* source) {
   for (const ReadWarning& w : warnings)
@@ -71,6 +66,12 @@ std::vector<ReadWarning> GroupWarnings(const std::vector<std::string>& warnings)
   return log.entries();
 }
 
+std::string FormatValue(const char* printf_format, double value) {
+  char text[64];
+  std::snprintf(text, sizeof(text), printf_format, value);
+  return text;
+}
+
 std::string FormatRunReport(const RunReport& r) {
   std::string md = "# ultrafusion run\n\n";
   const auto failed = std::find_if(r.stages.begin(), r.stages.end(),
@@ -89,16 +90,25 @@ std::string FormatRunReport(const RunReport& r) {
   md += "| LiDAR scans fed | " + std::to_string(r.scans) + " |\n";
   md += "| keyframes (trajectory poses) | " + std::to_string(r.keyframes) + " |\n";
   md += "| scans skipped by the odometry | " + std::to_string(r.skipped) + " |\n";
-  md += "| wall time [s] | " + Format("%.2f", r.wall_seconds) + " |\n";
+  md += "| wall time [s] | " + FormatValue("%.2f", r.wall_seconds) + " |\n";
   md += "\n## Timing per scan (AddScan + TakeFinished, wall time)\n\n";
   md += "| mean [ms] | median [ms] | p95 [ms] | max [ms] |\n|---|---|---|---|\n";
-  md += "| " + Format("%.2f", r.timing.mean) + " | " + Format("%.2f", r.timing.median) + " | " +
-        Format("%.2f", r.timing.p95) + " | " + Format("%.2f", r.timing.max) + " |\n";
+  md += "| " + FormatValue("%.2f", r.timing.mean) + " | " + FormatValue("%.2f", r.timing.median) + " | " +
+        FormatValue("%.2f", r.timing.p95) + " | " + FormatValue("%.2f", r.timing.max) + " |\n";
   if (!r.timing_plot.empty()) md += "\n![time per scan](" + r.timing_plot + ")\n";
   if (r.map) md += "\n## Map\n\n" + r.map->summary + "\n\nFiles: " + r.map->files + "\n";
+  if (r.splat) {
+    md += "\n## Splats\n\n| metric | value |\n|---|---|\n";
+    for (const auto& [name, value] : r.splat->metrics) md += "| " + name + " | " + value + " |\n";
+    if (!r.splat->views.empty()) md += "\n" + r.splat->views + "\n";
+    if (!r.splat->comparison.empty())
+      md += "\nA held-out image (left) and the splats rendered at its pose (right):\n\n![held-out view](" +
+            r.splat->comparison + ")\n";
+    if (!r.splat->loss_plot.empty()) md += "\n![splat training loss](" + r.splat->loss_plot + ")\n";
+  }
   md += "\n## Accuracy\n\n";
   if (r.accuracy.evaluated) {
-    md += "ATE (APE translation RMSE, SE3-aligned): " + Format("%.4f", r.accuracy.ape_rmse_m) + " m\n\n";
+    md += "ATE (APE translation RMSE, SE3-aligned): " + FormatValue("%.4f", r.accuracy.ape_rmse_m) + " m\n\n";
     md += "As `ultrafusion eval GROUND_TRUTH trajectory.tum --align se3` reports it:\n\n```\n" +
           r.accuracy.table + "```\n\n";
     for (const std::string& plot : r.accuracy.plots) md += "![" + plot + "](" + plot + ")\n";

@@ -1,14 +1,16 @@
 // report.md of `ultrafusion run`: whether the run succeeded (and which stage failed, why), the stages'
 // table, what was run on what (dataset summary as `ultrafusion info` prints it, mode, resolved config),
-// counts, the per-scan timing table and plot, the map's size, warnings grouped by kind and, when the
-// dataset has ground truth, the trajectory accuracy computed exactly as `ultrafusion eval GROUND_TRUTH
-// trajectory.tum --align se3` does, with its plots. report.html (report_html.h) is made from it.
+// counts, the per-scan timing table and plot, the map's size, the splat metrics (with a held-out comparison
+// image and the loss plot), warnings grouped by kind and, when the dataset has ground truth, the trajectory
+// accuracy computed exactly as `ultrafusion eval GROUND_TRUTH trajectory.tum --align se3` does, with its
+// plots. report.html (report_html.h) is made from it.
 #pragma once
 
 #include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "odometry/io/dataset_reader.h"
@@ -38,6 +40,14 @@ struct MapSummary {
   std::vector<std::string> warnings;
 };
 
+// The splat stages: metrics as (name, value) rows, a comparison image and the loss plot (paths relative to
+// the output folder, "" when none), the views rendered.
+struct SplatSummary {
+  std::vector<std::pair<std::string, std::string>> metrics;
+  std::string comparison, loss_plot;
+  std::string views;  // "12 views in views/ (EXR + PNG)", once the views stage ran
+};
+
 struct RunReport {
   std::string dataset, format, mode, output_frame;
   std::vector<std::string> notes;  // mode fallbacks, no-op options
@@ -48,10 +58,11 @@ struct RunReport {
   std::vector<ReadWarning> reader_warnings;
   std::vector<std::string> odometry_warnings;
   GroundTruthCheck accuracy;
-  std::optional<MapSummary> map;  // none with --no-map
-  std::string dataset_summary;    // the dataset stage's table, as `ultrafusion info` prints it
-  std::string timing_plot;        // "plots/timing_per_scan.png" once written
-  std::string repeat_command;     // the command line that repeats the run with config.yaml
+  std::optional<MapSummary> map;      // none with --no-map
+  std::optional<SplatSummary> splat;  // once the splat stage ran
+  std::string dataset_summary;        // the dataset stage's table, as `ultrafusion info` prints it
+  std::string timing_plot;            // "plots/timing_per_scan.png" once written
+  std::string repeat_command;         // the command line that repeats the run with config.yaml
   std::vector<StageRecord> stages;
 };
 
@@ -59,5 +70,8 @@ struct RunReport {
 std::vector<ReadWarning> GroupWarnings(const std::vector<std::string>& warnings);
 
 std::string FormatRunReport(const RunReport& report);
+
+// One number as printf_format gives it (e.g. "%.2f"), for the report's tables.
+std::string FormatValue(const char* printf_format, double value);
 
 }  // namespace uf::app

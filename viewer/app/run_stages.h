@@ -6,6 +6,8 @@
 //             that is not possible, e.g. a straight trajectory, is noted in the report, not a failure)
 //   map       the remaining keyframes, the georeference from GNSS, map.vdb
 //   exports   map.ply, map.las, map.glb, georef.json
+//   splat     splats trained on the keyframe images; views: the splats rendered at the held-out poses
+//             (run_splat_stage.h)
 // With --from map the dataset and odometry stages are skipped and the map stage is
 // RunMapFromTrajectoryStage (stage_map_from_trajectory.h): the earlier run's trajectory.tum and the scans.
 // Each stage is a function of the shared RunState; run_command.cpp lists them (adding a stage is an entry
@@ -25,6 +27,7 @@
 #include "viewer/app/keyframe_mapper.h"
 #include "viewer/app/pipeline_stages.h"
 #include "viewer/app/run_report.h"
+#include "viewer/app/splat_job.h"
 
 namespace uf::app {
 
@@ -51,6 +54,7 @@ struct RunState {
   std::optional<MeasurementStream> stream;
   std::optional<estimator::LidarOdometry> odometry;
   std::optional<KeyframeMapper> mapper;  // none with --no-map
+  SplatConfig splat_config;              // the splat: section of --config
 
   // Filled by the stages.
   std::int64_t lidar_scans = 0;  // in the dataset (dataset stage); 0: unknown
@@ -58,6 +62,7 @@ struct RunState {
   std::vector<GnssFix> fixes;    // for the georeference
   std::int64_t keyframes_mapped = 0;
   std::optional<mapping::MapGeoreference> georef;
+  std::optional<SplatJobResult> splat;  // the splat stage's result, rendered by the views stage
   RunReport report;
 };
 

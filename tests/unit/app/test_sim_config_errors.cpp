@@ -67,7 +67,7 @@ TEST(SimConfig, ErrorsNameTheFileTheKeyTheLineAndTheValue) {
       {"sim:\n  start_time_s: noon\n",
        {"sim.start_time_s (line 2): expected a number of seconds, got 'noon'"}},
       {"dataset: {}\nestimator:\n  window: 10\n",
-       {"sim.yaml (line 2): unknown top-level key 'estimator' (expected dataset, sim, calibration, lo, lio)"}},
+       {"sim.yaml (line 2): unknown top-level key 'estimator' (expected dataset, sim, calibration, lo, lio, splat)"}},
       {"sim:\n  lidar: [1, 2\n", {"sim.yaml (line ", "YAML syntax error"}},
       {"- 1\n- 2\n", {"sim.yaml: expected a map of sections"}},
   };
@@ -92,7 +92,7 @@ TEST(DatasetConfig, SkipsTheOtherKnownSectionsAndRejectsUnknownOnes) {
 
   loaded = LoadDatasetConfig(dir.Write("top.yaml", "dataset: {}\nestimator:\n  window: 10\n"));
   ASSERT_FALSE(loaded.ok());
-  EXPECT_NE(loaded.error().find("unknown top-level key 'estimator' (expected dataset, sim, calibration, lo, lio)"),
+  EXPECT_NE(loaded.error().find("unknown top-level key 'estimator' (expected dataset, sim, calibration, lo, lio, splat)"),
             std::string::npos)
       << loaded.error();
 }

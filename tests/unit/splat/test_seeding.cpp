@@ -91,3 +91,42 @@ TEST(SeedGaussians, ThinsToTheBudgetAndRejectsBadOptions) {
 
 }  // namespace
 }  // namespace uf::splat
+
+namespace uf::splat {
+namespace {
+
+TEST(AddBackgroundSphere, EvenlySpacedDiscsOnTheSphereFacingTheCentre) {
+  GaussianModel model;
+  model.sh_degree = 1;
+  const Eigen::Vector3d centre(10, -5, 2);
+  const double radius = 50;
+  const int count = 2000;
+  AddBackgroundSphere(model, centre, radius, count, 0.1);
+  ASSERT_EQ(model.size(), static_cast<std::size_t>(count));
+  ASSERT_TRUE(model.Validate().ok());
+  const double spacing = radius * std::sqrt(4 * M_PI / count);  // 3.96 m
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < model.size(); ++i) {
+    const Eigen::Vector3d offset = model.positions[i].cast<double>() - centre;
+    EXPECT_NEAR(offset.norm(), radius, 1e-4);
+    mean += offset / count;
+    // Local z (the disc's normal) along the radius.
+    const Eigen::Vector3f normal = model.rotations[i].normalized() * Eigen::Vector3f::UnitZ();
+    EXPECT_GT(std::abs(normal.dot(offset.normalized().cast<float>())), 0.9999f);
+    EXPECT_NEAR(std::exp(model.log_scales[i].x()), spacing / 2, 1e-3);
+    EXPECT_NEAR(1 / (1 + std::exp(-model.opacity_logits[i])), 0.1, 1e-6);
+    EXPECT_NEAR(kShC0 * model.sh[i * model.ShStride()] + 0.5f, 0.5f, 1e-6f);
+  }
+  EXPECT_LT(mean.norm(), 0.01 * radius);  // spread over the whole sphere
+  // Even spacing: every point's nearest neighbour lies within [0.5, 1.5] x the nominal spacing.
+  for (std::size_t i = 0; i < model.size(); i += 97) {
+    double nearest = 1e9;
+    for (std::size_t j = 0; j < model.size(); ++j)
+      if (j != i) nearest = std::min(nearest, double((model.positions[i] - model.positions[j]).norm()));
+    EXPECT_GT(nearest, 0.5 * spacing) << i;
+    EXPECT_LT(nearest, 1.5 * spacing) << i;
+  }
+}
+
+}  // namespace
+}  // namespace uf::splat

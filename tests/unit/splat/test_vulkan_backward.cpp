@@ -60,6 +60,16 @@ float RelativeError(const std::vector<float>& gpu, const std::vector<float>& ref
   return scale > 0 ? error / scale : error;
 }
 
+constexpr float kTolerance = 5e-5f;  // see RelativeError
+
+void ExpectGeometryGradientsMatch(const GaussianGradients& gpu, const GaussianGradients& reference) {
+  EXPECT_LT(RelativeError(gpu.position, reference.position), kTolerance);
+  EXPECT_LT(RelativeError(gpu.log_scale, reference.log_scale), kTolerance);
+  EXPECT_LT(RelativeError(gpu.rotation, reference.rotation), kTolerance);
+  EXPECT_LT(RelativeError(gpu.opacity_logit, reference.opacity_logit), kTolerance);
+  EXPECT_LT(RelativeError(gpu.mean_2d, reference.mean_2d), kTolerance);
+}
+
 class VulkanBackward : public testing::SharedRendererTest {
  protected:
   static Expected<GaussianGradients> Run(SplatRenderer& renderer, const GaussianModel& model,
@@ -93,13 +103,8 @@ TEST_F(VulkanBackward, MatchesTheReferenceBackwardOnRandomScenes) {
     const GaussianGradients reference = RenderReferenceBackward(model, camera, settings, dL_dview);
     ASSERT_EQ(gpu->position.size(), model.size());
     ASSERT_EQ(gpu->sh.size(), reference.sh.size());
-    constexpr float kTolerance = 5e-5f;
-    EXPECT_LT(RelativeError(gpu->position, reference.position), kTolerance);
-    EXPECT_LT(RelativeError(gpu->log_scale, reference.log_scale), kTolerance);
-    EXPECT_LT(RelativeError(gpu->rotation, reference.rotation), kTolerance);
-    EXPECT_LT(RelativeError(gpu->opacity_logit, reference.opacity_logit), kTolerance);
+    ExpectGeometryGradientsMatch(*gpu, reference);
     EXPECT_LT(RelativeError(gpu->sh, reference.sh), kTolerance);
-    EXPECT_LT(RelativeError(gpu->mean_2d, reference.mean_2d), kTolerance);
     // Not vacuous: most visible Gaussians get gradients.
     int nonzero = 0;
     for (const Eigen::Vector3f& g : reference.position) nonzero += g.norm() > 0;
@@ -127,13 +132,8 @@ TEST_F(VulkanBackward, MatchesTheReferenceWhereBlendingStopsEarlyAndAlphaIsClamp
   Expected<GaussianGradients> gpu = Run(*renderer_, model, camera, settings, dL_dview);
   ASSERT_TRUE(gpu.ok()) << gpu.error();
   const GaussianGradients reference = RenderReferenceBackward(model, camera, settings, dL_dview);
-  constexpr float kTolerance = 5e-5f;  // as above
-  EXPECT_LT(RelativeError(gpu->position, reference.position), kTolerance);
-  EXPECT_LT(RelativeError(gpu->log_scale, reference.log_scale), kTolerance);
-  EXPECT_LT(RelativeError(gpu->rotation, reference.rotation), kTolerance);
-  EXPECT_LT(RelativeError(gpu->opacity_logit, reference.opacity_logit), kTolerance);
+  ExpectGeometryGradientsMatch(*gpu, reference);
   EXPECT_LT(RelativeError(gpu->sh, reference.sh), kTolerance);
-  EXPECT_LT(RelativeError(gpu->mean_2d, reference.mean_2d), kTolerance);
 }
 
 TEST_F(VulkanBackward, ChunkedUploadAndRepeatedRunsGiveIdenticalGradients) {
@@ -243,12 +243,7 @@ TEST(VulkanBackwardActiveSh, MatchesTheReferenceOfTheTruncatedModel) {
     EXPECT_LT(rgb_error, 1e-4f);  // as test_vulkan_renderer's image tolerance
 
     const GaussianGradients reference = RenderReferenceBackward(truncated, camera, settings, dL_dview);
-    constexpr float kTolerance = 5e-5f;  // as above
-    EXPECT_LT(RelativeError(gpu.position, reference.position), kTolerance);
-    EXPECT_LT(RelativeError(gpu.log_scale, reference.log_scale), kTolerance);
-    EXPECT_LT(RelativeError(gpu.rotation, reference.rotation), kTolerance);
-    EXPECT_LT(RelativeError(gpu.opacity_logit, reference.opacity_logit), kTolerance);
-    EXPECT_LT(RelativeError(gpu.mean_2d, reference.mean_2d), kTolerance);
+    ExpectGeometryGradientsMatch(gpu, reference);
     // SH: the active coefficients as the truncated model's, the others exactly zero.
     const std::size_t active_floats = truncated.ShStride();
     ASSERT_EQ(gpu.sh.size(), model.size() * stride);

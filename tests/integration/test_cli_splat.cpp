@@ -1,0 +1,238 @@
+// `ultrafusion splat RUN_DIR` as a user runs it, on a tiny simulated run (4 s of the urban scene, a 160 x 120
+// camera): every output parsed back, the images placed where the simulator's ground truth puts them, and
+// bad input (no images, images without a camera model, a trajectory with NaN, missing files, a map without
+// colour, unknown configuration keys): clear messages, the right exit codes, nothing under a final name.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <regex>
+
+#include "export/exr_view.h"
+#include "export/splat_gltf.h"
+#include "export/splat_ply.h"
+#include "tests/support/cli_runner.h"
+#include "tests/support/temp_dir.h"
+
+namespace uf {
+namespace {
+
+namespace fs = std::filesystem;
+using test::Ultrafusion;
+using testing::ReadText;
+using testing::TempDir;
+
+// Tiny and quick: a few tens of iterations at 80 x 60.
+constexpr const char* kTiny = " --iterations 20 --resolution 80 60";
+
+class CliSplat : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = std::make_unique<TempDir>();
+    const std::string sim = "sim --scene urban --duration 4 --lidar spinning16 --config " +
+                            std::string(UF_SOURCE_DIR) + "/tests/integration/sim_small.yaml";
+    for (const auto& [folder, extra] :
+         {std::pair<std::string, std::string>{"seq", ""}, {"seq_nocam", " --no-camera"}}) {
+      const auto made = Ultrafusion(sim + extra + " --out " + dir_->File(folder));
+      ASSERT_EQ(made.code, 0) << made.output;
+      const auto run = Ultrafusion("run " + dir_->File(folder) + " --mode lio --no-splat --no-mesh --out " +
+                                   dir_->File("run_" + folder));
+      ASSERT_EQ(run.code, 0) << run.output;
+    }
+  }
+  static void TearDownTestSuite() { dir_.reset(); }
+
+  // A copy of an earlier run's folder to work in.
+  static std::string CopyRun(const TempDir& work, const std::string& run = "run_seq") {
+    const fs::path copy = work.path() / run;
+    fs::copy(dir_->File(run), copy, fs::copy_options::recursive);
+    return copy.string();
+  }
+  static std::string File(const std::string& name) { return dir_->File(name); }
+
+  static inline std::unique_ptr<TempDir> dir_;
+};
+
+nlohmann::json ReadJson(const fs::path& path) {
+  std::ifstream in(path);
+  return nlohmann::json::parse(in);
+}
+
+void ExpectNoOutputs(const std::string& run) {
+  for (const char* file : {"splats.ply", "splats.glb", "metrics.json", "comparisons"})
+    EXPECT_FALSE(fs::exists(fs::path(run) / file)) << file;
+}
+
+TEST_F(CliSplat, TrainsOnTheRunAndEveryOutputParses) {
+  TempDir work;
+  const std::string run = CopyRun(work);
+  const auto result = Ultrafusion("splat " + run + kTiny);
+  ASSERT_EQ(result.code, 0) << result.output;
+  EXPECT_NE(result.output.find("splat: 20 iterations"), std::string::npos) << result.output;
+
+  const nlohmann::json m = ReadJson(fs::path(run) / "metrics.json");
+  for (const char* key :
+       {"psnr_test", "ssim_test", "psnr_test_initial", "psnr_train", "iterations", "iterations_per_s",
+        "gaussians", "device", "views_train", "views_test", "seconds", "resolution", "images", "test_views"})
+    EXPECT_TRUE(m.contains(key)) << key;
+  EXPECT_EQ(m["iterations"], 20);
+  EXPECT_GT(m["iterations_per_s"].get<double>(), 0);
+  EXPECT_GT(m["psnr_test"].get<double>(), 8);
+  EXPECT_LT(m["psnr_test"].get<double>(), 60);
+  EXPECT_GT(m["ssim_test"].get<double>(), 0);
+  EXPECT_LE(m["ssim_test"].get<double>(), 1);
+  EXPECT_EQ(m["resolution"], nlohmann::json({80, 60}));
+  EXPECT_GE(m["views_test"].get<int>(), 1);
+  EXPECT_GE(m["views_train"].get<int>(), 4);
+  EXPECT_EQ(m["images"], 41);  // 4 s at 10 Hz, both ends
+  EXPECT_FALSE(m["device"].get<std::string>().empty());
+
+  Expected<splat::GaussianModel> ply = exporting::ReadSplatPly(run + "/splats.ply");
+  ASSERT_TRUE(ply.ok()) << ply.error();
+  EXPECT_EQ(ply->size(), m["gaussians"].get<std::size_t>());
+  EXPECT_GT(ply->size(), 1000u);
+  Expected<splat::GaussianModel> glb = exporting::ReadSplatGltf(run + "/splats.glb");
+  ASSERT_TRUE(glb.ok()) << glb.error();
+  EXPECT_EQ(glb->size(), ply->size());
+  // Comparisons for the held-out views, named by stamp.
+  const std::string stamp = std::to_string(m["test_views"][0]["stamp_ns"].get<std::int64_t>());
+  for (const char* suffix : {"_render.png", "_real.png", "_compare.png"})
+    EXPECT_TRUE(fs::exists(run + "/comparisons/" + stamp + suffix)) << suffix;
+  Expected<exporting::ExrImage> exr = exporting::ReadExr(run + "/comparisons/" + stamp + ".exr");
+  ASSERT_TRUE(exr.ok()) << exr.error();
+  EXPECT_EQ(exr->width, 80);
+  EXPECT_EQ(exr->height, 60);
+  EXPECT_TRUE(fs::exists(run + "/plots/splat_loss.png"));
+}
+
+// The seeded splats (the coloured map, one iteration in) rendered at the held-out images' poses: with the
+// run's trajectory and with the simulator's ground truth the images line up alike; moved 0.5 m sideways they
+// do not. SSIM, not PSNR: the sky, which the map has no points for, dominates the squared error alike.
+TEST_F(CliSplat, ImagesArePlacedWhereTheGroundTruthPutsThem) {
+  TempDir work;
+  const std::string run = CopyRun(work);
+  auto seeded_ssim = [&](const std::string& poses) {
+    const auto result = Ultrafusion("splat " + run + " --iterations 1 --resolution 80 60" +
+                                    (poses.empty() ? "" : " --poses " + poses));
+    EXPECT_EQ(result.code, 0) << result.output;
+    return ReadJson(fs::path(run) / "metrics.json")["ssim_test"].get<double>();
+  };
+  const double estimated = seeded_ssim("");
+  const std::string truth = File("seq") + "/groundtruth.tum";
+  const double ground_truth = seeded_ssim(truth);
+  // The ground truth shifted 0.5 m to the left of the car (+y of the IMU frame).
+  std::ifstream in(truth);
+  std::ofstream shifted(work.File("shifted.tum"));
+  for (std::string line; std::getline(in, line);) {
+    double t, x, y, z, qx, qy, qz, qw;
+    if (std::sscanf(line.c_str(), "%lf %lf %lf %lf %lf %lf %lf %lf", &t, &x, &y, &z, &qx, &qy, &qz, &qw) !=
+        8) {
+      shifted << line << "\n";
+      continue;
+    }
+    const Eigen::Vector3d left = Eigen::Quaterniond(qw, qx, qy, qz) * Eigen::Vector3d(0, 0.5, 0);
+    const std::string stamp = line.substr(0, line.find(' '));
+    shifted << stamp << " " << x + left.x() << " " << y + left.y() << " " << z + left.z() << " " << qx << " "
+            << qy << " " << qz << " " << qw << "\n";
+  }
+  shifted.close();
+  const double moved = seeded_ssim(work.File("shifted.tum"));
+  EXPECT_NEAR(ground_truth, estimated, 0.03);
+  EXPECT_LT(moved, ground_truth - 0.03) << estimated << " " << ground_truth << " " << moved;
+}
+
+TEST_F(CliSplat, ARunWithoutImagesTrainsNothingAndSaysWhy) {
+  TempDir work;
+  const std::string run = CopyRun(work, "run_seq_nocam");
+  const auto result = Ultrafusion("splat " + run + kTiny);
+  EXPECT_EQ(result.code, 1) << result.output;
+  EXPECT_NE(result.output.find("no camera stream, so there are no images"), std::string::npos)
+      << result.output;
+  ExpectNoOutputs(run);
+}
+
+TEST_F(CliSplat, ImagesWithoutACameraModelAreAnError) {
+  TempDir work;
+  // The sequence with its camera's calibration block removed from dataset.yaml.
+  const fs::path seq = work.path() / "seq";
+  fs::copy(File("seq"), seq, fs::copy_options::recursive);
+  const std::string yaml = ReadText((seq / "dataset.yaml").string());
+  std::ofstream((seq / "dataset.yaml").string())
+      << std::regex_replace(yaml, std::regex("    calibration:\n(      .*\n)+"), "");
+  const std::string run = CopyRun(work);
+  const std::string run_json = ReadText(run + "/run.json");
+  std::ofstream(run + "/run.json") << std::regex_replace(run_json, std::regex("\"dataset\": \"[^\"]*\""),
+                                                         "\"dataset\": \"" + seq.string() + "\"");
+  const auto result = Ultrafusion("splat " + run + kTiny);
+  EXPECT_EQ(result.code, 1) << result.output;
+  EXPECT_NE(result.output.find("camera cam0 has no intrinsics"), std::string::npos) << result.output;
+  ExpectNoOutputs(run);
+}
+
+TEST_F(CliSplat, ATrajectoryWithNanIsAnErrorNamingFileAndLine) {
+  TempDir work;
+  const std::string run = CopyRun(work);
+  std::string text = ReadText(run + "/trajectory.tum");
+  // Line 3 (the header is line 1): its x becomes nan.
+  std::size_t at = 0;
+  for (int line = 1; line < 3; ++line) at = text.find('\n', at) + 1;
+  const std::size_t x = text.find(' ', at) + 1;
+  text.replace(x, text.find(' ', x) - x, "nan");
+  std::ofstream(run + "/trajectory.tum") << text;
+  const auto result = Ultrafusion("splat " + run + kTiny);
+  EXPECT_EQ(result.code, 1) << result.output;
+  EXPECT_NE(result.output.find("trajectory.tum:3: "), std::string::npos) << result.output;  // file:line
+  ExpectNoOutputs(run);
+}
+
+TEST_F(CliSplat, MissingRunFilesAreErrorsNamingThem) {
+  TempDir work;
+  const std::string run = CopyRun(work);
+  fs::remove(run + "/map.vdb");
+  auto result = Ultrafusion("splat " + run + kTiny);
+  EXPECT_EQ(result.code, 1) << result.output;
+  EXPECT_NE(result.output.find("map.vdb: missing"), std::string::npos) << result.output;
+  fs::remove(run + "/trajectory.tum");
+  result = Ultrafusion("splat " + run + kTiny);
+  EXPECT_EQ(result.code, 1) << result.output;
+  EXPECT_NE(result.output.find("trajectory.tum: missing"), std::string::npos) << result.output;
+  fs::remove(run + "/run.json");
+  result = Ultrafusion("splat " + run + kTiny);
+  EXPECT_EQ(result.code, 1) << result.output;
+  EXPECT_NE(result.output.find("re-run `ultrafusion run`"), std::string::npos) << result.output;
+  ExpectNoOutputs(run);
+}
+
+TEST_F(CliSplat, AMapWithoutColourIsSeededGreyWithAWarning) {
+  TempDir work;
+  // The run without a camera made an uncoloured map; its run.json now names the same sequence with images.
+  const std::string run = CopyRun(work, "run_seq_nocam");
+  const std::string run_json = ReadText(run + "/run.json");
+  std::ofstream(run + "/run.json") << std::regex_replace(run_json, std::regex("\"dataset\": \"[^\"]*\""),
+                                                         "\"dataset\": \"" + File("seq") + "\"");
+  const auto result = Ultrafusion("splat " + run + " --iterations 5 --resolution 80 60");
+  ASSERT_EQ(result.code, 0) << result.output;
+  EXPECT_TRUE(
+      std::regex_search(result.output, std::regex("warning: [0-9]+ of [0-9]+ map points have no colour")))
+      << result.output;
+  const nlohmann::json m = ReadJson(fs::path(run) / "metrics.json");
+  EXPECT_EQ(m["uncoloured_seeds"], m["map_seeds"]);
+  EXPECT_EQ(m["gaussians_initial"].get<int>(), m["map_seeds"].get<int>() + m["sky_gaussians"].get<int>());
+  EXPECT_EQ(m["sky_gaussians"], 30000);
+}
+
+TEST_F(CliSplat, UnknownConfigurationKeysAreUsageErrors) {
+  TempDir work;
+  const std::string run = CopyRun(work);
+  const std::string config = work.Write("splat.yaml", "splat:\n  iterations: 10\n  itterations: 20\n");
+  const auto result = Ultrafusion("splat " + run + " --config " + config);
+  EXPECT_EQ(result.code, 2) << result.output;
+  EXPECT_NE(result.output.find(config + ": splat.itterations (line 3): unknown key"), std::string::npos)
+      << result.output;
+  ExpectNoOutputs(run);
+}
+
+}  // namespace
+}  // namespace uf

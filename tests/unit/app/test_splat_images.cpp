@@ -1,0 +1,102 @@
+// Training images: area resizing against hand-computed averages, intrinsics that keep the image edges,
+// undistortion through the camera model, LiDAR depth with a z-buffer, 8-bit conversion.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "viewer/app/splat_images.h"
+
+namespace uf::app {
+namespace {
+
+TEST(SplatImages, HalvingAveragesEachTwoByTwoBlock) {
+  // 4 x 2, one channel: rows 0..3 and 10..13.
+  const std::vector<float> image = {0, 1, 2, 3, 10, 11, 12, 13};
+  const std::vector<float> half = ResizeArea(image, 4, 2, 1, 2, 1);
+  ASSERT_EQ(half.size(), 2u);
+  EXPECT_FLOAT_EQ(half[0], (0 + 1 + 10 + 11) / 4.0f);
+  EXPECT_FLOAT_EQ(half[1], (2 + 3 + 12 + 13) / 4.0f);
+}
+
+TEST(SplatImages, FractionalRatiosWeighPixelsByTheAreaTheyOverlap) {
+  // 3 -> 2 pixels: target pixel 0 covers source [0, 1.5): all of pixel 0 and half of pixel 1.
+  const std::vector<float> image = {3, 6, 9};
+  const std::vector<float> out = ResizeArea(image, 3, 1, 1, 2, 1);
+  EXPECT_FLOAT_EQ(out[0], (3 + 0.5f * 6) / 1.5f);
+  EXPECT_FLOAT_EQ(out[1], (0.5f * 6 + 9) / 1.5f);
+  // Three channels stay separate.
+  const std::vector<float> rgb = {1, 2, 3, 5, 6, 7};
+  const std::vector<float> one = ResizeArea(rgb, 2, 1, 3, 1, 1);
+  EXPECT_FLOAT_EQ(one[0], 3);
+  EXPECT_FLOAT_EQ(one[1], 4);
+  EXPECT_FLOAT_EQ(one[2], 5);
+}
+
+TEST(SplatImages, ScaledIntrinsicsKeepTheImageEdgesInPlace) {
+  const Pinhole camera{640, 480, 500, 510, 319.5, 239.5};
+  const Pinhole half = ScalePinhole(camera, 320, 240);
+  EXPECT_DOUBLE_EQ(half.fx, 250);
+  EXPECT_DOUBLE_EQ(half.fy, 255);
+  EXPECT_DOUBLE_EQ(half.cx, 159.5);  // the centre of the image stays the centre
+  EXPECT_DOUBLE_EQ(half.cy, 119.5);
+  // A ray through the left edge of pixel 0 (u = -0.5) goes through the left edge of the resized image.
+  const double x = (-0.5 - camera.cx) / camera.fx;
+  EXPECT_NEAR(half.fx * x + half.cx, -0.5, 1e-12);
+}
+
+TEST(SplatImages, UndistortionSamplesTheDistortedImageWhereTheModelProjectsEachRay) {
+  PinholeRadtanIntrinsics k;
+  k.fx = k.fy = 40, k.cx = 19.5, k.cy = 14.5, k.k1 = -0.2, k.p1 = 0.01;
+  const PinholeRadtan model(40, 30, k);
+  ASSERT_TRUE(IsDistorted(model));
+  // A ramp linear in the distorted pixel's u: bilinear sampling reproduces it exactly inside the image.
+  std::vector<float> rgb(3 * 40 * 30);
+  for (int y = 0; y < 30; ++y)
+    for (int x = 0; x < 40; ++x)
+      for (int c = 0; c < 3; ++c) rgb[3 * (y * 40 + x) + c] = (c + 1) * x / 100.0f + y / 1000.0f;
+  const Pinhole pinhole = *PinholeOf(model);
+  const std::vector<float> out = Undistort(rgb, model, pinhole);
+  int checked = 0;
+  for (int y = 0; y < 30; y += 3)
+    for (int x = 0; x < 40; x += 3) {
+      const auto p = model.Project(Eigen::Vector3d((x - 19.5) / 40, (y - 14.5) / 40, 1));
+      ASSERT_TRUE(p.has_value());
+      if (p->x() < 0 || p->y() < 0 || p->x() > 39 || p->y() > 29) continue;
+      for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(out[3 * (y * 40 + x) + c], (c + 1) * p->x() / 100 + p->y() / 1000, 1e-5) << x << " " << y;
+      ++checked;
+    }
+  EXPECT_GT(checked, 80);
+  const PinholeRadtan plain(40, 30, PinholeRadtanIntrinsics{40, 40, 19.5, 14.5});
+  EXPECT_FALSE(IsDistorted(plain));
+}
+
+TEST(SplatImages, LidarDepthKeepsTheNearestPointPerPixel) {
+  splat::SplatCamera camera;
+  camera.width = 8, camera.height = 6, camera.fx = camera.fy = 4, camera.cx = 3.5, camera.cy = 2.5;
+  // The camera at (0, 0, -1), its axes the world's.
+  camera.T_world_camera = SE3(SO3(), Eigen::Vector3d(0, 0, -1));
+  const std::vector<Eigen::Vector3f> points = {
+      {1, 0.5f, 3},   // t = (1, 0.5, 4): u = 4 * 1 / 4 + 3.5 = 4.5 -> 5 (round half away), v = 3
+      {2, 1, 7},      // t = (2, 1, 8): the same pixel, farther
+      {0, 0, -1.1f},  // behind the camera
+      {100, 0, 1}};   // outside the image
+  const std::vector<float> depth = ProjectDepth(points, camera);
+  ASSERT_EQ(depth.size(), 48u);
+  EXPECT_FLOAT_EQ(depth[3 * 8 + 5], 4.0f);
+  int filled = 0;
+  for (float d : depth) filled += d > 0;
+  EXPECT_EQ(filled, 1);
+}
+
+TEST(SplatImages, GrayImagesBecomeGreyRgb) {
+  Image gray;
+  gray.width = 2, gray.height = 1, gray.channels = 1, gray.pixels = {0, 255};
+  EXPECT_EQ(ToRgbFloat(gray), (std::vector<float>{0, 0, 0, 1, 1, 1}));
+  Image rgb;
+  rgb.width = 1, rgb.height = 1, rgb.channels = 3, rgb.pixels = {51, 102, 255};
+  EXPECT_EQ(ToRgbFloat(rgb), (std::vector<float>{0.2f, 0.4f, 1.0f}));
+}
+
+}  // namespace
+}  // namespace uf::app

@@ -1,0 +1,148 @@
+#include "viewer/app/splat_images.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace uf::app {
+namespace {
+
+// Per target pixel along one axis: the source pixels it overlaps and the overlap lengths, normalised.
+// Target pixel i covers source edge coordinates [i / s, (i + 1) / s] with s = n' / n (edge coordinate = pixel
+// centre coordinate + 0.5).
+struct AxisWeights {
+  std::vector<int> first;                  // first source pixel of target pixel i
+  std::vector<std::vector<float>> weight;  // weights of source pixels first[i], first[i] + 1, ...
+};
+
+AxisWeights BoxWeights(int n, int n_new) {
+  AxisWeights axis;
+  axis.first.resize(n_new);
+  axis.weight.resize(n_new);
+  const double step = static_cast<double>(n) / n_new;  // source pixels per target pixel
+  for (int i = 0; i < n_new; ++i) {
+    const double begin = i * step, end = std::min<double>(n, (i + 1) * step);
+    const int first = std::min(n - 1, static_cast<int>(std::floor(begin)));
+    axis.first[i] = first;
+    double total = 0;
+    for (int j = first; j < n && j < end; ++j) {
+      const double overlap = std::min<double>(j + 1, end) - std::max<double>(j, begin);
+      axis.weight[i].push_back(static_cast<float>(std::max(0.0, overlap)));
+      total += std::max(0.0, overlap);
+    }
+    for (float& w : axis.weight[i]) w = static_cast<float>(w / total);
+  }
+  return axis;
+}
+
+}  // namespace
+
+std::optional<Pinhole> PinholeOf(const CameraModel& model) {
+  Pinhole p;
+  p.width = model.width(), p.height = model.height();
+  if (const auto* radtan = dynamic_cast<const PinholeRadtan*>(&model)) {
+    const PinholeRadtanIntrinsics& k = radtan->intrinsics();
+    p.fx = k.fx, p.fy = k.fy, p.cx = k.cx, p.cy = k.cy;
+    return p;
+  }
+  if (const auto* fisheye = dynamic_cast<const Equidistant*>(&model)) {
+    const EquidistantIntrinsics& k = fisheye->intrinsics();
+    p.fx = k.fx, p.fy = k.fy, p.cx = k.cx, p.cy = k.cy;
+    return p;
+  }
+  return std::nullopt;
+}
+
+bool IsDistorted(const CameraModel& model) {
+  if (const auto* radtan = dynamic_cast<const PinholeRadtan*>(&model)) {
+    const PinholeRadtanIntrinsics& k = radtan->intrinsics();
+    return k.k1 != 0 || k.k2 != 0 || k.p1 != 0 || k.p2 != 0 || k.k3 != 0;
+  }
+  return true;  // a fisheye is never a pinhole
+}
+
+std::vector<float> ToRgbFloat(const Image& image) {
+  const std::size_t pixels = static_cast<std::size_t>(image.width) * image.height;
+  std::vector<float> rgb(3 * pixels);
+  for (std::size_t i = 0; i < pixels; ++i)
+    for (int c = 0; c < 3; ++c) rgb[3 * i + c] = image.pixels[image.channels == 1 ? i : 3 * i + c] / 255.0f;
+  return rgb;
+}
+
+std::vector<float> Undistort(std::span<const float> rgb, const CameraModel& model, const Pinhole& pinhole) {
+  const int w = model.width(), h = model.height();
+  std::vector<float> out(3 * static_cast<std::size_t>(pinhole.width) * pinhole.height, 0.0f);
+  for (int y = 0; y < pinhole.height; ++y) {
+    for (int x = 0; x < pinhole.width; ++x) {
+      const Eigen::Vector3d ray((x - pinhole.cx) / pinhole.fx, (y - pinhole.cy) / pinhole.fy, 1.0);
+      const std::optional<Eigen::Vector2d> p = model.Project(ray);
+      if (!p || !model.InImage(*p)) continue;
+      // Bilinear between the four pixel centres around p, edge pixels repeated.
+      const double u = std::clamp(p->x(), 0.0, w - 1.0), v = std::clamp(p->y(), 0.0, h - 1.0);
+      const int x0 = std::min(static_cast<int>(u), w - 1), y0 = std::min(static_cast<int>(v), h - 1);
+      const int x1 = std::min(x0 + 1, w - 1), y1 = std::min(y0 + 1, h - 1);
+      const float fx = static_cast<float>(u - x0), fy = static_cast<float>(v - y0);
+      const std::size_t target = 3 * (static_cast<std::size_t>(y) * pinhole.width + x);
+      for (int c = 0; c < 3; ++c) {
+        auto at = [&](int xi, int yi) { return rgb[3 * (static_cast<std::size_t>(yi) * w + xi) + c]; };
+        out[target + c] = (1 - fy) * ((1 - fx) * at(x0, y0) + fx * at(x1, y0)) +
+                          fy * ((1 - fx) * at(x0, y1) + fx * at(x1, y1));
+      }
+    }
+  }
+  return out;
+}
+
+std::vector<float> ResizeArea(std::span<const float> image, int width, int height, int channels,
+                              int new_width, int new_height) {
+  const AxisWeights wx = BoxWeights(width, new_width), wy = BoxWeights(height, new_height);
+  // Separable: rows first (width -> new_width), then columns.
+  std::vector<float> rows(static_cast<std::size_t>(height) * new_width * channels, 0.0f);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < new_width; ++x)
+      for (std::size_t k = 0; k < wx.weight[x].size(); ++k) {
+        const float w = wx.weight[x][k];
+        const std::size_t source = (static_cast<std::size_t>(y) * width + wx.first[x] + k) * channels;
+        const std::size_t target = (static_cast<std::size_t>(y) * new_width + x) * channels;
+        for (int c = 0; c < channels; ++c) rows[target + c] += w * image[source + c];
+      }
+  std::vector<float> out(static_cast<std::size_t>(new_height) * new_width * channels, 0.0f);
+  for (int y = 0; y < new_height; ++y)
+    for (std::size_t k = 0; k < wy.weight[y].size(); ++k) {
+      const float w = wy.weight[y][k];
+      const std::size_t row = static_cast<std::size_t>(wy.first[y]) + k;
+      for (int x = 0; x < new_width; ++x)
+        for (int c = 0; c < channels; ++c)
+          out[(static_cast<std::size_t>(y) * new_width + x) * channels + c] +=
+              w * rows[(row * new_width + x) * channels + c];
+    }
+  return out;
+}
+
+Pinhole ScalePinhole(const Pinhole& p, int width, int height) {
+  const double sx = static_cast<double>(width) / p.width, sy = static_cast<double>(height) / p.height;
+  Pinhole scaled;
+  scaled.width = width, scaled.height = height;
+  scaled.fx = sx * p.fx, scaled.fy = sy * p.fy;
+  scaled.cx = sx * (p.cx + 0.5) - 0.5, scaled.cy = sy * (p.cy + 0.5) - 0.5;
+  return scaled;
+}
+
+std::vector<float> ProjectDepth(std::span<const Eigen::Vector3f> points, const splat::SplatCamera& camera,
+                                float near) {
+  std::vector<float> depth(static_cast<std::size_t>(camera.width) * camera.height, 0.0f);
+  const SE3 T_camera_world = camera.T_world_camera.inverse();
+  const Eigen::Matrix3f R = T_camera_world.rotation().cast<float>();
+  const Eigen::Vector3f t = T_camera_world.translation().cast<float>();
+  for (const Eigen::Vector3f& p : points) {
+    const Eigen::Vector3f c = R * p + t;
+    if (!(c.z() > near)) continue;
+    const double u = camera.fx * c.x() / c.z() + camera.cx, v = camera.fy * c.y() / c.z() + camera.cy;
+    const long x = std::lround(u), y = std::lround(v);
+    if (x < 0 || y < 0 || x >= camera.width || y >= camera.height) continue;
+    float& d = depth[static_cast<std::size_t>(y) * camera.width + x];
+    if (d == 0.0f || c.z() < d) d = c.z();
+  }
+  return depth;
+}
+
+}  // namespace uf::app

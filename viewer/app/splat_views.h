@@ -1,0 +1,80 @@
+// The training and held-out views of a run: the dataset's first camera stream read again, each image placed
+// at its stamp on the run's trajectory (splat_camera_poses.h), keyframe images selected by camera motion,
+// made into pinhole images at the training resolution (splat_images.h), and split: every holdout_stride-th
+// selected image (index % stride == 0, as 3DGS) is held out for testing and never trained on.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "odometry/io/measurement_stream.h"
+#include "odometry/types/trajectory.h"
+#include "splat/training/training_options.h"
+#include "viewer/app/splat_config.h"
+#include "viewer/app/splat_images.h"
+
+namespace uf::app {
+
+// The camera images come from: the dataset's first camera stream, its model and T_F_C (its pose in the
+// trajectory's frame F).
+struct SplatCameraStream {
+  int stream = -1;
+  std::string name;
+  std::shared_ptr<const CameraModel> model;
+  SE3 T_frame_camera;
+};
+
+// Errors: no camera stream ("train nothing": the message says so), a camera without intrinsics or without
+// T_body_sensor, a camera model that is not PinholeRadtan or Equidistant.
+Expected<SplatCameraStream> FindSplatCamera(const DatasetDescription& description,
+                                            const std::string& output_frame);
+
+// Selects an image when the camera moved >= distance_m or turned >= angle_deg since the last selected one
+// (the first image is always selected).
+class KeyframeSelector {
+ public:
+  KeyframeSelector(double distance_m, double angle_deg) : distance_m_(distance_m), angle_deg_(angle_deg) {}
+  bool Select(const SE3& T_world_camera);
+
+ private:
+  double distance_m_, angle_deg_;
+  std::optional<SE3> last_;
+};
+
+// A view kept compact between loading and training: 8-bit rgb at the training resolution.
+struct StoredView {
+  Stamp stamp = 0;
+  splat::SplatCamera camera;      // training resolution, T_world_camera in the map frame
+  std::vector<std::uint8_t> rgb;  // width x height x 3
+  std::vector<float> depth;       // LiDAR depth per pixel (0: none); empty without depth
+};
+
+splat::TrainingView ToTrainingView(const StoredView& view);
+
+struct SplatViews {
+  std::vector<StoredView> train, test;
+  Pinhole pinhole;                           // the training images' camera
+  std::string camera_name;                   // the stream
+  std::shared_ptr<const CameraModel> model;  // the camera's own model (native size, distortion)
+  std::int64_t images = 0;                   // frames of the camera stream
+  std::int64_t outside_trajectory = 0;       // dropped: no pose at their stamp
+  std::int64_t undecodable = 0;              // dropped: could not be decoded
+};
+
+struct ViewLoading {
+  const Trajectory* trajectory = nullptr;  // T_W_F
+  SE3 T_map_world;                         // T_M_W
+  const SplatConfig* config = nullptr;
+  std::span<const Eigen::Vector3f> depth_points;  // map points for LiDAR depth; empty: no depth
+};
+
+// Reads the stream to its end and keeps the selected views; `progress` is called with the images read.
+Expected<SplatViews> LoadSplatViews(MeasurementStream& stream, const SplatCameraStream& camera,
+                                    const ViewLoading& loading,
+                                    const std::function<void(std::int64_t)>& progress = {});
+
+}  // namespace uf::app
