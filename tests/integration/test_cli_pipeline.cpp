@@ -294,7 +294,7 @@ class CliPipelineSplats : public ::testing::Test {
   static inline std::unique_ptr<TempDir> dir_;
 };
 
-TEST_F(CliPipelineSplats, SplatAndViewsStagesWriteSplatsMetricsAndExrViewsIntoTheReport) {
+TEST_F(CliPipelineSplats, SplatAndViewsStagesWriteSplatsMetricsAndExrViewsAndRunAgainFromSplat) {
   TempDir dir;
   const std::string config =
       dir.Write("tiny.yaml", "splat:\n  iterations: 30\n  resolution: [80, 60]\n  comparisons: 2\n");
@@ -350,6 +350,26 @@ TEST_F(CliPipelineSplats, SplatAndViewsStagesWriteSplatsMetricsAndExrViewsIntoTh
   for (const fs::path& png : {run / "plots/splat_loss.png", run / "comparisons" / (stamp + "_compare.png")})
     EXPECT_NE(html.find(app::Base64(ReadBytes(png))), std::string::npos) << png << " is not inlined";
   EXPECT_NE(ReadText((run / "config.yaml").string()).find("splat:\n  iterations: 30\n"), std::string::npos);
+
+  // --from splat trains again on the same folder's map and trajectory; the earlier stages are skipped and
+  // their files left as they were.
+  const std::vector<std::uint8_t> map_before = ReadBytes(run / "map.vdb");
+  const std::string again_config =
+      dir.Write("again.yaml", "splat:\n  iterations: 10\n  resolution: [80, 60]\n");
+  const auto again = Ultrafusion("run " + dir_->File("seq") + " --config " + again_config +
+                                 " --no-mesh --from splat --out " + run.string());
+  ASSERT_EQ(again.code, 0) << again.output;
+  for (const char* stage : {"dataset", "odometry", "map", "exports"})
+    EXPECT_TRUE(std::regex_search(again.output, std::regex(std::string("\\n  ") + stage + " +skipped ")))
+        << stage << "\n"
+        << again.output;
+  for (const char* stage : {"splat", "views"})
+    EXPECT_TRUE(std::regex_search(again.output, std::regex(std::string("\\n  ") + stage + " +ok ")))
+        << stage << "\n"
+        << again.output;
+  std::ifstream again_metrics_file(run / "metrics.json");
+  EXPECT_EQ(nlohmann::json::parse(again_metrics_file)["iterations"], 10);
+  EXPECT_EQ(ReadBytes(run / "map.vdb"), map_before);
 }
 
 }  // namespace
