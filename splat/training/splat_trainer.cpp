@@ -209,9 +209,8 @@ Status SplatTrainer::Impl::Densify(IterationStats* stats) {
 }
 
 Expected<GaussianModel> SplatTrainer::Model() const {
-  Expected<OptimizerHostState> state = impl_->adam->Download(impl_->gaussians);
-  if (!state.ok()) return state.status();
-  return std::move(state->model);
+  // The model alone (the optimizer's moments and statistics stay on the device).
+  return vk::DownloadGaussians(impl_->gaussians);
 }
 
 Expected<RenderedView> SplatTrainer::Render(const SplatCamera& camera) {
