@@ -5,15 +5,6 @@
 
 namespace uf::estimator {
 
-void PointMoments::AddShifted(const PointMoments& other, const Eigen::Vector3d& shift) {
-  if (other.count == 0) return;
-  // sum (d + s)(d + s)^T = S_dd + S_d s^T + s S_d^T + N s s^T
-  const Eigen::Matrix3d cross = other.sum * shift.transpose();
-  sum_outer += other.sum_outer + cross + cross.transpose() + other.count * shift * shift.transpose();
-  sum += other.sum + other.count * shift;
-  count += other.count;
-}
-
 std::optional<Plane> FitPlane(const PointMoments& moments, const Eigen::Vector3d& origin,
                               const PlaneFitGate& gate) {
   if (moments.count < gate.min_points || moments.count < 3) return std::nullopt;

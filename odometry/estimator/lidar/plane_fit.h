@@ -30,8 +30,34 @@ struct PointMoments {
     sum += d;
     sum_outer.noalias() += d * d.transpose();
   }
-  // Adds moments taken relative to an origin that lies at `shift` from this one (d_this = d_other + shift).
-  void AddShifted(const PointMoments& other, const Eigen::Vector3d& shift);
+};
+
+// The moments of several sets taken relative to different origins, summed relative to one common origin:
+// Add(m, s) for moments m whose d = p - o_m, with s = o_m - o (so d_common = d + s). Per set,
+//   S_d  += S_d,m + N_m s,   S_dd += S_dd,m + S_d,m s^T + s S_d,m^T + N_m s s^T,
+// and the last three terms are (v s^T) + (v s^T)^T with v = S_d,m + N_m s / 2: one outer product per set,
+// its transpose added once in Total().
+class ShiftedMomentSum {
+ public:
+  void Add(const PointMoments& m, const Eigen::Vector3d& shift) {
+    if (m.count == 0) return;
+    count_ += m.count;
+    sum_ += m.sum + m.count * shift;
+    outer_ += m.sum_outer;
+    cross_.noalias() += (m.sum + (0.5 * m.count) * shift) * shift.transpose();
+  }
+  PointMoments Total() const {
+    PointMoments total;
+    total.count = count_;
+    total.sum = sum_;
+    total.sum_outer = outer_ + cross_ + cross_.transpose();
+    return total;
+  }
+
+ private:
+  int count_ = 0;
+  Eigen::Vector3d sum_ = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d outer_ = Eigen::Matrix3d::Zero(), cross_ = Eigen::Matrix3d::Zero();
 };
 
 struct PlaneFitGate {

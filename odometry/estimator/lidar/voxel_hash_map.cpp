@@ -52,8 +52,6 @@ VoxelHashMap::Slot VoxelHashMap::Create(const VoxelIndex& index) {
   Voxel& voxel = voxels_[slot];
   voxel.index = index;
   voxel.alive = true;
-  voxel.changed = false;
-  voxel.plane_valid = false;
   voxel.points.clear();
   voxel.points.reserve(config_.max_points_per_voxel);
   voxel.moments = PointMoments();
@@ -71,7 +69,6 @@ void VoxelHashMap::Remove(Slot slot) {
     const Slot neighbour = voxel.block[o];
     if (neighbour == kNoVoxel || o == kSelf) continue;
     voxels_[neighbour].block[kBlockSize - 1 - o] = kNoVoxel;
-    voxels_[neighbour].plane_valid = false;  // its block lost this voxel's points
   }
   point_count_ -= voxel.points.size();
   slot_of_.erase(PackVoxelKey(voxel.index));
@@ -83,8 +80,6 @@ void VoxelHashMap::Remove(Slot slot) {
 void VoxelHashMap::Insert(const std::vector<Eigen::Vector3d>& world_points) {
   ++revision_;
   const double limit = static_cast<double>(kVoxelIndexLimit - 2) * config_.voxel_m;
-  empty_voxel_planes_.clear();
-  std::vector<Slot> changed;
   for (const Eigen::Vector3d& p : world_points) {
     if (!p.allFinite() || p.cwiseAbs().maxCoeff() >= limit) continue;
     const VoxelIndex index = VoxelOf(p, inverse_voxel_m_);
@@ -95,50 +90,35 @@ void VoxelHashMap::Insert(const std::vector<Eigen::Vector3d>& world_points) {
     voxel.points.push_back(p.cast<float>());
     voxel.moments.Add(p - CenterOf(index));
     ++point_count_;
-    if (!voxel.changed) {
-      voxel.changed = true;
-      changed.push_back(slot);
-    }
-  }
-  for (Slot slot : changed) {
-    voxels_[slot].changed = false;
-    InvalidateBlock(voxels_[slot]);
   }
 }
 
 void VoxelHashMap::RemoveFarFrom(const Eigen::Vector3d& center) {
   ++revision_;
-  empty_voxel_planes_.clear();
   const double max_squared = config_.max_range_m * config_.max_range_m;
   for (Slot slot = 0; slot < static_cast<Slot>(voxels_.size()); ++slot)
     if (voxels_[slot].alive && (CenterOf(voxels_[slot].index) - center).squaredNorm() > max_squared)
       Remove(slot);
 }
 
-void VoxelHashMap::InvalidateBlock(const Voxel& voxel) const {
-  // The voxels whose block contains this one are exactly the voxels of this one's block.
-  for (const Slot neighbour : voxel.block)
-    if (neighbour != kNoVoxel) voxels_[neighbour].plane_valid = false;
-}
-
 std::optional<Plane> VoxelHashMap::FitBlock(const Voxel& voxel) const {
   // Moments of the block relative to the centre c_v of voxel v: a neighbour u's moments are relative to
   // c_u, so shift by c_u - c_v = (u - v) voxel_m.
-  PointMoments block;
+  ShiftedMomentSum block;
   for (int o = 0; o < kBlockSize; ++o)
     if (voxel.block[o] != kNoVoxel)
-      block.AddShifted(voxels_[voxel.block[o]].moments, OffsetOf(o).cast<double>() * config_.voxel_m);
-  return FitPlane(block, CenterOf(voxel.index), gate_);
+      block.Add(voxels_[voxel.block[o]].moments, OffsetOf(o).cast<double>() * config_.voxel_m);
+  return FitPlane(block.Total(), CenterOf(voxel.index), gate_);
 }
 
 std::optional<Plane> VoxelHashMap::FitBlockAround(const VoxelIndex& index) const {
-  PointMoments block;
+  ShiftedMomentSum block;
   for (int o = 0; o < kBlockSize; ++o) {
     const Slot neighbour = Find(index + OffsetOf(o));
     if (neighbour != kNoVoxel)
-      block.AddShifted(voxels_[neighbour].moments, OffsetOf(o).cast<double>() * config_.voxel_m);
+      block.Add(voxels_[neighbour].moments, OffsetOf(o).cast<double>() * config_.voxel_m);
   }
-  return FitPlane(block, CenterOf(index), gate_);
+  return FitPlane(block.Total(), CenterOf(index), gate_);
 }
 
 std::uint64_t VoxelHashMap::QueryKey(const Eigen::Vector3d& world_point) const {
@@ -154,17 +134,7 @@ std::optional<Plane> VoxelHashMap::PlaneNear(const Eigen::Vector3d& world_point)
     return std::nullopt;
   const VoxelIndex index = VoxelOf(world_point, inverse_voxel_m_);
   const Slot slot = Find(index);
-  if (slot == kNoVoxel) {
-    const auto [it, created] = empty_voxel_planes_.try_emplace(PackVoxelKey(index));
-    if (created) it->second = FitBlockAround(index);
-    return it->second;
-  }
-  const Voxel& voxel = voxels_[slot];
-  if (!voxel.plane_valid) {
-    voxel.plane = FitBlock(voxel);
-    voxel.plane_valid = true;
-  }
-  return voxel.plane;
+  return slot == kNoVoxel ? FitBlockAround(index) : FitBlock(voxels_[slot]);
 }
 
 std::vector<Eigen::Vector3d> VoxelHashMap::Points() const {
@@ -181,7 +151,6 @@ void VoxelHashMap::Clear() {
   voxels_.clear();
   free_slots_.clear();
   slot_of_.clear();
-  empty_voxel_planes_.clear();
   point_count_ = 0;
 }
 

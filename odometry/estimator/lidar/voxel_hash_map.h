@@ -4,19 +4,23 @@
 //
 // Each voxel keeps at most max_points_per_voxel points (later ones are ignored) and their moments relative
 // to its centre. The plane of voxel v is the PCA plane (plane_fit.h) of the points of v and its 26
-// neighbours (a 3x3x3 block of voxels, 1.5 m wide at 0.5 m voxels), gated by lambda_min / lambda_mid. It is
-// computed on the first query and cached in the voxel until an Insert or RemoveFarFrom changes a voxel of
-// that block. Queries in a voxel that holds no points are fitted from its neighbours and cached until the
-// next change of the map.
+// neighbours (a 3x3x3 block of voxels, 1.5 m wide at 0.5 m voxels), gated by lambda_min / lambda_mid; a
+// voxel that holds no points gets the plane of its neighbours' points the same way. Planes are fitted on
+// each query from the block's moments (27 moment sums and a 3x3 eigen-decomposition), never cached: every
+// scan inserts a point into most voxels in view, so a per-voxel cache would rarely survive until the next
+// scan, and without one the queries are const. Callers cache per query point within one map revision
+// (QueryKey, revision).
 //
-// Threads: PlaneNear refreshes that cache, so one map must not be queried from several threads at once.
+// Threads: PlaneNear, QueryKey and the other const methods may run on any number of threads at once, but not
+// while Insert, RemoveFarFrom or Clear runs.
 #pragma once
+
+#include <absl/container/flat_hash_map.h>
 
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
 #include <optional>
-#include <unordered_map>
 #include <vector>
 
 #include "odometry/estimator/lidar/plane_fit.h"
@@ -46,7 +50,7 @@ class VoxelHashMap {
   // Bounded memory: drops every voxel whose centre is farther than max_range_m from `center`.
   void RemoveFarFrom(const Eigen::Vector3d& center);
   // The plane of the voxel holding world_point (see the top of this file), or nullopt when the block has
-  // fewer than min_plane_points points or fails the eigen-ratio gate.
+  // fewer than min_plane_points points or fails the eigen-ratio gate. Thread-safe (const, no cache).
   std::optional<Plane> PlaneNear(const Eigen::Vector3d& world_point) const;
   // What PlaneNear's answer depends on: the packed key of the voxel holding world_point, or kNoQueryKey for
   // a point PlaneNear rejects (non-finite, beyond the key range). While revision() is unchanged, points
@@ -63,8 +67,8 @@ class VoxelHashMap {
   const VoxelMapConfig& config() const { return config_; }
 
  private:
-  // Slot of a voxel in voxels_; the 27 voxels of a block are linked by slot so that invalidating and fitting
-  // a block costs no hash lookups. Block offset o = 9 (dx + 1) + 3 (dy + 1) + (dz + 1); 13 is the voxel
+  // Slot of a voxel in voxels_; the 27 voxels of a block are linked by slot so that fitting the block of a
+  // voxel with points costs no hash lookups. Block offset o = 9 (dx + 1) + 3 (dy + 1) + (dz + 1); 13 is the voxel
   // itself and 26 - o the opposite offset.
   using Slot = std::int32_t;
   static constexpr Slot kNoVoxel = -1;
@@ -73,12 +77,9 @@ class VoxelHashMap {
   struct Voxel {
     VoxelIndex index;
     bool alive = false;
-    bool changed = false;  // scratch flag of Insert
-    mutable bool plane_valid = false;
     std::array<Slot, kBlockSize> block;   // slots of the block's voxels, kNoVoxel where empty
     std::vector<Eigen::Vector3f> points;  // world, m (float: 30 um at 500 m, plenty for display)
     PointMoments moments;                 // relative to the voxel centre, double
-    mutable std::optional<Plane> plane;   // cache of PlaneNear
   };
 
   Eigen::Vector3d CenterOf(const VoxelIndex& index) const {
@@ -87,7 +88,6 @@ class VoxelHashMap {
   Slot Find(const VoxelIndex& index) const;
   Slot Create(const VoxelIndex& index);  // links the new voxel with its existing neighbours
   void Remove(Slot slot);
-  void InvalidateBlock(const Voxel& voxel) const;
   std::optional<Plane> FitBlock(const Voxel& voxel) const;
   std::optional<Plane> FitBlockAround(const VoxelIndex& index) const;  // for a voxel that holds no points
 
@@ -96,9 +96,7 @@ class VoxelHashMap {
   double inverse_voxel_m_;
   std::vector<Voxel> voxels_;  // slots; dead slots are reused through free_slots_
   std::vector<Slot> free_slots_;
-  std::unordered_map<std::uint64_t, Slot, VoxelKeyHash> slot_of_;
-  // Planes fitted around voxels that hold no points, cleared by every Insert, RemoveFarFrom and Clear.
-  mutable std::unordered_map<std::uint64_t, std::optional<Plane>, VoxelKeyHash> empty_voxel_planes_;
+  absl::flat_hash_map<std::uint64_t, Slot, VoxelKeyHash> slot_of_;
   std::size_t point_count_ = 0;
   std::uint64_t revision_ = 0;
 };

@@ -1,5 +1,7 @@
 // The scans of the window: association with the map, map updates, keyframe release (see odometry_window.h).
 #include <ceres/loss_function.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include <cmath>
 
@@ -15,7 +17,9 @@ SweepPoses LidarOdometry::Impl::Sweep(const ScanState& scan) {
 
 // Point-to-plane residuals of `scan` against the map at the current node poses: up to
 // max_residuals_per_scan points with a plane, visited at an even stride (then the offsets in between) so
-// that they spread over the whole scan.
+// that they spread over the whole scan. The planes of a batch of points are found in parallel (the map's
+// queries are const), then the batch is taken in visiting order until the cap: the same residuals as a
+// serial pass.
 void LidarOdometry::Impl::Associate(ScanState& scan) {
   const StageTimer timer(stats.associate_ms);
   scan.residuals.clear();
@@ -28,28 +32,43 @@ void LidarOdometry::Impl::Associate(ScanState& scan) {
     scan.plane_cache.assign(n, {});
     scan.plane_cache_revision = map.revision();
   }
-  for (std::size_t offset = 0; offset < step && scan.residuals.size() < cap; ++offset) {
-    for (std::size_t i = offset; i < n && scan.residuals.size() < cap; i += step) {
-      const PreparedPoint& p = points[i];
-      const Eigen::Vector3d p_world = sweep.At(p.alpha) * p.point_lidar;
-      ScanState::CachedPlane& cached = scan.plane_cache[i];
-      const std::uint64_t key = map.QueryKey(p_world);
-      if (!cached.known || cached.key != key) {
-        cached.plane = map.PlaneNear(p_world);
-        cached.key = key;
-        cached.known = true;
+  std::vector<std::size_t> order;  // point indices in visiting order
+  order.reserve(n);
+  for (std::size_t offset = 0; offset < step; ++offset)
+    for (std::size_t i = offset; i < n; i += step) order.push_back(i);
+  std::vector<char> usable(order.size(), 0);  // the point has a plane within max_plane_distance_m
+  std::size_t next = 0;
+  while (next < order.size() && scan.residuals.size() < cap) {
+    // A batch a little larger than the residuals still wanted: most points find a plane.
+    const std::size_t wanted = cap - scan.residuals.size();
+    const std::size_t end = std::min(order.size(), next + wanted + wanted / 4 + 64);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(next, end, 64), [&](const auto& range) {
+      for (std::size_t k = range.begin(); k < range.end(); ++k) {
+        const std::size_t i = order[k];
+        const Eigen::Vector3d p_world = sweep.At(points[i].alpha) * points[i].point_lidar;
+        ScanState::CachedPlane& cached = scan.plane_cache[i];
+        const std::uint64_t key = map.QueryKey(p_world);
+        if (!cached.known || cached.key != key) {
+          cached.plane = map.PlaneNear(p_world);
+          cached.key = key;
+          cached.known = true;
+        }
+        // Correspondence gate: a plane farther than max_plane_distance_m from the point is another surface.
+        const std::optional<Plane>& plane = cached.plane;
+        usable[k] = plane && std::abs(plane->normal.dot(p_world - plane->point)) <= config.max_plane_distance_m;
       }
-      const std::optional<Plane>& plane = cached.plane;
-      // Correspondence gate: a plane farther than max_plane_distance_m from the point is another surface.
-      if (!plane || std::abs(plane->normal.dot(p_world - plane->point)) > config.max_plane_distance_m)
-        continue;
+    });
+    for (; next < end && scan.residuals.size() < cap; ++next) {
+      if (!usable[next]) continue;
+      const PreparedPoint& p = points[order[next]];
+      const Plane& plane = *scan.plane_cache[order[next]].plane;
       Residual r;
       if (single) {
-        r.cost = std::make_unique<PointToPlaneFactorSinglePose>(config.T_body_lidar * p.point_lidar, *plane);
+        r.cost = std::make_unique<PointToPlaneFactorSinglePose>(config.T_body_lidar * p.point_lidar, plane);
       } else {
-        r.cost = std::make_unique<PointToPlaneFactor>(p.point_lidar, p.alpha, *plane, config.T_body_lidar);
+        r.cost = std::make_unique<PointToPlaneFactor>(p.point_lidar, p.alpha, plane, config.T_body_lidar);
       }
-      r.loss = std::make_unique<ceres::HuberLoss>(config.huber_m / plane->sigma);
+      r.loss = std::make_unique<ceres::HuberLoss>(config.huber_m / plane.sigma);
       scan.residuals.push_back(std::move(r));
     }
   }
@@ -57,11 +76,10 @@ void LidarOdometry::Impl::Associate(ScanState& scan) {
 
 void LidarOdometry::Impl::InsertIntoMap(ScanState& scan) {
   const StageTimer timer(stats.map_ms);
-  const std::vector<PreparedPoint> sparse = DownsamplePrepared(scan.points, config.map_insert_voxel_m);
   std::vector<Eigen::Vector3d> world;
-  world.reserve(sparse.size());
+  world.reserve(scan.map_points.size());
   const SweepPoses sweep = Sweep(scan);
-  for (const PreparedPoint& p : sparse) world.push_back(sweep.At(p.alpha) * p.point_lidar);
+  for (const PreparedPoint& p : scan.map_points) world.push_back(sweep.At(p.alpha) * p.point_lidar);
   map.Insert(world);
   map.RemoveFarFrom(NodePose(scan.end_node).translation());
   scan.in_map = true;
@@ -82,13 +100,17 @@ void LidarOdometry::Impl::Release(ScanState& scan) {
   } else if (scan.end > scan.stamp) {
     keyframe.velocity = (end.translation() - begin.translation()) / ToSeconds(scan.end - scan.stamp);
   }
-  keyframe.scan_world.reserve(scan.points.size());
-  keyframe.scan_intensity.reserve(scan.points.size());
+  const std::size_t n = scan.points.size();
+  keyframe.scan_world.resize(n);
+  keyframe.scan_intensity.resize(n);
   const SweepPoses sweep = Sweep(scan);
-  for (const PreparedPoint& p : scan.points) {
-    keyframe.scan_world.push_back((sweep.At(p.alpha) * p.point_lidar).cast<float>());
-    keyframe.scan_intensity.push_back(p.intensity);
-  }
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& range) {
+    for (std::size_t i = range.begin(); i < range.end(); ++i) {
+      const PreparedPoint& p = scan.points[i];
+      keyframe.scan_world[i] = (sweep.At(p.alpha) * p.point_lidar).cast<float>();
+      keyframe.scan_intensity[i] = p.intensity;
+    }
+  });
   finished.push_back(std::move(keyframe));
 }
 

@@ -1,5 +1,7 @@
 #include "odometry/estimator/window/dense_least_squares.h"
 
+#include <tbb/parallel_for.h>
+
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cassert>
@@ -35,81 +37,143 @@ void DenseLeastSquares::AddEuclideanBlock(double* block, int size) {
 void DenseLeastSquares::AddResidualBlock(const ceres::CostFunction* cost, const ceres::LossFunction* loss,
                                          const std::vector<double*>& blocks) {
   assert(cost != nullptr && blocks.size() == cost->parameter_block_sizes().size());
-  residuals_.push_back({cost, dynamic_cast<const TangentJacobianCost*>(cost), loss,
-                        static_cast<int>(params_.size()), static_cast<int>(blocks.size())});
-  for (double* block : blocks) {
-    params_.push_back(block);
-    const auto it = block_of_.find(block);
+  ResidualBlock block{cost,
+                      dynamic_cast<const TangentJacobianCost*>(cost),
+                      loss,
+                      static_cast<int>(params_.size()),
+                      static_cast<int>(blocks.size()),
+                      0,
+                      0};
+  for (double* data : blocks) {
+    params_.push_back(data);
+    const auto it = block_of_.find(data);
     free_.push_back(it == block_of_.end() ? -1 : it->second);
+    local_offset_.push_back(it == block_of_.end() ? -1 : block.local_size);
+    if (it != block_of_.end()) block.local_size += blocks_[it->second].tangent_size;
   }
+  // Same group as the previous block when both act on the same free blocks in the same order.
+  if (!residuals_.empty()) {
+    const ResidualBlock& previous = residuals_.back();
+    const int* a = &free_[previous.first_param];
+    const int* b = &free_[block.first_param];
+    int i = 0, j = 0;
+    bool same = true;
+    while (same) {
+      while (i < previous.num_params && a[i] < 0) ++i;
+      while (j < block.num_params && b[j] < 0) ++j;
+      if (i == previous.num_params || j == block.num_params) {
+        same = i == previous.num_params && j == block.num_params;
+        break;
+      }
+      same = a[i++] == b[j++];
+    }
+    block.group = same ? previous.group : previous.group + 1;
+  }
+  residuals_.push_back(block);
 }
 
 bool DenseLeastSquares::Linearize(double* cost, Eigen::MatrixXd* H, Eigen::VectorXd* g) {
   return Evaluate(cost, H, g);
 }
 
-// F and, when H is given, the robustified normal equations (see the header). Each residual block's tangent
-// Jacobian J (m x L, its free blocks side by side) is formed in scratch buffers; J^T J and J^T r are summed
-// in a local L x L system while consecutive residual blocks act on the same free blocks, and scattered into
-// H and g when that changes (FlushGroup).
+// F and, when H is given, the robustified normal equations (see the header), summed over chunks of the
+// residual blocks in parallel, then added in chunk order.
 bool DenseLeastSquares::Evaluate(double* cost, Eigen::MatrixXd* H, Eigen::VectorXd* g) {
+  constexpr int kBlocksPerChunk = 512, kMaxChunks = 4;
+  const int count = static_cast<int>(residuals_.size());
+  const int chunks = std::clamp(count / kBlocksPerChunk, 1, kMaxChunks);
+  if (static_cast<int>(chunks_.size()) < chunks) chunks_.resize(chunks);
   const bool jacobians = H != nullptr;
-  if (jacobians) {
-    H->setZero(tangent_size_, tangent_size_);
-    g->setZero(tangent_size_);
-  }
-  group_blocks_.clear();
+  tbb::parallel_for(0, chunks, [&](int c) {
+    EvaluateChunk(static_cast<int>(static_cast<long>(count) * c / chunks),
+                  static_cast<int>(static_cast<long>(count) * (c + 1) / chunks), jacobians, chunks_[c]);
+  });
   double total = 0;
-  double plus_jacobian[7 * 6];
-  for (const ResidualBlock& block : residuals_) {
-    const int m = block.cost->num_residuals();
-    const std::vector<int32_t>& sizes = block.cost->parameter_block_sizes();
-    residual_.resize(m);
-    jacobian_pointers_.assign(block.num_params, nullptr);
-    local_offset_.assign(block.num_params, -1);
-    int local_size = 0, ambient_total = 0;
-    for (int p = 0; p < block.num_params && jacobians; ++p) {
-      const int b = free_[block.first_param + p];
-      if (b < 0) continue;
-      local_offset_[p] = local_size;
-      local_size += blocks_[b].tangent_size;
-      ambient_total += sizes[p];
+  for (int c = 0; c < chunks; ++c) {
+    if (!chunks_[c].ok) return false;
+    total += chunks_[c].cost;
+    if (!jacobians) continue;
+    if (c == 0) {
+      *H = chunks_[c].H;
+      *g = chunks_[c].g;
+    } else {
+      *H += chunks_[c].H;
+      *g += chunks_[c].g;
     }
+  }
+  if (!std::isfinite(total)) return false;
+  *cost = total;
+  return true;
+}
+
+// F (and H, g) of the residual blocks [first, last). Each residual block's tangent Jacobian J (m x L, its
+// free blocks side by side) is formed in scratch buffers; J^T J and J^T r are summed in a local L x L
+// system while consecutive residual blocks act on the same free blocks, and scattered into H and g when
+// that changes (FlushGroup).
+void DenseLeastSquares::EvaluateChunk(int first, int last, bool jacobians, Accumulator& sum) const {
+  sum.ok = true;
+  sum.cost = 0;
+  sum.group = -1;
+  if (jacobians) {
+    sum.H.setZero(tangent_size_, tangent_size_);
+    sum.g.setZero(tangent_size_);
+  }
+  double plus_jacobian[7 * 6];
+  for (int index = first; index < last; ++index) {
+    const ResidualBlock& block = residuals_[index];
+    const int m = block.cost->num_residuals();
+    const int local_size = block.local_size;
+    const std::vector<int32_t>& sizes = block.cost->parameter_block_sizes();
+    const int* local_offset = &local_offset_[block.first_param];
+    const int* free = &free_[block.first_param];
+    sum.residual.resize(m);
+    sum.jacobian_pointers.assign(block.num_params, nullptr);
     const bool want = jacobians && local_size > 0;
     double* const* parameters = &params_[block.first_param];
-    double* r = residual_.data();
+    double* r = sum.residual.data();
     // J, row-major m x local_size.
-    tangent_.resize(static_cast<std::size_t>(m) * std::max(local_size, 1));
-    double* J = tangent_.data();
+    sum.J.resize(static_cast<std::size_t>(m) * std::max(local_size, 1));
+    double* J = sum.J.data();
     if (!want) {
-      if (!block.cost->Evaluate(parameters, r, nullptr)) return false;
+      if (!block.cost->Evaluate(parameters, r, nullptr)) {
+        sum.ok = false;
+        return;
+      }
     } else if (block.tangent != nullptr) {
       // Direct tangent Jacobians, one m x t_p buffer per free block, then interleaved into J.
-      ambient_.resize(static_cast<std::size_t>(m) * local_size);
+      sum.tangent_columns.resize(static_cast<std::size_t>(m) * local_size);
       for (int p = 0; p < block.num_params; ++p)
-        if (local_offset_[p] >= 0) jacobian_pointers_[p] = ambient_.data() + m * local_offset_[p];
-      if (!block.tangent->EvaluateTangent(parameters, r, jacobian_pointers_.data())) return false;
+        if (local_offset[p] >= 0) sum.jacobian_pointers[p] = sum.tangent_columns.data() + m * local_offset[p];
+      if (!block.tangent->EvaluateTangent(parameters, r, sum.jacobian_pointers.data())) {
+        sum.ok = false;
+        return;
+      }
       for (int p = 0; p < block.num_params; ++p) {
-        if (local_offset_[p] < 0) continue;
-        const int t = blocks_[free_[block.first_param + p]].tangent_size;
+        if (local_offset[p] < 0) continue;
+        const int t = blocks_[free[p]].tangent_size;
         for (int k = 0; k < m; ++k)
-          for (int c = 0; c < t; ++c)
-            J[k * local_size + local_offset_[p] + c] = jacobian_pointers_[p][k * t + c];
+          for (int c = 0; c < t; ++c) J[k * local_size + local_offset[p] + c] = sum.jacobian_pointers[p][k * t + c];
       }
     } else {
       // Ambient Jacobians (Ceres' convention), times PlusJacobian for pose blocks.
-      ambient_.resize(static_cast<std::size_t>(m) * ambient_total);
+      int ambient_total = 0;
+      for (int p = 0; p < block.num_params; ++p)
+        if (local_offset[p] >= 0) ambient_total += sizes[p];
+      sum.tangent_columns.resize(static_cast<std::size_t>(m) * ambient_total);
       int at = 0;
       for (int p = 0; p < block.num_params; ++p) {
-        if (local_offset_[p] < 0) continue;
-        jacobian_pointers_[p] = ambient_.data() + at;
+        if (local_offset[p] < 0) continue;
+        sum.jacobian_pointers[p] = sum.tangent_columns.data() + at;
         at += m * sizes[p];
       }
-      if (!block.cost->Evaluate(parameters, r, jacobian_pointers_.data())) return false;
+      if (!block.cost->Evaluate(parameters, r, sum.jacobian_pointers.data())) {
+        sum.ok = false;
+        return;
+      }
       for (int p = 0; p < block.num_params; ++p) {
-        if (local_offset_[p] < 0) continue;
-        const Block& free_block = blocks_[free_[block.first_param + p]];
-        const double* A = jacobian_pointers_[p];  // m x ambient, row-major
+        if (local_offset[p] < 0) continue;
+        const Block& free_block = blocks_[free[p]];
+        const double* A = sum.jacobian_pointers[p];  // m x ambient, row-major
         if (free_block.pose) PoseManifold().PlusJacobian(free_block.data, plus_jacobian);
         for (int k = 0; k < m; ++k) {
           for (int c = 0; c < free_block.tangent_size; ++c) {
@@ -119,25 +183,31 @@ bool DenseLeastSquares::Evaluate(double* cost, Eigen::MatrixXd* H, Eigen::Vector
             } else {
               v = A[k * free_block.ambient_size + c];
             }
-            J[k * local_size + local_offset_[p] + c] = v;
+            J[k * local_size + local_offset[p] + c] = v;
           }
         }
       }
     }
     double s = 0;
     for (int k = 0; k < m; ++k) {
-      if (!std::isfinite(r[k])) return false;
+      if (!std::isfinite(r[k])) {
+        sum.ok = false;
+        return;
+      }
       s += r[k] * r[k];
     }
     if (want)
       for (int e = 0; e < m * local_size; ++e)
-        if (!std::isfinite(J[e])) return false;
+        if (!std::isfinite(J[e])) {
+          sum.ok = false;
+          return;
+        }
     if (block.loss == nullptr) {
-      total += 0.5 * s;
+      sum.cost += 0.5 * s;
     } else {
       double rho[3];
       block.loss->Evaluate(s, rho);
-      total += 0.5 * rho[0];
+      sum.cost += 0.5 * rho[0];
       if (want) {
         // Ceres' Corrector: r <- sqrt(rho') / (1 - alpha) r, J <- sqrt(rho') (I - alpha r r^T / s) J with
         // alpha the smaller root of 1/2 alpha^2 - alpha - rho'' s / rho' = 0 (0 when rho'' <= 0).
@@ -148,8 +218,7 @@ bool DenseLeastSquares::Evaluate(double* cost, Eigen::MatrixXd* H, Eigen::Vector
         } else {
           const double alpha = 1.0 - std::sqrt(1.0 + 2.0 * s * rho[2] / rho[1]);
           Eigen::Map<Eigen::VectorXd> rv(r, m);
-          Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> Jm(J, m,
-                                                                                                local_size);
+          Eigen::Map<RowMajorMatrix> Jm(J, m, local_size);
           const Eigen::RowVectorXd rTJ = rv.transpose() * Jm;
           Jm = sqrt_rho1 * (Jm - (alpha / s) * rv * rTJ);
           rv *= sqrt_rho1 / (1.0 - alpha);
@@ -157,58 +226,51 @@ bool DenseLeastSquares::Evaluate(double* cost, Eigen::MatrixXd* H, Eigen::Vector
       }
     }
     if (!want) continue;
-    // Consecutive residual blocks on the same free blocks (one scan's points) share one local system.
-    group_key_.clear();
-    for (int p = 0; p < block.num_params; ++p)
-      if (local_offset_[p] >= 0) group_key_.push_back(free_[block.first_param + p]);
-    if (group_key_ != group_blocks_) {
-      FlushGroup(H, g);
-      group_blocks_ = group_key_;
-      group_size_ = local_size;
-      group_H_.setZero(local_size, local_size);
-      group_g_.setZero(local_size);
-      group_H12_.setZero();
-      group_g12_.setZero();
+    if (block.group != sum.group) {
+      FlushGroup(sum);
+      sum.group = block.group;
+      sum.group_first = index;
+      sum.group_H.setZero(local_size, local_size);
+      sum.group_g.setZero(local_size);
+      sum.group_H12.setZero();
+      sum.group_g12.setZero();
     }
     if (m == 1 && local_size == 12) {  // the point-to-plane factor on a scan's begin and end poses
       const Eigen::Map<const Eigen::Matrix<double, 12, 1>> j(J);
-      group_H12_.noalias() += j * j.transpose();
-      group_g12_ += r[0] * j;
+      sum.group_H12.noalias() += j * j.transpose();
+      sum.group_g12 += r[0] * j;
     } else {
-      const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> Jm(
-          J, m, local_size);
+      const Eigen::Map<const RowMajorMatrix> Jm(J, m, local_size);
       const Eigen::Map<const Eigen::VectorXd> rv(r, m);
-      group_H_.noalias() += Jm.transpose() * Jm;
-      group_g_.noalias() += Jm.transpose() * rv;
+      sum.group_H.noalias() += Jm.transpose() * Jm;
+      sum.group_g.noalias() += Jm.transpose() * rv;
     }
   }
-  if (!std::isfinite(total)) return false;
-  if (jacobians) FlushGroup(H, g);
-  *cost = total;
-  return true;
+  if (jacobians) FlushGroup(sum);
 }
 
-// Adds the local system of the current group (its free blocks side by side) into H and g.
-void DenseLeastSquares::FlushGroup(Eigen::MatrixXd* H, Eigen::VectorXd* g) {
-  if (group_blocks_.empty()) return;
-  if (group_size_ == 12) {
-    group_H_ += group_H12_;
-    group_g_ += group_g12_;
+// Adds the local system of the current group (its free blocks side by side) into the chunk's H and g.
+void DenseLeastSquares::FlushGroup(Accumulator& sum) const {
+  if (sum.group < 0) return;
+  const ResidualBlock& block = residuals_[sum.group_first];
+  if (block.local_size == 12) {
+    sum.group_H += sum.group_H12;
+    sum.group_g += sum.group_g12;
   }
-  int lp = 0;
-  for (const int bp : group_blocks_) {
-    const Block& p = blocks_[bp];
-    g->segment(p.offset, p.tangent_size) += group_g_.segment(lp, p.tangent_size);
-    int lq = 0;
-    for (const int bq : group_blocks_) {
-      const Block& q = blocks_[bq];
-      H->block(p.offset, q.offset, p.tangent_size, q.tangent_size) +=
-          group_H_.block(lp, lq, p.tangent_size, q.tangent_size);
-      lq += q.tangent_size;
+  const int* free = &free_[block.first_param];
+  const int* local_offset = &local_offset_[block.first_param];
+  for (int p = 0; p < block.num_params; ++p) {
+    if (local_offset[p] < 0) continue;
+    const Block& bp = blocks_[free[p]];
+    sum.g.segment(bp.offset, bp.tangent_size) += sum.group_g.segment(local_offset[p], bp.tangent_size);
+    for (int q = 0; q < block.num_params; ++q) {
+      if (local_offset[q] < 0) continue;
+      const Block& bq = blocks_[free[q]];
+      sum.H.block(bp.offset, bq.offset, bp.tangent_size, bq.tangent_size) +=
+          sum.group_H.block(local_offset[p], local_offset[q], bp.tangent_size, bq.tangent_size);
     }
-    lp += p.tangent_size;
   }
-  group_blocks_.clear();
+  sum.group = -1;
 }
 
 void DenseLeastSquares::Plus(const Eigen::VectorXd& dx) {

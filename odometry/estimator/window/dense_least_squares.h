@@ -19,6 +19,11 @@
 // mu <- mu * max(1/3, 1 - (2 rho - 1)^3) and v = 2, else mu <- mu * v, v <- 2 v (Nielsen's rule).
 // Stops after max_iterations steps, the time budget, |dF| / F < function_tolerance,
 // |dx| < parameter_tolerance (|x| + parameter_tolerance) or max |g| < gradient_tolerance.
+//
+// Threads: the residual blocks are split into contiguous chunks (their number depends only on how many
+// blocks there are) evaluated in parallel with TBB, each summing its own F, H and g; the chunks' sums are
+// then added in chunk order, so results do not depend on the number of threads or their timing. Cost
+// functions must therefore be safe to evaluate concurrently (const, or per-thread scratch).
 #pragma once
 
 #include <ceres/cost_function.h>
@@ -78,12 +83,30 @@ class DenseLeastSquares {
     const ceres::CostFunction* cost;
     const TangentJacobianCost* tangent;  // the same object when it offers tangent Jacobians, else null
     const ceres::LossFunction* loss;
-    int first_param;  // into params_ (block pointers) and free_ (index into blocks_ or -1)
+    int first_param;  // into params_ (block pointers), free_ (index into blocks_ or -1) and local_offset_
     int num_params;
+    int local_size;  // tangent size of its free blocks side by side
+    int group;       // consecutive residual blocks on the same free blocks share a group
+  };
+  // What one chunk of residual blocks sums (see EvaluateChunk), with its scratch buffers.
+  struct Accumulator {
+    bool ok = true;
+    double cost = 0;
+    Eigen::MatrixXd H;
+    Eigen::VectorXd g;
+    // Scratch.
+    std::vector<double> residual, tangent_columns, J;
+    std::vector<double*> jacobian_pointers;
+    int group = -1, group_first = 0;  // the current local system: its group and one of its residual blocks
+    Eigen::MatrixXd group_H;
+    Eigen::VectorXd group_g;
+    Eigen::Matrix<double, 12, 12> group_H12;  // fast path: one residual on two poses
+    Eigen::Matrix<double, 12, 1> group_g12;
   };
 
   bool Evaluate(double* cost, Eigen::MatrixXd* H, Eigen::VectorXd* g);
-  void FlushGroup(Eigen::MatrixXd* H, Eigen::VectorXd* g);
+  void EvaluateChunk(int first, int last, bool jacobians, Accumulator& sum) const;
+  void FlushGroup(Accumulator& sum) const;
   void Plus(const Eigen::VectorXd& dx);  // x <- x boxplus dx
   std::vector<double> SaveValues() const;
   void RestoreValues(const std::vector<double>& values);
@@ -94,16 +117,8 @@ class DenseLeastSquares {
   std::vector<ResidualBlock> residuals_;
   std::vector<double*> params_;
   std::vector<int> free_;
-  // Scratch of Evaluate.
-  std::vector<double> residual_, ambient_, tangent_;
-  std::vector<double*> jacobian_pointers_;
-  std::vector<int> local_offset_;
-  std::vector<int> group_key_, group_blocks_;  // free blocks of the current local system
-  int group_size_ = 0;
-  Eigen::MatrixXd group_H_;
-  Eigen::VectorXd group_g_;
-  Eigen::Matrix<double, 12, 12> group_H12_;  // fast path: one residual on two poses
-  Eigen::Matrix<double, 12, 1> group_g12_;
+  std::vector<int> local_offset_;  // of the parameter in its residual block's local system, -1 when constant
+  std::vector<Accumulator> chunks_;
 };
 
 }  // namespace uf::estimator
