@@ -68,8 +68,8 @@ class VoxelHashMap {
 
  private:
   // Slot of a voxel in voxels_; the 27 voxels of a block are linked by slot so that fitting the block of a
-  // voxel with points costs no hash lookups. Block offset o = 9 (dx + 1) + 3 (dy + 1) + (dz + 1); 13 is the voxel
-  // itself and 26 - o the opposite offset.
+  // voxel with points costs no hash lookups. Block offset o = 9 (dx + 1) + 3 (dy + 1) + (dz + 1); 13 is the
+  // voxel itself and 26 - o the opposite offset.
   using Slot = std::int32_t;
   static constexpr Slot kNoVoxel = -1;
   static constexpr int kBlockSize = 27;

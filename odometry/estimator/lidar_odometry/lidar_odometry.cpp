@@ -95,7 +95,8 @@ void LidarOdometry::Impl::ProcessScan(const LidarScan& input) {
     // points.
     const double ratio = config.input_voxel_m / config.map_insert_voxel_m;
     const bool nested = ratio >= 1 && std::abs(ratio - std::round(ratio)) < 1e-9;
-    scan.registration_points = DownsamplePrepared(nested ? scan.map_points : scan.points, config.input_voxel_m);
+    scan.registration_points =
+        DownsamplePrepared(nested ? scan.map_points : scan.points, config.input_voxel_m);
   }
   if (static_cast<int>(scan.registration_points.size()) < config.min_points) {
     warnings.push_back("lidar scan at " + StampText(input.stamp) +

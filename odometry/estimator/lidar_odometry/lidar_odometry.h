@@ -17,9 +17,9 @@
 //   stride over the scan so they spread over it; Huber loss (huber_m). ICP style: up to association_rounds
 //   rounds of (re-query planes, max_iterations LM iterations moving only the new scan's nodes) until a
 //   round leaves them within 5 mm / 1 mrad of where this or an earlier round left them (converged, or the
-//   association cycling through the same plane sets); then one solve of the whole window. Older scans keep the factors of
-//   their own registration (planes fixed), so the window smooths the trajectory through the motion factors.
-//   The very first scan (nothing to register against) gets a single node at its middle.
+//   association cycling through the same plane sets); then one solve of the whole window. Older scans keep
+//   the factors of their own registration (planes fixed), so the window smooths the trajectory through the
+//   motion factors. The very first scan (nothing to register against) gets a single node at its middle.
 // - Map update right after the new scan's registration, with the scan deskewed by its solved poses: the
 //   keyframe data are ~2 m apart, and waiting until a scan leaves the window would leave the map ~20 m
 //   behind the vehicle (little overlap in turns).
@@ -32,6 +32,9 @@
 //   biases; the window is rotated into the gravity-aligned world (z up) and the IMU factors take over. A
 //   window that fails both is retried with the next scan. LIO waits with each scan until the IMU covers
 //   its end (at most imu_max_wait_s of stream time).
+// - Threads: the plane association of the new scan, the solver's evaluation and the keyframe's deskew run
+//   on all cores (TBB); the residuals are taken in visiting order and partial sums added in a fixed order,
+//   so the results do not depend on the number of threads.
 // - Divergence: a non-finite result, a solver failure or a correction beyond max_correction_m / _rad keeps
 //   the scan's guess, records a warning, and the scan is not inserted into the map. In LIO a non-finite or
 //   faster-than-max_speed_mps state re-initializes (logged), starting again at the last pose.

@@ -52,11 +52,11 @@ struct Residual {
 
 struct ScanState {
   Stamp stamp = 0, end = 0;
-  long begin_node = 0, end_node = 0;  // node ids (equal for a scan without duration)
+  long begin_node = 0, end_node = 0;               // node ids (equal for a scan without duration)
   std::vector<PreparedPoint> points;               // all prepared points, for the keyframe's deskewed scan
   std::vector<PreparedPoint> map_points;           // downsampled at map_insert_voxel_m, for the map
   std::vector<PreparedPoint> registration_points;  // downsampled at input_voxel_m
-  std::vector<Residual> residuals;  // of the last association
+  std::vector<Residual> residuals;                 // of the last association
   // The map's plane for each registration point, from its last query: within the ICP rounds of one scan
   // the map does not change, so a point still in the same voxel gets the same plane (VoxelHashMap::QueryKey)
   // and needs no new query. Valid for map revision plane_cache_revision; dropped after registration.

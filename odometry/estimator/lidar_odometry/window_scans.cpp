@@ -55,7 +55,8 @@ void LidarOdometry::Impl::Associate(ScanState& scan) {
         }
         // Correspondence gate: a plane farther than max_plane_distance_m from the point is another surface.
         const std::optional<Plane>& plane = cached.plane;
-        usable[k] = plane && std::abs(plane->normal.dot(p_world - plane->point)) <= config.max_plane_distance_m;
+        usable[k] =
+            plane && std::abs(plane->normal.dot(p_world - plane->point)) <= config.max_plane_distance_m;
       }
     });
     for (; next < end && scan.residuals.size() < cap; ++next) {

@@ -152,7 +152,8 @@ void DenseLeastSquares::EvaluateChunk(int first, int last, bool jacobians, Accum
         if (local_offset[p] < 0) continue;
         const int t = blocks_[free[p]].tangent_size;
         for (int k = 0; k < m; ++k)
-          for (int c = 0; c < t; ++c) J[k * local_size + local_offset[p] + c] = sum.jacobian_pointers[p][k * t + c];
+          for (int c = 0; c < t; ++c)
+            J[k * local_size + local_offset[p] + c] = sum.jacobian_pointers[p][k * t + c];
       }
     } else {
       // Ambient Jacobians (Ceres' convention), times PlusJacobian for pose blocks.

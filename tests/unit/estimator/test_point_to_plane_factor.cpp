@@ -1,4 +1,5 @@
-// The point-to-plane factors against independent truth: hand-computed signed distances (a = 0, 1/2, 1),
+// The point-to-plane factors against independent truth: hand-computed signed distances (a = 0, 1/2, 1; also
+// with blocks changed in place between evaluations),
 // analytic Jacobians against central numeric derivatives taken in the pose tangent through
 // PoseManifold::Plus (also for R_b = R_e), and a Ceres solve that registers a synthetic scan with motion
 // during the sweep: with deskew it recovers both poses, without it (all points at a = 0) it cannot.
@@ -52,6 +53,25 @@ TEST(PointToPlaneFactor, ResidualIsTheSignedDistanceAtThePointsTime) {
   // The single-pose factor at the end pose equals the two-pose factor at a = 1.
   const PointToPlaneFactorSinglePose single(T_body_lidar * Eigen::Vector3d(1, 0, 0), x_plane);
   EXPECT_NEAR(Residual(single, {end.data()}), expected_x[2], 1e-12);
+}
+
+// The terms a scan's points share are kept per thread for the last (begin, end) values: blocks changed in
+// place (as a solver does) must be seen. Same hand values as above: x_plane at a = 1/2 with the end pose
+// (Rz(90 deg), (2, 0, 0)) gives (1 + (0.5 - 1) / sqrt2 - 0.2) / 0.1; with the end pose equal to the begin
+// pose (identity), p_w = (0.5, 1, 0) for every a, so (0.5 - 0.2) / 0.1.
+TEST(PointToPlaneFactor, SeesBlocksChangedInPlace) {
+  const SE3 T_body_lidar(Rz(kPi / 2), Eigen::Vector3d(0.5, 0, 0));
+  const Plane x_plane{Eigen::Vector3d::UnitX(), Eigen::Vector3d(0.2, 7, -3), 0.1};
+  const PointToPlaneFactor factor(Eigen::Vector3d(1, 0, 0), 0.5, x_plane, T_body_lidar);
+  const double moving = (1 + (0.5 - 1) / std::sqrt(2.0) - 0.2) / 0.1, still = (0.5 - 0.2) / 0.1;
+  const auto begin = PoseBlock(SE3());
+  auto end = PoseBlock(SE3(Rz(kPi / 2), Eigen::Vector3d(2, 0, 0)));
+  for (int round = 0; round < 2; ++round) {
+    end = PoseBlock(SE3(Rz(kPi / 2), Eigen::Vector3d(2, 0, 0)));
+    EXPECT_NEAR(Residual(factor, {begin.data(), end.data()}), moving, 1e-12) << round;
+    end = PoseBlock(SE3());
+    EXPECT_NEAR(Residual(factor, {begin.data(), end.data()}), still, 1e-12) << round;
+  }
 }
 
 // Tangent Jacobian of a residual w.r.t. block k by central differences through PoseManifold::Plus.

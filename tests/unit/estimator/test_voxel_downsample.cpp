@@ -1,12 +1,16 @@
 // VoxelDownsample against a constructed cloud whose voxel occupancy is known by construction: one point per
 // voxel (the first seen), exact counts, whole LidarPoints kept (offset_ns, ring, intensity), floor (not
-// truncation) at negative coordinates, non-finite points dropped.
+// truncation) at negative coordinates, non-finite points dropped; and nested downsampling of prepared points
+// (map voxels inside registration voxels) equals one pass.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <random>
 
 #include "odometry/estimator/lidar/voxel_downsample.h"
+#include "odometry/estimator/lidar_odometry/scan_preparation.h"
 
 namespace uf::estimator {
 namespace {
@@ -74,6 +78,27 @@ TEST(VoxelDownsample, EmptyAndDenseClouds) {
   const std::vector<LidarPoint> kept = VoxelDownsample(cloud, 1.0);
   ASSERT_EQ(kept.size(), 1u);
   EXPECT_EQ(kept[0].offset_ns, 0);
+}
+
+// LO downsamples a scan for the map (0.5 m) and, from those points, for registration (1.0 m): nested grids
+// give the same points as downsampling all points at 1.0 m (the first point of a coarse voxel is the first
+// of its fine voxel). Points on a 0.05 m lattice shuffled, so that voxel borders are hit exactly.
+TEST(DownsamplePrepared, NestedVoxelsGiveTheSamePointsAsOnePass) {
+  std::vector<PreparedPoint> points;
+  for (int i = -60; i < 60; ++i)
+    for (int j = -60; j < 60; j += 3)
+      for (int k = -20; k < 20; k += 7)
+        points.push_back({Eigen::Vector3d(0.05 * i, 0.05 * j, 0.05 * k), 0, 0});
+  std::shuffle(points.begin(), points.end(), std::mt19937_64(9));
+  for (std::size_t i = 0; i < points.size(); ++i) points[i].alpha = static_cast<double>(i) / points.size();
+  const std::vector<PreparedPoint> direct = DownsamplePrepared(points, 1.0);
+  const std::vector<PreparedPoint> nested = DownsamplePrepared(DownsamplePrepared(points, 0.5), 1.0);
+  ASSERT_EQ(nested.size(), direct.size());
+  EXPECT_EQ(direct.size(), 6u * 6u * 2u);  // x, y in [-3, 3), z in [-1, 0.75]: 1 m voxels
+  for (std::size_t i = 0; i < direct.size(); ++i) {
+    EXPECT_EQ(nested[i].point_lidar, direct[i].point_lidar) << i;
+    EXPECT_EQ(nested[i].alpha, direct[i].alpha) << i;
+  }
 }
 
 }  // namespace

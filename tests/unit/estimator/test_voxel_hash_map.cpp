@@ -1,7 +1,8 @@
 // VoxelHashMap against analytic geometry: the walls of a synthetic box room come back as planes (normal and
 // offset of the true wall), its edges and corners fail the eigen-ratio gate, voxels hold at most
 // max_points_per_voxel points, RemoveFarFrom drops exactly the voxels a brute force says are far, the plane
-// cache follows inserts; and on a recorded KITTI scan most ground points get a plane with normal ~ z.
+// planes follow inserts, shifted moment sums equal the moments of the points; and on a recorded KITTI scan
+// most ground points get a plane with normal ~ z.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -156,8 +157,8 @@ TEST(VoxelHashMap, RemoveFarFromDropsExactlyTheFarVoxels) {
   for (const Eigen::Vector3d& p : map.Points()) EXPECT_LE((p - center).norm(), 12 + half_diagonal);
 }
 
-TEST(VoxelHashMap, PlaneCacheFollowsInserts) {
-  // A floor patch gives a plane; a wall inserted through the block afterwards must invalidate it.
+TEST(VoxelHashMap, PlanesFollowInserts) {
+  // A floor patch gives a plane; a wall inserted through the block afterwards must change it.
   VoxelHashMap map(VoxelMapConfig{.max_range_m = 2.2});
   std::vector<Eigen::Vector3d> floor, wall;
   for (double x = -2; x <= 2; x += 0.1)
@@ -230,6 +231,32 @@ TEST(VoxelHashMap, ValidatesItsConfig) {
   EXPECT_FALSE(VoxelMapConfig{.max_points_per_voxel = 0}.Validate().ok());
   EXPECT_FALSE(VoxelMapConfig{.plane_eigen_ratio = 1.5}.Validate().ok());
   EXPECT_FALSE(VoxelMapConfig{.min_plane_points = 2}.Validate().ok());
+}
+
+// ShiftedMomentSum (plane_fit.h) equals the moments of the points themselves about the common origin:
+// three sets with their own origins, summed, against PointMoments built from all points directly.
+TEST(ShiftedMomentSum, EqualsTheMomentsOfAllPointsAboutTheCommonOrigin) {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> uniform(-0.25, 0.25);
+  const Eigen::Vector3d origin(10.25, -3.75, 0.25);
+  const Eigen::Vector3d own_origins[3] = {origin + Eigen::Vector3d(0.5, 0, 0), origin,
+                                          origin + Eigen::Vector3d(-0.5, 0.5, -0.5)};
+  PointMoments direct;
+  ShiftedMomentSum sum;
+  for (const Eigen::Vector3d& own : own_origins) {
+    PointMoments set;
+    for (int i = 0; i < 7; ++i) {
+      const Eigen::Vector3d p = own + Eigen::Vector3d(uniform(rng), uniform(rng), uniform(rng));
+      set.Add(p - own);
+      direct.Add(p - origin);
+    }
+    sum.Add(set, own - origin);
+  }
+  sum.Add(PointMoments(), Eigen::Vector3d(1, 2, 3));  // empty sets add nothing
+  const PointMoments total = sum.Total();
+  EXPECT_EQ(total.count, direct.count);
+  EXPECT_LT((total.sum - direct.sum).norm(), 1e-12);
+  EXPECT_LT((total.sum_outer - direct.sum_outer).norm(), 1e-12);
 }
 
 TEST(VoxelHashMap, GroundOfAKittiScanIsPlanar) {
