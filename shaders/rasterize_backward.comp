@@ -17,13 +17,19 @@
 // S_i = dL/drgb . B_i + dL/dA B^A_i + dL/dD B^D_i obeys the recursion of B: S = dL/drgb . bg, then
 // S <- a_i w_i + (1 - a_i) S.
 //
-// Why it is fast on lavapipe (an `if` runs both sides under a mask; every cross-lane operation and every
-// shared/storage access is a loop over the 8 lanes; only loop trip counts save work): as in the forward, each
-// batch of 64 pairs gets one 64-bit mask per block of the Gaussians that may reach min_alpha on it (a
-// superset of what the forward blended there), cut at the block's largest `end`; each block loops over its
-// set bits only, highest first (= back to front). Per (block, Gaussian): 3 shared loads, 10 block sums, one
-// shared store of the block's record; each pair's record is then the sum of its blocks' records in block
-// order. No atomics on floats: the result is deterministic.
+// Why it is fast on lavapipe (an `if` runs both sides under a mask; reductions such as subgroupAdd and every
+// shared/storage access with per-lane addresses are loops over the 8 lanes, xor shuffles are not; only loop
+// trip counts save work): as in the forward, each batch of 64 pairs gets one 64-bit mask per block of the
+// Gaussians that may reach min_alpha on it (a superset of what the forward blended there), cut at the block's
+// largest `end`; each block loops over its set bits only, highest first (= back to front). Per (block,
+// Gaussian): 3 shared loads, 10 block sums (xor butterflies, see BlockSum), one shared store of the block's
+// record; each pair's record is then the sum of its blocks' records in block order. No atomics on floats: the
+// result is deterministic. The invocation that loads a pair keeps its slot and which blocks it may reach in
+// registers for that sum, and every invocation keeps the blocks' `end` in registers: fewer shared accesses
+// (each one a loop over the lanes) per pair.
+// Tried and slower on lavapipe: a transposing butterfly (10 shuffles, each lane storing 2 of the 10 sums:
+// per-lane stores cost more than the shuffles saved), loading the Gaussian on the block's first lane and
+// broadcasting it, exp2 with a pre-scaled conic, batches of 32 pairs, 8x4 blocks.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
@@ -61,21 +67,21 @@ layout(std430, binding = 7) writeonly buffer PairGradients { vec4 v_pairs[]; };
 shared vec4 s_mean_conic[kBatch];             // (u, v, conic a, conic b)
 shared vec4 s_conic_opacity[kBatch];          // (conic c, opacity, t_z, colour r)
 shared vec2 s_colour_gb[kBatch];              // (colour g, colour b)
-shared uint s_slot[kBatch];
 shared uint s_block_mask[2][kBlocks][2];      // [batch parity][block][word]: Gaussians that may reach it
 shared uint s_block_end[kBlocks];             // largest pixel `end` of the block
 shared uint s_tile_end;
 shared vec4 s_record[kBatch][kBlocks][3];     // per pair and block: the block's sums, laid out as v_pairs
 
-// Sum / max over the 8 lanes of a block: the whole subgroup on lavapipe, else a butterfly within groups of 8.
+// Sum over the 8 lanes of a block: a butterfly of shuffles, also where the subgroup is the block (lavapipe's
+// subgroupAdd is a loop over the lanes, its xor shuffles are cheap: this took ~25 % off the shader's time).
 float BlockSum(float x) {
-  if (gl_SubgroupSize == kBlockWidth) return subgroupAdd(x);
   x += subgroupShuffleXor(x, 1);
   x += subgroupShuffleXor(x, 2);
   return x + subgroupShuffleXor(x, 4);
 }
 vec2 BlockSum(vec2 x) { return vec2(BlockSum(x.x), BlockSum(x.y)); }
 vec3 BlockSum(vec3 x) { return vec3(BlockSum(x.x), BlockSum(x.y), BlockSum(x.z)); }
+// Max over the 8 lanes of a block: the whole subgroup on lavapipe, else a butterfly within groups of 8.
 uint BlockMax(uint x) {
   if (gl_SubgroupSize == kBlockWidth) return subgroupMax(x);
   x = max(x, subgroupShuffleXor(x, 1));
@@ -146,6 +152,9 @@ void main() {
   }
   barrier();
   uint tile_end = s_tile_end;
+  // Kept in registers (a shared load with per-lane addresses is a loop over the lanes on lavapipe).
+  uint block_ends[kBlocks];
+  [[unroll]] for (uint b = 0; b < kBlocks; ++b) block_ends[b] = s_block_end[b];
 
   // Pairs no pixel reached get zero records (every slot of the frame is written exactly once).
   for (uint pair = tile_end + lid; pair < range.y; pair += kInvocations) {
@@ -154,6 +163,9 @@ void main() {
   }
 
   uint parity = 0;
+  // Per pair this invocation loads: its slot and the blocks it may reach (used again to combine the records).
+  uint slots[kLoadsPerInvocation];
+  bool reaches[kLoadsPerInvocation][kBlocks];
   for (uint batch_end = tile_end; batch_end > range.x; parity ^= 1) {
     uint n = min(kBatch, batch_end - range.x), batch_start = batch_end - n;
     barrier();  // the previous batch's records and masks are consumed
@@ -166,7 +178,7 @@ void main() {
         s_mean_conic[q] = mc;
         s_conic_opacity[q] = vec4(co.xyz, colour.r);
         s_colour_gb[q] = colour.gb;
-        s_slot[q] = Slot(g);
+        slots[i] = Slot(g);
         // The forward's test (alpha >= min_alpha only where q(d) <= r2) with a wider margin (1.02 instead of
         // 1.01): a superset of the blocks the forward blended the Gaussian on.
         float r2 = -2.0 * (log(min_alpha / co.y) - 1e-3);
@@ -174,8 +186,9 @@ void main() {
         [[unroll]] for (uint b = 0; b < kBlocks; ++b) {
           vec2 b0 = vec2((b % kBlocksX) * kBlockWidth, (b / kBlocksX) * kRows);
           vec2 b1 = b0 + vec2(kBlockWidth - 1, kRows - 1);
-          if (MinQuadraticOverRect(b0 - mean_in_tile, b1 - mean_in_tile, mc.z, mc.w, co.x) <= 1.02 * r2)
-            atomicOr(s_block_mask[parity][b][q / 32], 1u << (q % 32));
+          float min_q = MinQuadraticOverRect(b0 - mean_in_tile, b1 - mean_in_tile, mc.z, mc.w, co.x);
+          reaches[i][b] = min_q <= 1.02 * r2;
+          if (reaches[i][b]) atomicOr(s_block_mask[parity][b][q / 32], 1u << (q % 32));
         }
       }
     }
@@ -235,12 +248,11 @@ void main() {
       if (q < n) {
         vec4 record[3] = vec4[3](vec4(0.0), vec4(0.0), vec4(0.0));
         [[unroll]] for (uint b = 0; b < kBlocks; ++b) {
-          bool processed = (s_block_mask[parity][b][q / 32] & (1u << (q % 32))) != 0 &&
-                           batch_start + q < s_block_end[b];
+          bool processed = reaches[i][b] && batch_start + q < block_ends[b];
           [[unroll]] for (uint r = 0; r < 3; ++r)
             record[r] += processed ? s_record[q][b][r] : vec4(0.0);
         }
-        uint slot = s_slot[q];
+        uint slot = slots[i];
         [[unroll]] for (uint r = 0; r < 3; ++r) v_pairs[3 * slot + r] = record[r];
       }
     }

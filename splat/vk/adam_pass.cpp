@@ -18,13 +18,13 @@ constexpr std::size_t kGeometryGradientFloats = 16;  // 4 vec4 per Gaussian (bac
 
 // Mirrors the push constants of shaders/adam_step.comp.
 struct AdamPush {
-  std::uint32_t mode, count, base, sh_stride, active_floats, has_projected;
+  std::uint32_t sh_vec4s, count, base, sh_stride, active_floats, sh_scalars, has_projected;
   float beta1, beta2, epsilon, c1, c2;
   float lr_position, lr_log_scale, lr_rotation, lr_opacity, lr_sh_dc, lr_sh_rest;
   float ndc_scale_x, ndc_scale_y;
   std::uint32_t pair_capacity;
 };
-static_assert(sizeof(AdamPush) == 80);
+static_assert(sizeof(AdamPush) == 84);
 
 std::uint32_t Groups(std::uint32_t invocations) {
   return std::clamp<std::uint32_t>((invocations + kWorkgroup - 1) / kWorkgroup, 1, kMaxGroups);
@@ -36,7 +36,7 @@ Expected<std::unique_ptr<AdamPass>> AdamPass::Create(const Context& context,
                                                      std::size_t max_gaussians_per_chunk) {
   std::unique_ptr<AdamPass> pass(new AdamPass(context, max_gaussians_per_chunk));
   auto pipeline =
-      ComputePipeline::Create(context, ShaderCode(ShaderId::kAdamStep), 8, sizeof(AdamPush), "adam_step");
+      ComputePipeline::Create(context, ShaderCode(ShaderId::kAdamStep), 12, sizeof(AdamPush), "adam_step");
   if (!pipeline.ok()) return pipeline.status();
   pass->pipeline_ = std::move(pipeline.value());
   return pass;
@@ -82,6 +82,9 @@ void AdamPass::Record(FrameCommands& frame, GaussianBuffers& model,
   AdamPush push{};
   push.sh_stride = stride;
   push.active_floats = 3 * static_cast<std::uint32_t>(step.active_sh_coefficients);
+  // The shader's two SH loops (vec4 when the stride allows, else float by float): one runs, one has 0 trips.
+  push.sh_vec4s = stride % 4 == 0 ? (push.active_floats + 3) / 4 : 0;
+  push.sh_scalars = stride % 4 == 0 ? 0 : push.active_floats;
   push.has_projected = projected != nullptr ? 1 : 0;
   push.beta1 = step.beta1;
   push.beta2 = step.beta2;
@@ -106,17 +109,12 @@ void AdamPass::Record(FrameCommands& frame, GaussianBuffers& model,
     assert(state.first == chunk.first && state.count == chunk.count);
     if (chunk.count == 0) continue;
     push.base = chunk.first;
-    push.mode = 0;
     push.count = chunk.count;
-    frame.Dispatch(*pipeline_,
-                   {&chunk.geometry, &state.m_geometry, &state.v_geometry, &gradients[c].geometry,
-                    &tile_counts, &state.statistics, radii, counters},
-                   &push, Groups(push.count));
-    push.mode = 1;
-    frame.Dispatch(*pipeline_,
-                   {&chunk.sh, &state.m_sh, &state.v_sh, &gradients[c].sh, &tile_counts, &state.statistics,
-                    radii, counters},
-                   &push, Groups(push.count));
+    frame.Dispatch(
+        *pipeline_,
+        {&chunk.geometry, &state.m_geometry, &state.v_geometry, &gradients[c].geometry, &chunk.sh,
+         &state.m_sh, &state.v_sh, &gradients[c].sh, &tile_counts, &state.statistics, radii, counters},
+        &push, Groups(push.count));
   }
   frame.Barrier();
 }

@@ -38,7 +38,7 @@ class AdamPass {
   // Sizes the moment and statistics buffers for the model's chunks. A chunk whose range of Gaussians and SH
   // degree are unchanged since the last Prepare / Upload keeps its contents; any other starts at zero.
   Status Prepare(const GaussianBuffers& model);
-  // Records one step over every chunk (two dispatches per chunk, then a barrier) into the open frame.
+  // Records one step over every chunk (one dispatch per chunk, then a barrier) into the open frame.
   // gradients: the backward's chunks (same chunking as model); tile_counts: uint per Gaussian (global
   // index), > 0 when seen this frame; projected: the forward's projected Gaussians (3 vec4 per Gaussian,
   // global index, radius in px at .w of the second), or null (max radius then stays as it is).

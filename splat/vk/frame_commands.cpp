@@ -5,7 +5,7 @@
 namespace uf::splat::vk {
 
 namespace {
-constexpr std::uint32_t kMaxBindings = 8;
+constexpr std::uint32_t kMaxBindings = 12;
 }
 
 Expected<std::unique_ptr<FrameCommands>> FrameCommands::Create(const Context& context,
