@@ -18,6 +18,18 @@ using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eig
 constexpr double kMinDiagonal = 1e-6;          // floor of the LM scaling D (Ceres' min_lm_diagonal)
 constexpr double kMinRelativeDecrease = 1e-3;  // a step must achieve this share of the model's decrease
 
+// Whether two residual blocks act on the same free blocks in the same order: their parameters' free-block
+// indices (-1: constant) with the constant ones skipped.
+bool SameFreeBlocks(const int* a, int a_count, const int* b, int b_count) {
+  int i = 0, j = 0;
+  while (true) {
+    while (i < a_count && a[i] < 0) ++i;
+    while (j < b_count && b[j] < 0) ++j;
+    if (i == a_count || j == b_count) return i == a_count && j == b_count;
+    if (a[i++] != b[j++]) return false;
+  }
+}
+
 }  // namespace
 
 void DenseLeastSquares::AddPoseBlock(double* pose) {
@@ -54,19 +66,8 @@ void DenseLeastSquares::AddResidualBlock(const ceres::CostFunction* cost, const 
   // Same group as the previous block when both act on the same free blocks in the same order.
   if (!residuals_.empty()) {
     const ResidualBlock& previous = residuals_.back();
-    const int* a = &free_[previous.first_param];
-    const int* b = &free_[block.first_param];
-    int i = 0, j = 0;
-    bool same = true;
-    while (same) {
-      while (i < previous.num_params && a[i] < 0) ++i;
-      while (j < block.num_params && b[j] < 0) ++j;
-      if (i == previous.num_params || j == block.num_params) {
-        same = i == previous.num_params && j == block.num_params;
-        break;
-      }
-      same = a[i++] == b[j++];
-    }
+    const bool same = SameFreeBlocks(&free_[previous.first_param], previous.num_params,
+                                     &free_[block.first_param], block.num_params);
     block.group = same ? previous.group : previous.group + 1;
   }
   residuals_.push_back(block);
