@@ -367,6 +367,13 @@ TEST_F(CliPipelineSplats, SplatAndViewsStagesWriteSplatsMetricsAndExrViewsAndRun
     EXPECT_TRUE(std::regex_search(again.output, std::regex(std::string("\\n  ") + stage + " +ok ")))
         << stage << "\n"
         << again.output;
+  // The accuracy stage evaluates the same trajectory again: the same number of poses as the first run.
+  const std::regex accuracy_line("\\n  accuracy +ok +([0-9]+) poses");
+  std::smatch first_poses, again_poses;
+  ASSERT_TRUE(std::regex_search(result.output, first_poses, accuracy_line)) << result.output;
+  ASSERT_TRUE(std::regex_search(again.output, again_poses, accuracy_line)) << again.output;
+  EXPECT_GT(std::stoi(first_poses[1]), 0);
+  EXPECT_EQ(again_poses[1], first_poses[1]);
   std::ifstream again_metrics_file(run / "metrics.json");
   EXPECT_EQ(nlohmann::json::parse(again_metrics_file)["iterations"], 10);
   EXPECT_EQ(ReadBytes(run / "map.vdb"), map_before);

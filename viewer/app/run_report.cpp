@@ -14,7 +14,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-
 void AppendWarnings(std::string& md, const std::vector<ReadWarning>& warnings, const char* source) {
   for (const ReadWarning& w : warnings)
     md += "| " + std::string(source) + " | " + w.stream + " | " + w.what + " | " + std::to_string(w.count) +
@@ -51,6 +50,7 @@ GroundTruthCheck EvaluateAgainstGroundTruth(const fs::path& ground_truth, const 
   check.table = table.str();
   check.evaluated = true;
   check.ape_rmse_m = result->ape.rmse;
+  check.matched_poses = result->estimate.size();
   if (Status s = WriteEvalPlots((out_folder / "plots").string(), context, *result); !s.ok()) {
     check.note = "plots not written: " + s.message();
     return check;

@@ -23,6 +23,7 @@ namespace uf::app {
 struct GroundTruthCheck {
   bool evaluated = false;
   double ape_rmse_m = 0;
+  std::size_t matched_poses = 0;   // estimated poses paired with the ground truth
   std::string table;               // as `ultrafusion eval` prints it
   std::vector<std::string> plots;  // paths relative to the output folder
   std::string note;                // "no ground truth in the dataset", or the evaluation's error

@@ -149,7 +149,9 @@ Status RunAccuracyStage(RunState& state, StageContext& context) {
     context.SetMessage("not evaluated: " + accuracy.note);
     return {};
   }
-  context.Progress(state.report.keyframes, state.report.keyframes);
+  // The poses evaluated (with --from, the odometry stage did not run here: its keyframe count is 0).
+  const auto poses = static_cast<std::int64_t>(accuracy.matched_poses);
+  context.Progress(poses, poses);
   for (const std::string& plot : accuracy.plots) context.AddOutput(plot);
   return {};
 }
