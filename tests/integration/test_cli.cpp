@@ -111,6 +111,65 @@ TEST(Cli, DataErrorsNameTheFileAndExitOne) {
   EXPECT_FALSE(std::filesystem::exists(dir.File("no/dir/e.json")));
 }
 
+// A repeated stamp keeps the first pose, as evo does, and is a counted warning; --strict-stamps makes it an
+// error naming file and line. A stamp going backwards is an error either way.
+TEST(Cli, RepeatedStampsAreACountedWarningUnlessStrict) {
+  testing::TempDir dir;
+  const std::string reference = Figure8(dir, "ref.tum", 0);
+  const std::string text = testing::ReadText(reference);
+  // File line 4 repeats the stamp of line 3 (header, t = 100.0, t = 100.1) with a position 5 m away: kept, it
+  // would add a 5 m error.
+  const std::size_t line4 = text.find("100.200000000");
+  const std::string head = text.substr(0, line4), tail = text.substr(line4);
+  const std::string repeated = dir.Write("repeated.tum", head + "100.100000000 5 5 5 0 0 0 1\n" + tail);
+
+  CommandResult run =
+      Ultrafusion("eval " + repeated + " " + reference + " --align none --json " + dir.File("e.json"));
+  ASSERT_EQ(run.code, 0) << run.output;
+  EXPECT_NE(run.output.find(repeated + ": skipped 1 poses repeating the previous stamp"), std::string::npos)
+      << run.output;
+  EXPECT_NE(run.output.find("(200 poses, 1 repeated stamps skipped)"), std::string::npos) << run.output;
+  const auto json = nlohmann::json::parse(testing::ReadText(dir.File("e.json")));
+  EXPECT_EQ(json["skipped_duplicate_stamps"]["reference"].get<int>(), 1);
+  EXPECT_EQ(json["skipped_duplicate_stamps"]["estimate"].get<int>(), 0);
+  EXPECT_EQ(json["reference_poses"].get<int>(), 200);
+  EXPECT_NEAR(json["ape"]["max"].get<double>(), 0.0, 1e-9);  // the first pose of the stamp was kept
+
+  run = Ultrafusion("eval " + repeated + " " + reference + " --strict-stamps --json " + dir.File("s.json"));
+  EXPECT_EQ(run.code, 1);
+  EXPECT_NE(run.output.find(repeated + ":4: duplicate stamp"), std::string::npos) << run.output;
+  EXPECT_FALSE(std::filesystem::exists(dir.File("s.json")));
+
+  const std::string backwards = dir.Write("backwards.tum", head + "50 0 0 0 0 0 0 1\n" + tail);
+  run = Ultrafusion("eval " + backwards + " " + reference);
+  EXPECT_EQ(run.code, 1);
+  EXPECT_NE(run.output.find(backwards + ":4: stamp goes backwards"), std::string::npos) << run.output;
+}
+
+// The official TUM RGB-D fr2/desk ground truth repeats one stamp (lines 10862-10863): evaluated by default.
+TEST(Cli, TumFr2DeskGroundTruthEvaluatesByDefault) {
+  const std::string data = testing::SharedData();
+  if (data.empty()) GTEST_SKIP() << "../shared/data is absent: this test needs fr2_desk_groundtruth.txt";
+  testing::TempDir dir;
+  const std::string gt = data + "/trajectories/fr2_desk_groundtruth.txt";
+  const std::string estimate = data + "/trajectories/fr2_desk_ORB_kf_mono.txt";
+  CommandResult run = Ultrafusion("eval " + gt + " " + estimate + " --align sim3 --json " + dir.File("e.json"));
+  ASSERT_EQ(run.code, 0) << run.output;
+  EXPECT_NE(run.output.find(gt + ": skipped 1 poses repeating the previous stamp, kept the first of each "
+                                 "(first skipped on line 10863"),
+            std::string::npos)
+      << run.output;
+  const auto json = nlohmann::json::parse(testing::ReadText(dir.File("e.json")));
+  EXPECT_EQ(json["skipped_duplicate_stamps"]["reference"].get<int>(), 1);
+  // evo_ape tum fr2_desk_groundtruth.txt fr2_desk_ORB_kf_mono.txt -as (as in test_evo_agreement.cpp).
+  EXPECT_EQ(json["ape"]["n"].get<int>(), 118);
+  EXPECT_NEAR(json["ape"]["rmse"].get<double>(), 0.007729264783424089, 1e-6 * 0.0077);
+  run = Ultrafusion("eval " + gt + " " + estimate + " --strict-stamps");
+  EXPECT_EQ(run.code, 1);
+  EXPECT_NE(run.output.find(gt + ":10863: duplicate stamp 1311868229.576000000 s"), std::string::npos)
+      << run.output;
+}
+
 TEST(Cli, KittiWithTimesAndDrift) {
   const std::string data = testing::SharedData();
   if (data.empty()) GTEST_SKIP() << "../shared/data is absent: this test needs KITTI_00_gt.txt";

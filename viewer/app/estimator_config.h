@@ -45,7 +45,7 @@
 #include <filesystem>
 #include <string>
 
-#include "odometry/estimator/lidar_odometry/lidar_odometry.h"
+#include "odometry/estimator/config/lidar_odometry_config.h"
 #include "viewer/app/dataset_config.h"
 
 namespace uf::app {

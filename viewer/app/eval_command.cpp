@@ -22,24 +22,25 @@ struct EvalArguments {
   double rpe_delta = 1;
   std::string rpe_unit = "frames";
   bool kitti_drift = false;
-  bool allow_duplicate_stamps = false;
+  bool strict_stamps = false;
   std::string json_path, plot_dir;
 };
 
+// A pose repeating the previous stamp is skipped (the first pose of the stamp is kept, as evo does) and
+// counted in *skipped_duplicates; with strict_stamps it is an error. Stamps going backwards are always an error.
 Expected<Trajectory> LoadTrajectory(const std::string& path, const std::string& format_name,
-                                    const std::string& times_path, bool allow_duplicate_stamps) {
+                                    const std::string& times_path, bool strict_stamps,
+                                    std::size_t* skipped_duplicates) {
   auto format = ParseTrajectoryFormat(format_name);
   if (!format) return format.status();
   TrajectoryReadReport report;
-  auto trajectory = ReadTrajectory(path, *format, {.skip_duplicate_stamps = allow_duplicate_stamps}, &report);
-  if (!trajectory) {
-    if (trajectory.error().find("duplicate stamp") == std::string::npos) return trajectory.status();
-    return Status::Error(trajectory.error() +
-                         " (--allow-duplicate-stamps keeps the first pose of each stamp, as evo does)");
-  }
+  auto trajectory = ReadTrajectory(path, *format, {.skip_duplicate_stamps = !strict_stamps}, &report);
+  if (!trajectory) return trajectory.status();
+  *skipped_duplicates = report.skipped_duplicates;
   if (report.skipped_duplicates > 0)
     std::cerr << "ultrafusion: warning: " << path << ": skipped " << report.skipped_duplicates
-              << " poses repeating the previous stamp (first on line " << report.first_skipped_line << ")\n";
+              << " poses repeating the previous stamp, kept the first of each (first skipped on line "
+              << report.first_skipped_line << "; --strict-stamps makes this an error)\n";
   if (!times_path.empty()) {
     if (trajectory->has_stamps())
       return Status::Error(times_path + ": a times file is only for stampless (KITTI) trajectories; " + path +
@@ -78,19 +79,26 @@ int RunEval(const EvalArguments& arguments) {
     std::cerr << "ultrafusion eval: " << options.error() << "\n";
     return kExitUsage;
   }
+  std::size_t reference_duplicates = 0, estimate_duplicates = 0;
   auto reference = LoadTrajectory(arguments.reference_path, arguments.reference_format,
-                                  arguments.reference_times, arguments.allow_duplicate_stamps);
+                                  arguments.reference_times, arguments.strict_stamps, &reference_duplicates);
   if (!reference) return ReportError(reference.status());
   auto estimate = LoadTrajectory(arguments.estimate_path, arguments.estimate_format, arguments.estimate_times,
-                                 arguments.allow_duplicate_stamps);
+                                 arguments.strict_stamps, &estimate_duplicates);
   if (!estimate) return ReportError(estimate.status());
 
   auto result = Evaluate(*reference, *estimate, *options);
   if (!result) return ReportError(result.status());
 
-  const EvalContext context{
-      arguments.reference_path, arguments.estimate_path, reference->size(), estimate->size(), *options,
-      arguments.align,          arguments.rpe_unit};
+  const EvalContext context{.reference_path = arguments.reference_path,
+                            .estimate_path = arguments.estimate_path,
+                            .reference_poses = reference->size(),
+                            .estimate_poses = estimate->size(),
+                            .reference_duplicates = reference_duplicates,
+                            .estimate_duplicates = estimate_duplicates,
+                            .options = *options,
+                            .align_name = arguments.align,
+                            .rpe_unit_name = arguments.rpe_unit};
   PrintEvalTable(std::cout, context, *result);
   if (!arguments.json_path.empty())
     if (Status s = WriteEvalJson(arguments.json_path, context, *result); !s.ok()) return ReportError(s);
@@ -130,8 +138,8 @@ Subcommand AddEvalCommand(CLI::App& app) {
       ->check(CLI::IsMember({"frames", "m"}))
       ->capture_default_str();
   eval->add_flag("--kitti-drift", arguments->kitti_drift, "KITTI drift over 100..800 m segments");
-  eval->add_flag("--allow-duplicate-stamps", arguments->allow_duplicate_stamps,
-                 "Keep the first pose of each repeated stamp (as evo does) instead of stopping");
+  eval->add_flag("--strict-stamps", arguments->strict_stamps,
+                 "A repeated stamp is an error (default: a counted warning that keeps the first pose, as evo)");
   eval->add_option("--json", arguments->json_path, "Write every figure to this JSON file");
   eval->add_option("--plot", arguments->plot_dir, "Write PNG plots into this folder");
   return {eval, [arguments] { return RunEval(*arguments); }};

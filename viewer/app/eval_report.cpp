@@ -32,12 +32,18 @@ std::string RpeLabel(const EvalContext& context) {
   return label;
 }
 
+std::string DuplicatesNote(std::size_t duplicates) {
+  return duplicates == 0 ? "" : ", " + std::to_string(duplicates) + " repeated stamps skipped";
+}
+
 }  // namespace
 
 void PrintEvalTable(std::ostream& out, const EvalContext& context, const EvalResult& result) {
   const Similarity& a = result.alignment;
-  out << "reference: " << context.reference_path << " (" << context.reference_poses << " poses)\n"
-      << "estimate:  " << context.estimate_path << " (" << context.estimate_poses << " poses)\n"
+  out << "reference: " << context.reference_path << " (" << context.reference_poses << " poses"
+      << DuplicatesNote(context.reference_duplicates) << ")\n"
+      << "estimate:  " << context.estimate_path << " (" << context.estimate_poses << " poses"
+      << DuplicatesNote(context.estimate_duplicates) << ")\n"
       << "matched:   " << result.association.size() << " pairs\n";
   char line[256];
   std::snprintf(line, sizeof(line), "alignment: %s, scale %.6f, rotation %.4f deg, translation %.4f m\n",
@@ -68,6 +74,10 @@ Status WriteEvalJson(const std::string& path, const EvalContext& context, const 
   nlohmann::json json = {
       {"reference", context.reference_path},
       {"estimate", context.estimate_path},
+      {"reference_poses", context.reference_poses},
+      {"estimate_poses", context.estimate_poses},
+      {"skipped_duplicate_stamps",
+       {{"reference", context.reference_duplicates}, {"estimate", context.estimate_duplicates}}},
       {"matched", result.association.size()},
       {"options",
        {{"max_dt", ToSeconds(context.options.max_dt)},

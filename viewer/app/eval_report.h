@@ -11,6 +11,7 @@ namespace uf::app {
 struct EvalContext {
   std::string reference_path, estimate_path;
   std::size_t reference_poses, estimate_poses;
+  std::size_t reference_duplicates = 0, estimate_duplicates = 0;  // poses skipped for repeating a stamp
   EvalOptions options;
   std::string align_name, rpe_unit_name;
 };

@@ -43,8 +43,13 @@ GroundTruthCheck EvaluateAgainstGroundTruth(const fs::path& ground_truth, const 
     check.note = "evaluation failed: " + result.error();
     return check;
   }
-  const EvalContext context{
-      ground_truth.string(), estimate_file, reference->size(), estimate->size(), options, "se3", "frames"};
+  const EvalContext context{.reference_path = ground_truth.string(),
+                            .estimate_path = estimate_file,
+                            .reference_poses = reference->size(),
+                            .estimate_poses = estimate->size(),
+                            .options = options,
+                            .align_name = "se3",
+                            .rpe_unit_name = "frames"};
   std::ostringstream table;
   PrintEvalTable(table, context, *result);
   check.table = table.str();

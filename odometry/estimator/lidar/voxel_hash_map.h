@@ -23,23 +23,12 @@
 #include <optional>
 #include <vector>
 
+#include "odometry/estimator/config/voxel_map_config.h"
 #include "odometry/estimator/lidar/plane_fit.h"
 #include "odometry/estimator/lidar/voxel_key.h"
 #include "odometry/types/status.h"
 
 namespace uf::estimator {
-
-struct VoxelMapConfig {
-  double voxel_m = 0.5;             // voxel edge, m (paper: 0.5)
-  int max_points_per_voxel = 20;    // points kept per voxel
-  double max_range_m = 100;         // RemoveFarFrom drops voxels whose centre is farther than this, m
-  double plane_eigen_ratio = 0.12;  // plane gate lambda_min / lambda_mid (paper: 0.12)
-  int min_plane_points = 5;         // points needed in the 3x3x3 block for a plane
-  double min_plane_sigma_m = 0.05;  // floor of Plane::sigma, m
-
-  // "lidar_map.<field>: must be ..., got <value>" for the first bad field.
-  Status Validate() const;
-};
 
 class VoxelHashMap {
  public:

@@ -44,7 +44,7 @@
 #include <string>
 #include <vector>
 
-#include "odometry/estimator/lidar_odometry/lidar_odometry_config.h"
+#include "odometry/estimator/config/lidar_odometry_config.h"
 #include "odometry/types/keyframe.h"
 #include "odometry/types/measurements.h"
 #include "odometry/types/status.h"

@@ -16,13 +16,16 @@
 #include <string>
 #include <vector>
 
+#include "odometry/estimator/factors/constant_velocity_factor.h"
 #include "odometry/estimator/factors/imu_factor.h"
+#include "odometry/estimator/init/inertial_alignment.h"
 #include "odometry/estimator/lidar/voxel_hash_map.h"
 #include "odometry/estimator/lidar_odometry/lidar_odometry.h"
 #include "odometry/estimator/lidar_odometry/scan_preparation.h"
 #include "odometry/estimator/lidar_odometry/sweep_poses.h"
 #include "odometry/estimator/state/nav_state.h"
 #include "odometry/estimator/state/pose_manifold.h"
+#include "odometry/estimator/window/marginalization.h"
 #include "odometry/estimator/window/marginalization_factor.h"
 
 namespace uf::estimator {

@@ -27,7 +27,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "odometry/estimator/preintegration/imu_noise_params.h"
+#include "odometry/estimator/config/imu_noise_params.h"
 #include "odometry/estimator/state/nav_state.h"
 #include "odometry/types/measurements.h"
 #include "odometry/types/so3.h"

@@ -1,4 +1,4 @@
-#include "odometry/estimator/lidar_odometry/lidar_odometry_config.h"
+#include "odometry/estimator/config/lidar_odometry_config.h"
 
 #include <cmath>
 #include <sstream>

@@ -3,11 +3,11 @@
 // <value>"; the LIO fields are "lio.<field>").
 #pragma once
 
-#include "odometry/estimator/factors/constant_velocity_factor.h"
-#include "odometry/estimator/init/inertial_alignment.h"
-#include "odometry/estimator/lidar/voxel_hash_map.h"
-#include "odometry/estimator/preintegration/imu_noise_params.h"
-#include "odometry/estimator/window/marginalization.h"
+#include "odometry/estimator/config/constant_velocity_noise.h"
+#include "odometry/estimator/config/imu_noise_params.h"
+#include "odometry/estimator/config/inertial_init_config.h"
+#include "odometry/estimator/config/marginalization_config.h"
+#include "odometry/estimator/config/voxel_map_config.h"
 #include "odometry/types/se3.h"
 #include "odometry/types/status.h"
 

@@ -1,4 +1,4 @@
-#include "odometry/estimator/preintegration/imu_noise_params.h"
+#include "odometry/estimator/config/imu_noise_params.h"
 
 #include <cmath>
 #include <string>

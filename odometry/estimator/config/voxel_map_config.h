@@ -1,0 +1,21 @@
+// Configuration of the LiDAR local map (voxel_hash_map.h): voxel size, points per voxel, range, and the
+// plane gate of its PCA planes.
+#pragma once
+
+#include "odometry/types/status.h"
+
+namespace uf::estimator {
+
+struct VoxelMapConfig {
+  double voxel_m = 0.5;             // voxel edge, m (paper: 0.5)
+  int max_points_per_voxel = 20;    // points kept per voxel
+  double max_range_m = 100;         // RemoveFarFrom drops voxels whose centre is farther than this, m
+  double plane_eigen_ratio = 0.12;  // plane gate lambda_min / lambda_mid (paper: 0.12)
+  int min_plane_points = 5;         // points needed in the 3x3x3 block for a plane
+  double min_plane_sigma_m = 0.05;  // floor of Plane::sigma, m
+
+  // "lidar_map.<field>: must be ..., got <value>" for the first bad field.
+  Status Validate() const;
+};
+
+}  // namespace uf::estimator
