@@ -1,4 +1,4 @@
-// Benchmark of the global map (issue 6 target: ingest >= 2 M points/s): 100 synthetic spinning-LiDAR scans of
+// Benchmark of the global map (target: ingest >= 2 M points/s): 100 synthetic spinning-LiDAR scans of
 // 120k points (32 rings x 3750 columns) of a street (ground plane and two facades 8 m to either side),
 // taken 1 m apart along the street with 2 cm range noise and a colour on every point, inserted into a 5 cm
 // map. Prints ingest rate, voxels, memory, then the time to stream the MapView (with and without normals),

@@ -8,18 +8,6 @@
 namespace uf::exporting {
 namespace {
 
-// The trajectory's pose at `stamp` (slerp/lerp between the bracketing poses), or none outside its span.
-std::optional<SE3> PoseAt(const Trajectory& trajectory, Stamp stamp) {
-  const auto& stamps = trajectory.stamps;
-  if (stamps.empty() || stamp < stamps.front() || stamp > stamps.back()) return std::nullopt;
-  const std::size_t j =
-      static_cast<std::size_t>(std::lower_bound(stamps.begin(), stamps.end(), stamp) - stamps.begin());
-  if (stamps[j] == stamp) return trajectory.poses[j];
-  const double s =
-      static_cast<double>(stamp - stamps[j - 1]) / static_cast<double>(stamps[j] - stamps[j - 1]);
-  return Interpolate(trajectory.poses[j - 1], trajectory.poses[j], s);
-}
-
 bool HasPosition(const GnssFix& fix) {
   return fix.status != GnssFixStatus::kNoFix && std::isfinite(fix.latitude_deg) &&
          std::isfinite(fix.longitude_deg) && std::isfinite(fix.altitude_m) && fix.covariance_enu.allFinite();
@@ -40,7 +28,7 @@ Expected<GnssAlignment> AlignToGnss(const Trajectory& trajectory, std::span<cons
   std::vector<double> weight;
   for (const GnssFix& fix : fixes) {
     if (!HasPosition(fix)) continue;
-    const std::optional<SE3> pose = PoseAt(trajectory, fix.stamp);
+    const std::optional<SE3> pose = trajectory.PoseAt(fix.stamp);
     if (!pose) continue;
     antenna.push_back(*pose * options.T_body_antenna.translation());
     enu.push_back(

@@ -1,4 +1,4 @@
-// Gaussians seeded from the colorized map (the start of splat optimization, issue 8): one Gaussian per map
+// Gaussians seeded from the colorized map (the start of splat optimization): one Gaussian per map
 // point, a flat disc on the local surface.
 //   mean      = the point;
 //   colour    = the point's sRGB colour as the SH DC term (f_dc = (c - 0.5) / Y_0), higher bands zero;

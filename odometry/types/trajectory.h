@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <vector>
 
 #include "odometry/types/se3.h"
@@ -17,6 +18,12 @@ struct Trajectory {
   std::size_t size() const { return poses.size(); }
   bool empty() const { return poses.empty(); }
   bool has_stamps() const { return !stamps.empty(); }
+
+  // The pose at time t: the stored pose at one of the stamps, else interpolated between the bracketing poses
+  // t_i < t < t_i+1 (uf::Interpolate: slerp of the rotation, lerp of the translation) at
+  // s = (t - t_i) / (t_i+1 - t_i). None outside [first stamp, last stamp] (no extrapolation) or without
+  // stamps.
+  std::optional<SE3> PoseAt(Stamp t) const;
 };
 
 // The translation of each pose.

@@ -12,16 +12,16 @@
 //     huber_m: 0.5                  # robust loss scale, m
 //     min_range_m: 1.0              # points nearer than this are dropped, m
 //     max_range_m: 100.0            # points farther than this are dropped, m
-//     map_insert_voxel_m: 0.25      # downsampling of the deskewed scan inserted into the map, m
-//     association_rounds: 2         # solve, re-query planes, solve again
+//     map_insert_voxel_m: 0.5       # downsampling of the deskewed scan inserted into the map, m
+//     association_rounds: 10        # at most this many solve + re-query rounds per scan
 //     max_correction_m: 5.0         # a solve moving a scan farther than this from its guess diverged, m
 //     max_correction_rad: 0.5       #   or rotating it more, rad
 //     min_points: 50                # scans with fewer prepared points are skipped
 //     max_plane_distance_m: 1.0     # correspondences farther from their plane are dropped, m
 //     marginalize: true             # oldest states into a prior (false: oldest pose held fixed)
 //     motion:                       # constant-velocity prior between consecutive poses
-//       acc_density: 2.0            # m/s^2/sqrt(Hz)
-//       angular_acc_density: 0.5    # rad/s^2/sqrt(Hz)
+//       acc_density: 20.0           # m/s^2/sqrt(Hz)
+//       angular_acc_density: 5.0    # rad/s^2/sqrt(Hz)
 //     map:                          # the voxel-hash local map
 //       voxel_m: 0.5
 //       max_points_per_voxel: 20

@@ -2,12 +2,12 @@
 //   dataset   one pass as `ultrafusion info` makes it: the report's dataset summary, the scan count
 //   odometry  LO or LIO over the dataset: trajectory.tum, trajectory_kitti.txt, timing.json, the timing
 //             plot; keyframes go straight into the map stage's mapper (a scan is never held twice)
-//   accuracy  against the ground truth found beside the dataset: the eval table and plots (an evaluation
-//             that is not possible, e.g. a straight trajectory, is noted in the report, not a failure)
 //   map       the remaining keyframes, the georeference from GNSS, map.vdb
 //   exports   map.ply, map.las, map.glb, georef.json
 //   splat     splats trained on the keyframe images; views: the splats rendered at the held-out poses
 //             (run_splat_stage.h)
+//   accuracy  against the ground truth found beside the dataset: the eval table and plots (an evaluation
+//             that is not possible, e.g. a straight trajectory, is noted in the report, not a failure)
 // With --from map the dataset and odometry stages are skipped and the map stage is
 // RunMapFromTrajectoryStage (stage_map_from_trajectory.h): the earlier run's trajectory.tum and the scans.
 // Each stage is a function of the shared RunState; run_command.cpp lists them (adding a stage is an entry

@@ -43,16 +43,4 @@ Expected<SE3> MapFromTrajectoryWorld(const DatasetDescription& description, cons
   return (*T_imu_body * *lidar->T_body_sensor).inverse();
 }
 
-std::optional<SE3> InterpolatePose(const Trajectory& trajectory, Stamp t) {
-  const std::vector<Stamp>& stamps = trajectory.stamps;
-  if (stamps.empty() || t < stamps.front() || t > stamps.back()) return std::nullopt;
-  // The first stamp after t: t lies in [stamps[i - 1], stamps[i]] (the last pose when t is the last stamp).
-  const auto after = std::upper_bound(stamps.begin(), stamps.end(), t);
-  if (after == stamps.end()) return trajectory.poses.back();
-  const std::size_t i = static_cast<std::size_t>(after - stamps.begin());
-  if (i == 0) return trajectory.poses.front();
-  const double s = static_cast<double>(t - stamps[i - 1]) / static_cast<double>(stamps[i] - stamps[i - 1]);
-  return Interpolate(trajectory.poses[i - 1], trajectory.poses[i], s);
-}
-
 }  // namespace uf::app

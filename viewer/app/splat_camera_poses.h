@@ -9,7 +9,7 @@
 // (ToImuFrame moves the world to the first IMU pose): T_M_W = T_imu_lidar^-1 there. So
 //   T_M_C(t) = T_M_W * T_W_F(t) * T_F_C,
 // with T_W_F(t) interpolated between the bracketing poses (slerp of the rotation, lerp of the translation,
-// uf::Interpolate); no extrapolation outside the trajectory's span.
+// Trajectory::PoseAt); no extrapolation outside the trajectory's span.
 #pragma once
 
 #include <optional>
@@ -28,9 +28,5 @@ Expected<SE3> OutputFrameFromBody(const DatasetDescription& description, const s
 // identity. from_trajectory: the map was remade from trajectory.tum (`run --from map`), which keeps W.
 Expected<SE3> MapFromTrajectoryWorld(const DatasetDescription& description, const std::string& mode,
                                      const std::string& output_frame, bool from_trajectory);
-
-// T_W_F at `t` between the bracketing poses of `trajectory` (stamps strictly increasing); none outside
-// [first stamp, last stamp].
-std::optional<SE3> InterpolatePose(const Trajectory& trajectory, Stamp t);
 
 }  // namespace uf::app

@@ -95,7 +95,7 @@ Expected<SplatViews> LoadSplatViews(MeasurementStream& stream, const SplatCamera
     if (!frame || (*next)->stream != camera.stream) continue;
     ++views.images;
     if (progress) progress(views.images);
-    const std::optional<SE3> T_world_frame = InterpolatePose(*loading.trajectory, frame->stamp);
+    const std::optional<SE3> T_world_frame = loading.trajectory->PoseAt(frame->stamp);
     if (!T_world_frame) {
       ++views.outside_trajectory;
       continue;

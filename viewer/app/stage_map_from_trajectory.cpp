@@ -21,7 +21,7 @@ std::optional<Keyframe> DeskewScan(const LidarScan& scan, const Trajectory& T_wo
                                    const SE3& T_est_lidar, const RunState& state) {
   Keyframe keyframe;
   keyframe.stamp = scan.stamp + (scan.end - scan.stamp) / 2;
-  const std::optional<SE3> middle = PoseAt(T_world_est, keyframe.stamp);
+  const std::optional<SE3> middle = T_world_est.PoseAt(keyframe.stamp);
   if (!middle) return std::nullopt;
   keyframe.T_world_body = *middle;
   keyframe.scan_world.reserve(scan.points.size());
@@ -33,7 +33,7 @@ std::optional<Keyframe> DeskewScan(const LidarScan& scan, const Trajectory& T_wo
     if (!p.allFinite() || range < state.min_range_m || range > state.max_range_m) continue;
     // Without per-point times the whole scan takes the pose of its middle.
     std::optional<SE3> T_world_est_point = middle;
-    if (scan.has_point_times) T_world_est_point = PoseAt(T_world_est, scan.stamp + point.offset_ns);
+    if (scan.has_point_times) T_world_est_point = T_world_est.PoseAt(scan.stamp + point.offset_ns);
     if (!T_world_est_point) continue;
     const SE3 T_world_lidar = scan.has_point_times ? *T_world_est_point * T_est_lidar : T_world_lidar_middle;
     keyframe.scan_world.push_back((T_world_lidar * p).cast<float>());
@@ -43,18 +43,6 @@ std::optional<Keyframe> DeskewScan(const LidarScan& scan, const Trajectory& T_wo
 }
 
 }  // namespace
-
-std::optional<SE3> PoseAt(const Trajectory& trajectory, Stamp t) {
-  const std::vector<Stamp>& stamps = trajectory.stamps;
-  if (stamps.empty() || t < stamps.front() || t > stamps.back()) return std::nullopt;
-  // The first stamp after t (or the last one when t is the last stamp): t lies in [stamps[i - 1], stamps[i]].
-  std::size_t i =
-      static_cast<std::size_t>(std::upper_bound(stamps.begin(), stamps.end(), t) - stamps.begin());
-  if (i == stamps.size()) i = stamps.size() - 1;
-  if (i == 0) return trajectory.poses.front();
-  const double s = static_cast<double>(t - stamps[i - 1]) / static_cast<double>(stamps[i] - stamps[i - 1]);
-  return Interpolate(trajectory.poses[i - 1], trajectory.poses[i], s);
-}
 
 Status RunMapFromTrajectoryStage(RunState& state, StageContext& context) {
   context.SetUnit("scans");

@@ -8,8 +8,8 @@
 //   T_world_est(t) = T_world_out(t) * T_out_est,  T_out_est = I, T_imu_lidar or T_imu_lidar^-1,
 // and a point p measured at time t_p in the LiDAR frame lands at
 //   p_world = T_world_est(t_p) * T_est_lidar * p,  T_est_lidar = I (LO) or T_imu_lidar (LIO),
-// with T_world_est(t) = Interpolate(T_world_est(t_i), T_world_est(t_i+1), (t - t_i) / (t_i+1 - t_i))
-// between the bracketing poses (slerp and lerp, odometry/types/se3.h). Points outside the trajectory's
+// with T_world_est(t) from Trajectory::PoseAt (slerp and lerp between the bracketing poses,
+// odometry/types/trajectory.h). Points outside the trajectory's
 // time span are dropped (the scans there are counted as skipped).
 #pragma once
 
@@ -19,9 +19,6 @@
 #include "viewer/app/run_stages.h"
 
 namespace uf::app {
-
-// T_world_body at `t` between the bracketing poses; none outside [first stamp, last stamp].
-std::optional<SE3> PoseAt(const Trajectory& trajectory, Stamp t);
 
 // Reads state.out/trajectory.tum, feeds the dataset's scans (and camera frames, GNSS fixes) to the
 // mapper, then finishes and saves the map as RunMapStage does.

@@ -1,5 +1,6 @@
-// LiDAR point-to-plane factors of the sliding window (paper Section III, METHOD.md "LiDAR point-to-plane"),
-// with per-point deskew inside the factor. Style after Ceres' examples/slam/pose_graph_3d error term.
+// LiDAR point-to-plane factors of the sliding window (paper Section III; docs/METHOD.md "LiDAR point-to-plane
+// factor"), with per-point deskew inside the factor. Style after Ceres' examples/slam/pose_graph_3d error
+// term.
 //
 // PointToPlaneFactor, blocks: pose_b, pose_e = T_world_body at scan begin and scan end (nav_state.h layout).
 // A point p_L measured at fraction a in [0, 1] of the scan (a = (t_i - t_begin) / (t_end - t_begin)):

@@ -1,5 +1,5 @@
-// Inertial initialization of LIO (METHOD.md "Observability-aware initialization", bootstrap modes S and M;
-// the full mode selection of the paper comes in a later issue and plugs in here).
+// Inertial initialization of LIO (docs/METHOD.md "Observability-aware initialization": bootstrap modes S and
+// M; the paper's full mode selection is not implemented yet and would plug in here).
 //
 // Both modes take the first window of the estimator, solved as LiDAR-only odometry in an arbitrary world
 // frame "lo" (the first IMU pose), and return what LIO needs to start: the rotation into a gravity-aligned

@@ -1,6 +1,6 @@
-// LiDAR odometry of the sliding-window estimator (METHOD.md, paper Section III-A/B): LiDAR-only (LO, a
-// constant-velocity prior between states) or LiDAR-inertial (LIO, config.use_imu: IMU preintegration
-// factors).
+// LiDAR odometry of the sliding-window estimator (docs/METHOD.md "Sliding window and solve" and "LO and LIO
+// modes"; paper Section III-A/B): LiDAR-only (LO, a constant-velocity prior between states) or
+// LiDAR-inertial (LIO, config.use_imu: IMU preintegration factors).
 //
 // Design:
 // - Nodes: each scan has a begin node (sweep start) and an end node (sweep end), T_world_body as 7-wide

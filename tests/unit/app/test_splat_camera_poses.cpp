@@ -81,20 +81,6 @@ TEST(SplatCameraPoses, LoInTheImuFrameIsMovedBackIntoTheLidarWorldOfTheMap) {
   }
 }
 
-TEST(SplatCameraPoses, PosesAreInterpolatedBetweenBracketingStampsAndNeverExtrapolated) {
-  Trajectory trajectory;
-  trajectory.stamps = {100, 200, 400};
-  trajectory.poses = {Pose(0, 0, 0, 0, 0, 0), Pose(0, 0, 0.2, 1, 0, 0), Pose(0, 0, 0.6, 1, 2, 0)};
-  ExpectSame(*InterpolatePose(trajectory, 200), trajectory.poses[1]);
-  ExpectSame(*InterpolatePose(trajectory, 400), trajectory.poses[2]);
-  const SE3 middle = *InterpolatePose(trajectory, 300);  // halfway: yaw 0.4, position (1, 1, 0)
-  EXPECT_NEAR(middle.translation().x(), 1, 1e-12);
-  EXPECT_NEAR(middle.translation().y(), 1, 1e-12);
-  EXPECT_NEAR(std::atan2(middle.rotation()(1, 0), middle.rotation()(0, 0)), 0.4, 1e-12);
-  EXPECT_FALSE(InterpolatePose(trajectory, 99).has_value());
-  EXPECT_FALSE(InterpolatePose(trajectory, 401).has_value());
-}
-
 TEST(SplatCameraPoses, KeyframesAreSelectedByDistanceOrAngle) {
   KeyframeSelector selector(0.3, 5.0);
   EXPECT_TRUE(selector.Select(Pose(0, 0, 0, 0, 0, 0)));
