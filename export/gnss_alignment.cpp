@@ -1,9 +1,10 @@
 #include "export/gnss_alignment.h"
 
-#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+
+#include "odometry/eval/alignment.h"
 
 namespace uf::exporting {
 namespace {
@@ -49,35 +50,7 @@ Expected<GnssAlignment> AlignToGnss(const Trajectory& trajectory, std::span<cons
     return Status::Error(why.str());
   }
 
-  // Weighted centroids and cross-covariance (see the header).
-  double total = 0;
-  Eigen::Vector3d mean_a = Eigen::Vector3d::Zero(), mean_f = Eigen::Vector3d::Zero();
-  for (std::size_t i = 0; i < antenna.size(); ++i) {
-    total += weight[i];
-    mean_a += weight[i] * antenna[i];
-    mean_f += weight[i] * enu[i];
-  }
-  mean_a /= total;
-  mean_f /= total;
-  Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
-  if (options.gravity_aligned) {
-    double s = 0, c = 0;
-    for (std::size_t i = 0; i < antenna.size(); ++i) {
-      const Eigen::Vector3d a = antenna[i] - mean_a, f = enu[i] - mean_f;
-      s += weight[i] * (a.x() * f.y() - a.y() * f.x());
-      c += weight[i] * (a.x() * f.x() + a.y() * f.y());
-    }
-    R = Eigen::AngleAxisd(std::atan2(s, c), Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  } else {
-    Eigen::Matrix3d H = Eigen::Matrix3d::Zero();  // sum w f a^T
-    for (std::size_t i = 0; i < antenna.size(); ++i)
-      H += weight[i] * (enu[i] - mean_f) * (antenna[i] - mean_a).transpose();
-    Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
-    Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
-    D(2, 2) = (svd.matrixU() * svd.matrixV().transpose()).determinant() < 0 ? -1 : 1;
-    R = svd.matrixU() * D * svd.matrixV().transpose();
-  }
-  result.T_enu_world = SE3(SO3(R), mean_f - R * mean_a);
+  result.T_enu_world = WeightedRigidAlignment(antenna, enu, weight, options.gravity_aligned);
   double squared = 0;
   for (std::size_t i = 0; i < antenna.size(); ++i)
     squared += (result.T_enu_world * antenna[i] - enu[i]).squaredNorm();

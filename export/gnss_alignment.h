@@ -5,12 +5,11 @@
 // With fixes f_i (ENU, weight w_i = 1 / (mean variance of its covariance)) and the antenna positions
 // a_i = T_world_body(t_i) * p_body_antenna (trajectory interpolated at the fix time), minimise
 //   sum_i w_i |T a_i - f_i|^2
-// over T = (R, t): weighted Umeyama (SVD of the weighted cross-covariance) in 3D, or, for a gravity-aligned
-// world (LIO: z is up in both frames), over the yaw and the translation only: the 2D Procrustes angle
-//   yaw = atan2(sum w (x_a y_f - y_a x_f), sum w (x_a x_f + y_a y_f))   (centred coordinates)
-// and t = mean_f - R mean_a. Fixes without a position (no fix) or outside the trajectory's time span are
-// not used. The result is admitted only with enough fixes spread over enough distance (else the heading is
-// not determined) and a residual RMS below max_rms_m.
+// over T = (R, t) with uf::WeightedRigidAlignment (odometry/eval/alignment.h): weighted Umeyama in 3D, or,
+// for a gravity-aligned world (LIO: z is up in both frames), the yaw and the translation only. Fixes without
+// a position (no fix) or outside the trajectory's time span are not used. The result is admitted only with
+// enough fixes spread over enough distance (else the heading is not determined) and a residual RMS below
+// max_rms_m.
 #pragma once
 
 #include <span>

@@ -23,7 +23,7 @@ struct Reliability {
 
 struct Keyframe {
   Stamp stamp = 0;
-  SE3 T_world_body;                                     // body (imu) frame to world frame
+  SE3 T_world_body;                                     // body (IMU in LIO, LiDAR in LO) to world
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();   // of the body, in the world frame, m/s
   Eigen::Vector3d bias_acc = Eigen::Vector3d::Zero();   // accelerometer bias, imu frame, m/s^2
   Eigen::Vector3d bias_gyro = Eigen::Vector3d::Zero();  // gyroscope bias, imu frame, rad/s

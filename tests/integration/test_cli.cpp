@@ -153,7 +153,8 @@ TEST(Cli, TumFr2DeskGroundTruthEvaluatesByDefault) {
   testing::TempDir dir;
   const std::string gt = data + "/trajectories/fr2_desk_groundtruth.txt";
   const std::string estimate = data + "/trajectories/fr2_desk_ORB_kf_mono.txt";
-  CommandResult run = Ultrafusion("eval " + gt + " " + estimate + " --align sim3 --json " + dir.File("e.json"));
+  CommandResult run =
+      Ultrafusion("eval " + gt + " " + estimate + " --align sim3 --json " + dir.File("e.json"));
   ASSERT_EQ(run.code, 0) << run.output;
   EXPECT_NE(run.output.find(gt + ": skipped 1 poses repeating the previous stamp, kept the first of each "
                                  "(first skipped on line 10863"),

@@ -27,7 +27,8 @@ struct EvalArguments {
 };
 
 // A pose repeating the previous stamp is skipped (the first pose of the stamp is kept, as evo does) and
-// counted in *skipped_duplicates; with strict_stamps it is an error. Stamps going backwards are always an error.
+// counted in *skipped_duplicates; with strict_stamps it is an error. Stamps going backwards are always an
+// error.
 Expected<Trajectory> LoadTrajectory(const std::string& path, const std::string& format_name,
                                     const std::string& times_path, bool strict_stamps,
                                     std::size_t* skipped_duplicates) {
@@ -138,8 +139,9 @@ Subcommand AddEvalCommand(CLI::App& app) {
       ->check(CLI::IsMember({"frames", "m"}))
       ->capture_default_str();
   eval->add_flag("--kitti-drift", arguments->kitti_drift, "KITTI drift over 100..800 m segments");
-  eval->add_flag("--strict-stamps", arguments->strict_stamps,
-                 "A repeated stamp is an error (default: a counted warning that keeps the first pose, as evo)");
+  eval->add_flag(
+      "--strict-stamps", arguments->strict_stamps,
+      "A repeated stamp is an error (default: a counted warning that keeps the first pose, as evo)");
   eval->add_option("--json", arguments->json_path, "Write every figure to this JSON file");
   eval->add_option("--plot", arguments->plot_dir, "Write PNG plots into this folder");
   return {eval, [arguments] { return RunEval(*arguments); }};

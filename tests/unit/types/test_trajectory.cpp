@@ -1,5 +1,5 @@
-// Trajectory::PoseAt against hand-computed poses: stored poses returned as they are at their stamps, slerp and
-// lerp between them, nothing outside the stamps' span.
+// Trajectory::PoseAt against hand-computed poses: stored poses returned as they are at their stamps, slerp
+// and lerp between them, nothing outside the stamps' span.
 #include <gtest/gtest.h>
 
 #include <numbers>
