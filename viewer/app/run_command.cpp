@@ -43,7 +43,7 @@ std::string StreamList(const DatasetDescription& description) {
 // --mode auto|lo|lio against what the dataset has: true for LIO. LIO needs an IMU stream and the LiDAR's
 // extrinsic; auto falls back to LO (with a note) without them, --mode lio is an error.
 Expected<bool> ChooseLio(const RunArguments& a, const DatasetDescription& description,
-                         const RunSensors& sensors, std::vector<std::string>& notes) {
+                         const DatasetSensors& sensors, std::vector<std::string>& notes) {
   if (a.mode == "lo") return false;
   std::string missing;
   if (sensors.imu < 0)
@@ -110,7 +110,7 @@ std::optional<int> Prepare(const RunArguments& a, RunState& state) {
   state.stream.emplace(std::move(*stream));
   const DatasetDescription& description = state.stream->description();
   state.sensors = FindSensors(description);
-  const RunSensors& sensors = state.sensors;
+  const DatasetSensors& sensors = state.sensors;
   if (sensors.lidar < 0)
     return ReportError(Status::Error(
         a.dataset + ": no LiDAR stream, which LO and LIO need (streams: " + StreamList(description) + ")"));

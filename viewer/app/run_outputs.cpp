@@ -58,20 +58,6 @@ Status WriteTextFileAtomically(const std::filesystem::path& path, const std::str
   return writer.Commit();
 }
 
-std::optional<SE3> ImuFromLidar(const DatasetDescription& description, int lidar_stream) {
-  const StreamInfo& lidar = description.streams.at(static_cast<std::size_t>(lidar_stream));
-  if (!lidar.T_body_sensor) return std::nullopt;
-  SE3 T_body_imu;  // identity: the body is the IMU unless the IMU stream says otherwise
-  for (const StreamInfo& stream : description.streams) {
-    if (stream.kind == SensorKind::kImu && stream.T_body_sensor) {
-      T_body_imu = *stream.T_body_sensor;
-      break;
-    }
-  }
-  // p_imu = T_body_imu^-1 * p_body = T_body_imu^-1 * T_body_lidar * p_lidar
-  return T_body_imu.inverse() * *lidar.T_body_sensor;
-}
-
 Trajectory ToImuFrame(const Trajectory& lidar_trajectory, const SE3& T_imu_lidar) {
   Trajectory imu;
   imu.stamps = lidar_trajectory.stamps;

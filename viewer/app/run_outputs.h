@@ -9,7 +9,6 @@
 #include <string>
 #include <vector>
 
-#include "odometry/io/dataset_reader.h"
 #include "odometry/types/status.h"
 #include "odometry/types/trajectory.h"
 
@@ -40,11 +39,6 @@ Status WriteTimingPlot(const std::filesystem::path& png, const std::vector<Stamp
                        const std::vector<double>& milliseconds);
 
 Status WriteTextFileAtomically(const std::filesystem::path& path, const std::string& text);
-
-// T_imu_lidar (p_imu = T_imu_lidar * p_lidar) from the calibration that came with the dataset: the LiDAR
-// stream's T_body_sensor composed with the inverse of the IMU stream's (identity when the IMU has none, the
-// body then being the IMU). Empty when the LiDAR stream carries no T_body_sensor.
-std::optional<SE3> ImuFromLidar(const DatasetDescription& description, int lidar_stream);
 
 // Re-expresses a LiDAR trajectory T_lidar0_lidar(t) (world = first LiDAR pose) in the IMU frame:
 //   T_imu0_imu(t) = T_imu_lidar * T_lidar0_lidar(t) * T_imu_lidar^-1,

@@ -10,18 +10,6 @@ namespace uf::app {
 
 namespace fs = std::filesystem;
 
-RunSensors FindSensors(const DatasetDescription& description) {
-  RunSensors sensors;
-  for (std::size_t s = 0; s < description.streams.size(); ++s) {
-    const SensorKind kind = description.streams[s].kind;
-    if (kind == SensorKind::kLidar && sensors.lidar < 0) sensors.lidar = static_cast<int>(s);
-    if (kind == SensorKind::kImu && sensors.imu < 0) sensors.imu = static_cast<int>(s);
-    if (kind == SensorKind::kGnss && sensors.gnss < 0) sensors.gnss = static_cast<int>(s);
-  }
-  if (sensors.lidar >= 0) sensors.T_imu_lidar = ImuFromLidar(description, sensors.lidar);
-  return sensors;
-}
-
 Status RunDatasetStage(RunState& state, StageContext& context) {
   context.SetUnit("messages");
   Expected<DatasetSummary> summary = SummarizeDataset(
@@ -70,7 +58,7 @@ Status RunOdometryStage(RunState& state, StageContext& context) {
   context.SetUnit("scans");
   ScanTimes times;
   std::int64_t scans = 0, keyframes = 0;
-  const RunSensors& sensors = state.sensors;
+  const DatasetSensors& sensors = state.sensors;
   while (true) {
     Expected<std::optional<Measurement>> next = state.stream->Next();
     if (!next) return next.status();

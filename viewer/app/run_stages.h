@@ -22,6 +22,7 @@
 
 #include "mapping/map_file.h"
 #include "odometry/estimator/lidar_odometry/lidar_odometry.h"
+#include "odometry/io/dataset_sensors.h"
 #include "odometry/io/measurement_stream.h"
 #include "viewer/app/dataset_config.h"
 #include "viewer/app/keyframe_mapper.h"
@@ -31,20 +32,11 @@
 
 namespace uf::app {
 
-// The sensors `run` uses: the first LiDAR stream, the first IMU and GNSS streams and the LiDAR-to-IMU
-// transform.
-struct RunSensors {
-  int lidar = -1, imu = -1, gnss = -1;
-  std::optional<SE3> T_imu_lidar;
-};
-
-RunSensors FindSensors(const DatasetDescription& description);
-
 struct RunState {
   // Resolved by the command before the stages run.
   std::filesystem::path dataset, out;
   DatasetConfig dataset_config;
-  RunSensors sensors;
+  DatasetSensors sensors;  // the first LiDAR, IMU and GNSS streams, T_imu_lidar
   bool lio = false;
   bool mesh = true;
   double min_range_m = 1.0, max_range_m = 100.0;  // LiDAR points mapped (the odometry's range limits), m

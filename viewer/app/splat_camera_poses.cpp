@@ -33,7 +33,8 @@ Expected<SE3> OutputFrameFromBody(const DatasetDescription& description, const s
 Expected<SE3> MapFromTrajectoryWorld(const DatasetDescription& description, const std::string& mode,
                                      const std::string& output_frame, bool from_trajectory) {
   if (from_trajectory || mode != "lo" || output_frame != "imu") return SE3();
-  // T_imu_lidar = T_F_B(imu) * T_B_lidar (run_outputs.h ImuFromLidar), so T_M_W = T_lidar_imu.
+  // T_imu_lidar = T_F_B(imu) * T_B_lidar (odometry/io/dataset_sensors.h ImuFromLidar), so T_M_W =
+  // T_lidar_imu.
   const StreamInfo* lidar = FirstStream(description, SensorKind::kLidar);
   if (!lidar || !lidar->T_body_sensor)
     return Status::Error(description.path.string() + ": no LiDAR T_body_sensor, which an LO run written " +

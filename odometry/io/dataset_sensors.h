@@ -1,0 +1,26 @@
+// Which streams of a dataset a pipeline uses, and how they sit relative to each other, from the calibration
+// that came with the data (StreamInfo::T_body_sensor; the body of a dataset is its IMU unless the IMU stream
+// says otherwise).
+#pragma once
+
+#include <optional>
+
+#include "odometry/io/dataset_reader.h"
+#include "odometry/types/se3.h"
+
+namespace uf {
+
+// The first LiDAR, IMU and GNSS streams (-1: none) and T_imu_lidar (ImuFromLidar of that LiDAR).
+struct DatasetSensors {
+  int lidar = -1, imu = -1, gnss = -1;
+  std::optional<SE3> T_imu_lidar;
+};
+
+DatasetSensors FindSensors(const DatasetDescription& description);
+
+// T_imu_lidar (p_imu = T_imu_lidar * p_lidar): the LiDAR stream's T_body_sensor composed with the inverse of
+// the first IMU stream's (identity when the IMU has none, the body then being the IMU). Empty when the LiDAR
+// stream carries no T_body_sensor.
+std::optional<SE3> ImuFromLidar(const DatasetDescription& description, int lidar_stream);
+
+}  // namespace uf

@@ -1,0 +1,56 @@
+// FindSensors and ImuFromLidar against hand-built dataset descriptions: the first stream of each kind, and
+// T_imu_lidar = T_body_imu^-1 T_body_lidar computed by hand.
+#include <gtest/gtest.h>
+
+#include <numbers>
+
+#include "odometry/io/dataset_sensors.h"
+
+namespace uf {
+namespace {
+
+StreamInfo Stream(SensorKind kind, std::optional<SE3> T_body_sensor = std::nullopt) {
+  StreamInfo stream;
+  stream.kind = kind;
+  stream.T_body_sensor = T_body_sensor;
+  return stream;
+}
+
+TEST(DatasetSensors, TheFirstStreamOfEachKind) {
+  DatasetDescription description;
+  description.streams = {Stream(SensorKind::kCamera), Stream(SensorKind::kImu),   Stream(SensorKind::kLidar),
+                         Stream(SensorKind::kGnss),   Stream(SensorKind::kLidar), Stream(SensorKind::kImu)};
+  const DatasetSensors sensors = FindSensors(description);
+  EXPECT_EQ(sensors.lidar, 2);
+  EXPECT_EQ(sensors.imu, 1);
+  EXPECT_EQ(sensors.gnss, 3);
+  EXPECT_FALSE(sensors.T_imu_lidar);  // the LiDAR has no T_body_sensor
+
+  const DatasetSensors none = FindSensors(DatasetDescription{});
+  EXPECT_EQ(none.lidar, -1);
+  EXPECT_EQ(none.imu, -1);
+  EXPECT_EQ(none.gnss, -1);
+}
+
+TEST(DatasetSensors, ImuFromLidarComposesTheBodyExtrinsics) {
+  // Body = a vehicle frame; IMU 1 m ahead, turned 90 deg about z; LiDAR 2 m up.
+  const SE3 T_body_imu(SO3::Exp(Eigen::Vector3d(0, 0, std::numbers::pi / 2)), Eigen::Vector3d(1, 0, 0));
+  const SE3 T_body_lidar(SO3(), Eigen::Vector3d(0, 0, 2));
+  DatasetDescription description;
+  description.streams = {Stream(SensorKind::kLidar, T_body_lidar), Stream(SensorKind::kImu, T_body_imu)};
+  const std::optional<SE3> T_imu_lidar = FindSensors(description).T_imu_lidar;
+  ASSERT_TRUE(T_imu_lidar);
+  // The LiDAR origin, (0, 0, 2) in the body, is (-1, 0, 2) from the IMU in body axes; in the IMU's axes
+  // (x along the body's y, y along the body's -x) that is (0, 1, 2). The LiDAR's axes are the body's, so the
+  // rotation is the IMU's turn undone: -90 deg about z.
+  EXPECT_TRUE(T_imu_lidar->translation().isApprox(Eigen::Vector3d(0, 1, 2), 1e-12));
+  EXPECT_TRUE(T_imu_lidar->rotation().isApprox(
+      SO3::Exp(Eigen::Vector3d(0, 0, -std::numbers::pi / 2)).matrix(), 1e-12));
+
+  // Without an IMU extrinsic the body is the IMU: T_imu_lidar = T_body_lidar.
+  description.streams[1].T_body_sensor.reset();
+  EXPECT_TRUE(ImuFromLidar(description, 0)->matrix().isApprox(T_body_lidar.matrix(), 1e-15));
+}
+
+}  // namespace
+}  // namespace uf
