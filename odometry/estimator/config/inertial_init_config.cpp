@@ -1,19 +1,14 @@
 #include "odometry/estimator/config/inertial_init_config.h"
 
-#include <cmath>
-#include <sstream>
+#include "odometry/estimator/config/field_rules.h"
 
 namespace uf::estimator {
 namespace {
 
 template <typename T>
 Status Bad(const char* field, const char* rule, T value) {
-  std::ostringstream message;
-  message << "lio.init." << field << ": must be " << rule << ", got " << value;
-  return Status::Error(message.str());
+  return FieldMustBe("lio.init", field, rule, value);
 }
-
-bool Positive(double v) { return std::isfinite(v) && v > 0; }
 
 }  // namespace
 

@@ -1,20 +1,17 @@
 #include "odometry/estimator/config/lidar_odometry_config.h"
 
 #include <cmath>
-#include <sstream>
 #include <string>
+
+#include "odometry/estimator/config/field_rules.h"
 
 namespace uf::estimator {
 namespace {
 
 template <typename T>
 Status Bad(const char* field, const char* rule, T value, const char* section = "lo") {
-  std::ostringstream message;
-  message << section << "." << field << ": must be " << rule << ", got " << value;
-  return Status::Error(message.str());
+  return FieldMustBe(section, field, rule, value);
 }
-
-bool Positive(double v) { return std::isfinite(v) && v > 0; }
 
 }  // namespace
 
