@@ -25,7 +25,7 @@
 #include "tests/support/cli_runner.h"
 #include "tests/support/simulated_sequence.h"
 #include "tests/support/temp_dir.h"
-#include "viewer/app/report_html.h"
+#include "viewer/app/report/report_html.h"
 
 namespace uf {
 namespace {

@@ -3,15 +3,15 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
-#include "viewer/app/colorize_command.h"
-#include "viewer/app/eval_command.h"
-#include "viewer/app/exit_codes.h"
-#include "viewer/app/export_command.h"
-#include "viewer/app/info_command.h"
-#include "viewer/app/render_command.h"
-#include "viewer/app/run_command.h"
-#include "viewer/app/sim_command.h"
-#include "viewer/app/splat_command.h"
+#include "viewer/app/cli/colorize_command.h"
+#include "viewer/app/cli/eval_command.h"
+#include "viewer/app/cli/exit_codes.h"
+#include "viewer/app/cli/export_command.h"
+#include "viewer/app/cli/info_command.h"
+#include "viewer/app/cli/render_command.h"
+#include "viewer/app/cli/run_command.h"
+#include "viewer/app/cli/sim_command.h"
+#include "viewer/app/cli/splat_command.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"ultrafusion: multi-sensor odometry, mapping and Gaussian splatting"};

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "tests/support/temp_dir.h"
-#include "viewer/app/pipeline_stages.h"
+#include "viewer/pipeline/stage_runner.h"
 
 namespace uf::app {
 namespace {

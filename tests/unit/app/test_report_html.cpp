@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "tests/support/temp_dir.h"
-#include "viewer/app/report_html.h"
+#include "viewer/app/report/report_html.h"
 
 namespace uf::app {
 namespace {

@@ -7,7 +7,7 @@
 #include <set>
 
 #include "tests/support/temp_dir.h"
-#include "viewer/app/run_folder.h"
+#include "viewer/pipeline/run_folder.h"
 
 namespace uf::app {
 namespace {

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <numbers>
 
-#include "viewer/app/splat_camera_poses.h"
-#include "viewer/app/splat_views.h"
+#include "viewer/pipeline/splat/splat_camera_poses.h"
+#include "viewer/pipeline/splat/splat_views.h"
 
 namespace uf::app {
 namespace {

@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "tests/support/temp_dir.h"
-#include "viewer/app/splat_run_inputs.h"
+#include "viewer/pipeline/splat/splat_run_inputs.h"
 
 namespace uf::app {
 namespace {

@@ -1,0 +1,170 @@
+#include "viewer/app/cli/render_command.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <optional>
+
+#include "export/exr_view.h"
+#include "export/splat_gltf.h"
+#include "export/splat_ply.h"
+#include "odometry/io/atomic_file.h"
+#include "odometry/io/image_decode.h"
+#include "odometry/io/trajectory_file.h"
+#include "splat/distorted_view.h"
+#include "splat/splat_renderer.h"
+#include "viewer/app/cli/exit_codes.h"
+#include "viewer/pipeline/progress_line.h"
+#include "viewer/app/render_camera.h"
+
+namespace uf::app {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+struct RenderArguments {
+  std::string splats, poses, camera, out, device;
+  int width = 0, height = 0;  // 0: the camera file's size
+  bool png = false, float_rgba = false;
+  std::vector<float> background = {0, 0, 0};
+};
+
+Expected<splat::GaussianModel> LoadSplats(const std::string& path) {
+  std::string extension = fs::path(path).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
+  if (extension == ".ply") return exporting::ReadSplatPly(path);
+  if (extension == ".glb") return exporting::ReadSplatGltf(path);
+  return Status::Error(path + ": unknown splat file type '" + extension + "' (expected .ply or .glb)");
+}
+
+// 8-bit preview of the display-referred colour (already composited over the background).
+Status WritePreviewPng(const splat::RenderedView& view, const fs::path& path) {
+  Image image;
+  image.width = view.width;
+  image.height = view.height;
+  image.channels = 3;
+  image.pixels.resize(view.rgb.size());
+  for (std::size_t i = 0; i < view.rgb.size(); ++i)
+    image.pixels[i] = static_cast<std::uint8_t>(std::lround(255.0f * std::clamp(view.rgb[i], 0.0f, 1.0f)));
+  Expected<std::vector<std::uint8_t>> png = EncodePng(image, path.string());
+  if (!png) return png.status();
+  AtomicFileWriter file(path.string());
+  if (Status s = file.status(); !s.ok()) return s;
+  file.stream().write(reinterpret_cast<const char*>(png->data()), static_cast<std::streamsize>(png->size()));
+  return file.Commit();
+}
+
+// The camera of the output views: the file's, or resized to --width x --height.
+Expected<RenderCamera> OutputCamera(const RenderArguments& a) {
+  Expected<RenderCamera> camera = LoadRenderCamera(a.camera);
+  if (!camera) return camera;
+  if ((a.width > 0) != (a.height > 0))
+    return Status::Error("--width and --height go together (got " + std::to_string(a.width) + " x " +
+                         std::to_string(a.height) + ")");
+  if (a.width > 0) return ResizeRenderCamera(*camera, a.width, a.height);
+  return camera;
+}
+
+int RunRender(const RenderArguments& a) {
+  Expected<RenderCamera> camera = OutputCamera(a);
+  if (!camera) return ReportUsageError(camera.status());
+  Expected<Trajectory> poses = ReadTumTrajectory(a.poses);
+  if (!poses) return ReportError(poses.status());
+  if (poses->empty()) return ReportError(Status::Error(a.poses + ": no poses"));
+  Expected<splat::GaussianModel> model = LoadSplats(a.splats);
+  if (!model) return ReportError(model.status());
+  splat::SplatRendererOptions options;
+  options.device = a.device;
+  Expected<std::unique_ptr<splat::SplatRenderer>> renderer = splat::SplatRenderer::Create(options);
+  if (!renderer) return ReportError(renderer.status());
+  if (Status s = (*renderer)->Upload(*model); !s.ok()) return ReportError(s);
+
+  splat::RenderSettings settings;
+  settings.background = Eigen::Vector3f(a.background[0], a.background[1], a.background[2]);
+  // Distorted cameras render through a covering pinhole and are resampled (splat/distorted_view.h).
+  const PinholeRadtanIntrinsics& k = camera->intrinsics;
+  std::optional<splat::DistortedViewResampler> resampler;
+  if (camera->distorted) resampler.emplace(*camera->model, k.fx, k.fy, k.cx, k.cy);
+  std::error_code error;
+  fs::create_directories(a.out, error);
+  if (error) return ReportError(Status::Error(a.out + ": cannot create the folder: " + error.message()));
+
+  const exporting::ExrPixelType pixel_type =
+      a.float_rgba ? exporting::ExrPixelType::kFloat : exporting::ExrPixelType::kHalf;
+  double render_ms = 0;
+  {
+    ProgressLine progress("render");
+    for (std::size_t i = 0; i < poses->size(); ++i) {
+      splat::SplatCamera view_camera;
+      if (resampler) {
+        view_camera = resampler->Pinhole(poses->poses[i]);
+      } else {
+        view_camera.width = camera->width;
+        view_camera.height = camera->height;
+        view_camera.fx = k.fx, view_camera.fy = k.fy, view_camera.cx = k.cx, view_camera.cy = k.cy;
+        view_camera.T_world_camera = poses->poses[i];
+      }
+      const Clock::time_point start = Clock::now();
+      Expected<splat::RenderedView> view = (*renderer)->Render(view_camera, settings);
+      render_ms += std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+      if (!view) return ReportError(view.status());
+      if (resampler) *view = resampler->Resample(*view, settings.background);
+      // Files are named by the pose's stamp in nanoseconds, like the frames of a dataset.
+      const std::string name = std::to_string(poses->stamps[i]);
+      if (Status s = exporting::WriteViewExr(*view, (fs::path(a.out) / (name + ".exr")).string(), pixel_type);
+          !s.ok())
+        return ReportError(s);
+      if (a.png)
+        if (Status s = WritePreviewPng(*view, fs::path(a.out) / (name + ".png")); !s.ok())
+          return ReportError(s);
+      progress.Update("views", static_cast<std::int64_t>(i + 1), static_cast<std::int64_t>(poses->size()));
+    }
+  }
+  std::printf("render: %zu views of %d x %d px, %zu Gaussians on %s, %.1f ms/view\n", poses->size(),
+              camera->width, camera->height, model->size(), (*renderer)->device_name().c_str(),
+              render_ms / poses->size());
+  std::printf("  wrote %s: <stamp ns>.exr (R G B A, Z, %s)%s\n", a.out.c_str(),
+              exporting::kExrExpectedDepthChannel, a.png ? " and <stamp ns>.png" : "");
+  return kExitOk;
+}
+
+}  // namespace
+
+Subcommand AddRenderCommand(CLI::App& app) {
+  auto a = std::make_shared<RenderArguments>();
+  CLI::App* command = app.add_subcommand(
+      "render", "Render Gaussian splats (3DGS .ply or KHR_gaussian_splatting .glb) to EXR views, headless");
+  command->add_option("SPLATS", a->splats, "Splat file: 3DGS .ply or .glb")
+      ->required()
+      ->check(CLI::ExistingFile);
+  command
+      ->add_option("--poses", a->poses, "TUM file of T_world_camera (camera axes x right, y down, z forward)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  command
+      ->add_option("--camera", a->camera,
+                   "Camera YAML: model: pinhole, width, height, fx, fy, cx, cy[, distortion]")
+      ->required()
+      ->check(CLI::ExistingFile);
+  command->add_option("--out", a->out, "Output folder (created; views are named by pose stamp)")->required();
+  command->add_option("--width", a->width, "Output width, px (with --height; intrinsics scaled)")
+      ->check(CLI::Range(1, 16384));
+  command->add_option("--height", a->height, "Output height, px (with --width)")->check(CLI::Range(1, 16384));
+  command->add_flag("--png", a->png, "Also write an 8-bit PNG preview per view");
+  command->add_flag("--float", a->float_rgba, "R G B A as 32-bit float (default: half)");
+  command->add_option("--background", a->background, "Background colour R G B in [0, 1]")
+      ->expected(3)
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  command->add_option(
+      "--device", a->device,
+      "Vulkan device: index or part of its name (default: a GPU if any, else lavapipe on the CPU)");
+  return {command, [a] { return RunRender(*a); }};
+}
+
+}  // namespace uf::app

@@ -1,0 +1,147 @@
+#include "viewer/app/report/info_report.h"
+
+#include <cstdio>
+#include <iomanip>
+#include <nlohmann/json.hpp>
+
+namespace uf::app {
+namespace {
+
+// A camera calibration as JSON, and as one line: "radial-tangential 752x480, fx fy cx cy [...], distortion [...]".
+nlohmann::json CameraJson(const CameraModel& camera) {
+  nlohmann::json j = {{"width", camera.width()}, {"height", camera.height()}};
+  if (const auto* radtan = dynamic_cast<const PinholeRadtan*>(&camera)) {
+    const PinholeRadtanIntrinsics& k = radtan->intrinsics();
+    j["model"] = "radial-tangential";
+    j["intrinsics"] = {k.fx, k.fy, k.cx, k.cy};
+    j["distortion"] = {k.k1, k.k2, k.p1, k.p2, k.k3};
+  } else if (const auto* fisheye = dynamic_cast<const Equidistant*>(&camera)) {
+    const EquidistantIntrinsics& k = fisheye->intrinsics();
+    j["model"] = "equidistant";
+    j["intrinsics"] = {k.fx, k.fy, k.cx, k.cy};
+    j["distortion"] = {k.k1, k.k2, k.k3, k.k4};
+  }
+  return j;
+}
+
+std::string CameraLine(const CameraModel& camera) {
+  const nlohmann::json j = CameraJson(camera);
+  std::string line = j.value("model", "camera") + " " + std::to_string(camera.width()) + "x" +
+                     std::to_string(camera.height()) + ", fx fy cx cy " + j["intrinsics"].dump() +
+                     ", distortion " + j["distortion"].dump();
+  return line;
+}
+
+std::string Fixed(double value, int decimals) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.*f", decimals, value);
+  return buffer;
+}
+
+std::string Cell(const std::string& text, std::size_t width) {
+  return text.size() >= width ? text + " " : text + std::string(width - text.size(), ' ');
+}
+
+void PrintStreamDetails(std::ostream& out, const StreamSummary& s) {
+  const std::string indent = "    ";
+  if (!s.info.frame_id.empty()) out << indent << "frame: " << s.info.frame_id << "\n";
+  if (s.info.kind == SensorKind::kLidar) {
+    out << indent << "point time: ";
+    if (s.info.point_time == PointTimeConvention::kNone)
+      out << "none (scans cannot be deskewed per point)\n";
+    else if (s.info.point_time_field.empty())
+      out << PointTimeConventionName(s.info.point_time) << "\n";
+    else
+      out << "field '" << s.info.point_time_field << "', " << PointTimeConventionName(s.info.point_time)
+          << "\n";
+    if (s.points_per_scan) {
+      out << indent << "points per scan: " << s.points_per_scan->min << " .. " << s.points_per_scan->max
+          << " (mean " << Fixed(s.points_per_scan->mean, 0) << ")\n";
+    }
+  }
+  if (s.info.camera_model) out << indent << "calibration: " << CameraLine(*s.info.camera_model) << "\n";
+  if (s.info.kind == SensorKind::kImu && !s.info.imu_accel_unit.empty()) {
+    out << indent << "acceleration unit: " << s.info.imu_accel_unit
+        << (s.info.imu_accel_unit == "g" ? " (converted to m/s^2)" : "") << "\n";
+  }
+  if (s.time.count > 1) {
+    out << indent << "period: median " << Fixed(s.time.median_period_s * 1e3, 3) << " ms, jitter "
+        << Fixed(s.time.jitter_percent, 1) << "%, gaps " << s.time.gaps << ", backwards " << s.time.backwards
+        << ", duplicates " << s.time.duplicates << ", out of order " << s.time.out_of_order << "\n";
+  }
+  for (const std::string& finding : s.time.findings) out << indent << "! " << finding << "\n";
+}
+
+}  // namespace
+
+void PrintDatasetTable(std::ostream& out, const DatasetSummary& summary) {
+  const DatasetDescription& d = summary.description;
+  out << "dataset: " << d.path.string() << " (" << DatasetFormatName(d.format) << ", "
+      << Fixed(summary.bytes / 1e6, 1) << " MB read in " << Fixed(summary.read_seconds, 2) << " s)\n";
+  out << "ground truth: " << (d.ground_truth ? d.ground_truth->string() : "none found") << "\n\n";
+  out << Cell("stream", 34) << Cell("kind", 7) << Cell("type", 30) << Cell("count", 8) << Cell("rate Hz", 9)
+      << Cell("first [s]", 22) << Cell("last [s]", 22) << "verdict\n";
+  for (const StreamSummary& s : summary.streams) {
+    out << Cell(s.info.name, 34) << Cell(std::string(SensorKindName(s.info.kind)), 7)
+        << Cell(s.info.message_type, 30) << Cell(std::to_string(s.time.count), 8)
+        << Cell(Fixed(s.time.rate_hz, 2), 9) << Cell(s.time.count ? FormatSeconds(s.time.first) : "-", 22)
+        << Cell(s.time.count ? FormatSeconds(s.time.last) : "-", 22) << StreamVerdictName(s.time.verdict)
+        << "\n";
+    PrintStreamDetails(out, s);
+  }
+  if (!summary.warnings.empty()) out << "\nwarnings (recovered by skipping data):\n";
+  for (const ReadWarning& w : summary.warnings)
+    out << "  " << w.stream << ": " << w.what << " (" << w.count << ")\n";
+}
+
+void PrintDatasetJson(std::ostream& out, const DatasetSummary& summary) {
+  using nlohmann::json;
+  const DatasetDescription& d = summary.description;
+  json streams = json::array();
+  for (const StreamSummary& s : summary.streams) {
+    json j = {{"name", s.info.name},
+              {"kind", SensorKindName(s.info.kind)},
+              {"message_type", s.info.message_type},
+              {"frame_id", s.info.frame_id},
+              {"count", s.time.count},
+              {"rate_hz", s.time.rate_hz},
+              {"first_stamp_ns", s.time.first},
+              {"last_stamp_ns", s.time.last},
+              {"median_period_s", s.time.median_period_s},
+              {"jitter_percent", s.time.jitter_percent},
+              {"gaps", s.time.gaps},
+              {"largest_gap_s", s.time.largest_gap_s},
+              {"backwards", s.time.backwards},
+              {"duplicates", s.time.duplicates},
+              {"out_of_order", s.time.out_of_order},
+              {"verdict", StreamVerdictName(s.time.verdict)},
+              {"findings", s.time.findings}};
+    if (s.info.kind == SensorKind::kLidar) {
+      j["point_time_field"] = s.info.point_time_field;
+      j["point_time"] = PointTimeConventionName(s.info.point_time);
+      if (s.points_per_scan) {
+        j["points_per_scan"] = {{"min", s.points_per_scan->min},
+                                {"max", s.points_per_scan->max},
+                                {"mean", s.points_per_scan->mean}};
+      }
+    }
+    if (s.info.kind == SensorKind::kImu) j["imu_accel_unit"] = s.info.imu_accel_unit;
+    if (s.info.camera_model) j["calibration"] = CameraJson(*s.info.camera_model);
+    if (s.info.kind == SensorKind::kCamera) j["camera"] = s.info.camera;
+    if (s.info.nominal_rate_hz > 0) j["nominal_rate_hz"] = s.info.nominal_rate_hz;
+    streams.push_back(std::move(j));
+  }
+  json warnings = json::array();
+  for (const ReadWarning& w : summary.warnings)
+    warnings.push_back({{"stream", w.stream}, {"what", w.what}, {"count", w.count}});
+  json root = {{"dataset", d.path.string()},
+               {"format", DatasetFormatName(d.format)},
+               {"ground_truth", d.ground_truth ? json(d.ground_truth->string()) : json(nullptr)},
+               {"bytes", summary.bytes},
+               {"read_seconds", summary.read_seconds},
+               {"streams", streams},
+               {"warnings", warnings}};
+  out << std::setw(2) << root << "\n";
+}
+
+}  // namespace uf::app

@@ -1,0 +1,79 @@
+#include "viewer/pipeline/run_files.h"
+
+#include <algorithm>
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <numeric>
+
+#include "odometry/eval/plots.h"
+#include "odometry/io/atomic_file.h"
+#include "odometry/io/trajectory_file.h"
+
+namespace uf::app {
+
+TimingSummary SummarizeTimings(std::vector<double> ms) {
+  TimingSummary summary;
+  summary.scans = ms.size();
+  if (ms.empty()) return summary;
+  std::sort(ms.begin(), ms.end());
+  const std::size_t n = ms.size();
+  summary.mean = std::accumulate(ms.begin(), ms.end(), 0.0) / static_cast<double>(n);
+  summary.median = n % 2 == 1 ? ms[n / 2] : 0.5 * (ms[n / 2 - 1] + ms[n / 2]);
+  // Nearest rank: rank ceil(0.95 n), 1-based.
+  const std::size_t rank = static_cast<std::size_t>(std::ceil(0.95 * static_cast<double>(n)));
+  summary.p95 = ms[std::clamp<std::size_t>(rank, 1, n) - 1];
+  summary.max = ms.back();
+  return summary;
+}
+
+Status WriteTrajectoryFiles(const std::filesystem::path& folder, const Trajectory& trajectory) {
+  if (Status s = WriteTumTrajectory((folder / "trajectory.tum").string(), trajectory); !s.ok()) return s;
+  return WriteKittiTrajectory((folder / "trajectory_kitti.txt").string(), trajectory);
+}
+
+Status WriteTimingJson(const std::filesystem::path& path, const TimingSummary& timing, std::int64_t skipped,
+                       std::int64_t warnings) {
+  const nlohmann::json json = {
+      {"scans", timing.scans},
+      {"ms_per_scan",
+       {{"mean", timing.mean}, {"median", timing.median}, {"p95", timing.p95}, {"max", timing.max}}},
+      {"skipped", skipped},
+      {"warnings", warnings}};
+  return WriteTextFileAtomically(path, json.dump(2) + "\n");
+}
+
+Status WriteTimingPlot(const std::filesystem::path& png, const std::vector<Stamp>& stamps,
+                       const std::vector<double>& milliseconds) {
+  std::vector<double> seconds;
+  seconds.reserve(stamps.size());
+  for (Stamp stamp : stamps) seconds.push_back(ToSeconds(stamp - stamps.front()));
+  return WriteErrorPlot(png.string(), seconds, milliseconds, ComputeStats(milliseconds), "Time per scan",
+                        "time from the first scan [s]", "processing time [ms]");
+}
+
+Status WriteTextFileAtomically(const std::filesystem::path& path, const std::string& text) {
+  AtomicFileWriter writer(path.string());
+  if (Status s = writer.status(); !s.ok()) return s;
+  writer.stream() << text;
+  return writer.Commit();
+}
+
+Trajectory ToImuFrame(const Trajectory& lidar_trajectory, const SE3& T_imu_lidar) {
+  Trajectory imu;
+  imu.stamps = lidar_trajectory.stamps;
+  imu.poses.reserve(lidar_trajectory.size());
+  const SE3 T_lidar_imu = T_imu_lidar.inverse();
+  for (const SE3& T_lidar0_lidar : lidar_trajectory.poses)
+    imu.poses.push_back(T_imu_lidar * T_lidar0_lidar * T_lidar_imu);
+  return imu;
+}
+
+Trajectory ToLidarFrame(const Trajectory& imu_trajectory, const SE3& T_imu_lidar) {
+  Trajectory lidar;
+  lidar.stamps = imu_trajectory.stamps;
+  lidar.poses.reserve(imu_trajectory.size());
+  for (const SE3& T_world_imu : imu_trajectory.poses) lidar.poses.push_back(T_world_imu * T_imu_lidar);
+  return lidar;
+}
+
+}  // namespace uf::app

@@ -1,0 +1,120 @@
+#include "viewer/pipeline/splat/splat_training.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+#include <random>
+
+#include "splat/seeding.h"
+#include "splat/training/image_metrics.h"
+
+namespace uf::app {
+
+using Clock = std::chrono::steady_clock;
+
+double SceneExtent(const std::vector<StoredView>& views) {
+  if (views.empty()) return 1e-3;
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (const StoredView& v : views) centroid += v.camera.T_world_camera.translation();
+  centroid /= static_cast<double>(views.size());
+  double radius = 0;
+  for (const StoredView& v : views)
+    radius = std::max(radius, (v.camera.T_world_camera.translation() - centroid).norm());
+  return std::max(radius, 1e-3);
+}
+
+void AddSky(splat::GaussianModel& model, const std::vector<StoredView>& train, const SplatConfig& config) {
+  if (train.empty() || config.sky_gaussians <= 0) return;
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (const StoredView& v : train) centre += v.camera.T_world_camera.translation() / train.size();
+  std::vector<double> distances;
+  distances.reserve(model.size());
+  for (const Eigen::Vector3f& p : model.positions) distances.push_back((p.cast<double>() - centre).norm());
+  double radius = 10.0;
+  if (!distances.empty()) {
+    auto percentile = distances.begin() + static_cast<std::ptrdiff_t>(0.95 * (distances.size() - 1));
+    std::nth_element(distances.begin(), percentile, distances.end());
+    radius = std::max(radius, 1.2 * *percentile);
+  }
+  const double count = config.sky_gaussians;
+  const double largest_spacing = config.training.prune_world_fraction * SceneExtent(train);
+  radius = std::min(radius, largest_spacing * std::sqrt(count / (4 * M_PI)));
+  splat::AddBackgroundSphere(model, centre, radius, config.sky_gaussians, 0.5);
+}
+
+Expected<SplatTrainingResult> TrainSplats(const splat::GaussianModel& seed,
+                                          const std::vector<StoredView>& train,
+                                          const std::vector<StoredView>& test, const SplatConfig& config,
+                                          const std::string& device,
+                                          const std::function<void(const TrainingProgress&)>& progress) {
+  SplatTrainingResult result;
+  result.scene_extent = SceneExtent(train);
+  splat::SplatRendererOptions options;
+  options.device = device;
+  Expected<std::unique_ptr<splat::SplatTrainer>> trainer =
+      splat::SplatTrainer::Create(seed, config.training, result.scene_extent, options);
+  if (!trainer) return trainer.status();
+  result.trainer = std::move(*trainer);
+  if (!test.empty()) {
+    Expected<SplatScores> initial = ScoreViews(*result.trainer, test);
+    if (!initial) return initial.status();
+    result.psnr_test_initial = initial->psnr;
+  }
+
+  // One pass over the training views per permutation; a new permutation for every pass.
+  std::mt19937_64 random(config.training.seed);
+  std::vector<std::size_t> order(train.size());
+  std::size_t next = order.size();
+  const int iterations = config.training.iterations;
+  result.loss.reserve(static_cast<std::size_t>(iterations));
+  const Clock::time_point start = Clock::now();
+  for (int i = 0; i < iterations; ++i) {
+    if (next == order.size()) {
+      std::iota(order.begin(), order.end(), std::size_t{0});
+      std::shuffle(order.begin(), order.end(), random);
+      next = 0;
+    }
+    Expected<splat::IterationStats> step = result.trainer->Step(ToTrainingView(train[order[next++]]));
+    if (!step)
+      return Status::Error("splat training, iteration " + std::to_string(i + 1) + ": " + step.error());
+    result.loss.push_back(step->loss);
+    result.iterations = i + 1;
+    result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    if (progress) progress({i + 1, iterations, step->loss, step->gaussians});
+    if (config.time_budget_s > 0 && result.seconds >= config.time_budget_s && i + 1 < iterations) {
+      result.stopped_by_time = true;
+      break;
+    }
+  }
+  return result;
+}
+
+Expected<SplatScores> ScoreViews(splat::SplatTrainer& trainer, const std::vector<StoredView>& views,
+                                 std::vector<splat::RenderedView>* renders, std::size_t keep) {
+  SplatScores scores;
+  for (const StoredView& view : views) {
+    Expected<splat::RenderedView> rendered = trainer.Render(view.camera);
+    if (!rendered) return rendered.status();
+    const splat::TrainingView real = ToTrainingView(view);
+    // The renderer's colours may leave [0, 1] (SH + 0.5, blending); the images are in [0, 1].
+    std::vector<float> rgb = rendered->rgb;
+    for (float& v : rgb) v = std::clamp(v, 0.0f, 1.0f);
+    const ViewScore score{view.stamp, splat::Psnr(rgb, real.rgb),
+                          splat::Ssim(rgb, real.rgb, view.camera.width, view.camera.height)};
+    scores.views.push_back(score);
+    scores.psnr += score.psnr / static_cast<double>(views.size());
+    scores.ssim += score.ssim / static_cast<double>(views.size());
+    if (renders && renders->size() < keep) renders->push_back(std::move(*rendered));
+  }
+  return scores;
+}
+
+std::vector<StoredView> SampleViews(const std::vector<StoredView>& views, std::size_t count) {
+  if (views.size() <= count) return views;
+  std::vector<StoredView> sample;
+  for (std::size_t i = 0; i < count; ++i) sample.push_back(views[i * views.size() / count]);
+  return sample;
+}
+
+}  // namespace uf::app

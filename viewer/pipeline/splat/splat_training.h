@@ -1,0 +1,71 @@
+// The training loop of `ultrafusion splat` and of run's splat stage: splat::SplatTrainer over the training
+// views in a seeded shuffled order (a new permutation each pass, std::mt19937_64 on TrainingOptions::seed),
+// one view per iteration, until the iteration count or the time budget is reached; then the held-out and
+// (a sample of) the training views are rendered and scored with PSNR and SSIM (splat/training/
+// image_metrics.h, the 3DGS conventions).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "splat/training/splat_trainer.h"
+#include "viewer/app/splat_config.h"
+#include "viewer/pipeline/splat/splat_views.h"
+
+namespace uf::app {
+
+struct TrainingProgress {
+  int iteration = 0, iterations = 0;  // done, planned
+  double loss = 0;                    // of the last step
+  std::size_t gaussians = 0;
+};
+
+struct ViewScore {
+  Stamp stamp = 0;
+  double psnr = 0, ssim = 0;
+};
+
+struct SplatScores {
+  double psnr = 0, ssim = 0;     // means over the views
+  std::vector<ViewScore> views;  // per view, in the order given
+};
+
+struct SplatTrainingResult {
+  std::unique_ptr<splat::SplatTrainer> trainer;  // holds the trained model (Model(), Render())
+  int iterations = 0;
+  double seconds = 0;  // of the optimization steps
+  bool stopped_by_time = false;
+  double scene_extent = 0;       // m, the radius of the training camera centres
+  std::vector<double> loss;      // per iteration
+  double psnr_test_initial = 0;  // of the seeded model on the held-out views (0 without them)
+};
+
+// The radius of the camera centres around their centroid (m), at least 1e-3 (SplatTrainer's scene extent).
+double SceneExtent(const std::vector<StoredView>& views);
+
+// Adds the sky sphere of config.sky_gaussians Gaussians (splat::AddBackgroundSphere) around the training
+// cameras' centroid: radius 1.2 x the 95th percentile distance of the seeded Gaussians from it, reduced when
+// needed so that the discs (spacing radius sqrt(4 pi / n)) stay under half the size-pruning limit
+// (prune_world_fraction x the scene extent); opacity 0.5.
+void AddSky(splat::GaussianModel& model, const std::vector<StoredView>& train, const SplatConfig& config);
+
+// Trains `seed` on `train` (not empty); `test` is scored once before the first step. `device`:
+// SplatRendererOptions::device.
+Expected<SplatTrainingResult> TrainSplats(const splat::GaussianModel& seed,
+                                          const std::vector<StoredView>& train,
+                                          const std::vector<StoredView>& test, const SplatConfig& config,
+                                          const std::string& device,
+                                          const std::function<void(const TrainingProgress&)>& progress = {});
+
+// Renders every view with the trainer's current model and scores it against the real image; `renders`
+// (optional) receives the first `keep` rendered views.
+Expected<SplatScores> ScoreViews(splat::SplatTrainer& trainer, const std::vector<StoredView>& views,
+                                 std::vector<splat::RenderedView>* renders = nullptr, std::size_t keep = 0);
+
+// Up to `count` views spread evenly over `views` (all of them when there are fewer).
+std::vector<StoredView> SampleViews(const std::vector<StoredView>& views, std::size_t count);
+
+}  // namespace uf::app

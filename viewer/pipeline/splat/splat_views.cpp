@@ -1,0 +1,118 @@
+#include "viewer/pipeline/splat/splat_views.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "odometry/io/image_decode.h"
+#include "viewer/pipeline/splat/splat_camera_poses.h"
+
+namespace uf::app {
+namespace {
+
+// The view of one decoded image: undistorted to the model's pinhole when it has distortion, resized to the
+// training size, quantised to 8 bits (the source's precision) for storage.
+StoredView MakeView(const Image& image, const CameraModel& model, const Pinhole& native,
+                    const Pinhole& target, const SE3& T_world_camera, Stamp stamp,
+                    std::span<const Eigen::Vector3f> depth_points) {
+  std::vector<float> rgb = ToRgbFloat(image);
+  if (IsDistorted(model)) rgb = Undistort(rgb, model, native);
+  if (target.width != native.width || target.height != native.height)
+    rgb = ResizeArea(rgb, native.width, native.height, 3, target.width, target.height);
+  StoredView view;
+  view.stamp = stamp;
+  view.camera.width = target.width, view.camera.height = target.height;
+  view.camera.fx = target.fx, view.camera.fy = target.fy, view.camera.cx = target.cx,
+  view.camera.cy = target.cy;
+  view.camera.T_world_camera = T_world_camera;
+  view.rgb.resize(rgb.size());
+  for (std::size_t i = 0; i < rgb.size(); ++i)
+    view.rgb[i] = static_cast<std::uint8_t>(std::lround(255.0f * std::clamp(rgb[i], 0.0f, 1.0f)));
+  if (!depth_points.empty()) view.depth = ProjectDepth(depth_points, view.camera);
+  return view;
+}
+
+}  // namespace
+
+Expected<SplatCameraStream> FindSplatCamera(const DatasetDescription& description,
+                                            const std::string& output_frame) {
+  for (std::size_t s = 0; s < description.streams.size(); ++s) {
+    const StreamInfo& stream = description.streams[s];
+    if (stream.kind != SensorKind::kCamera) continue;
+    const std::string where = description.path.string() + ": camera " + stream.name;
+    if (!stream.camera_model)
+      return Status::Error(where + " has no intrinsics (camera model): its images cannot be placed");
+    if (!stream.T_body_sensor)
+      return Status::Error(where + " has no extrinsic (T_body_sensor): its images cannot be placed");
+    if (!PinholeOf(*stream.camera_model))
+      return Status::Error(where + ": unsupported camera model (pinhole-radtan and equidistant are)");
+    Expected<SE3> T_frame_body = OutputFrameFromBody(description, output_frame);
+    if (!T_frame_body) return T_frame_body.status();
+    return SplatCameraStream{static_cast<int>(s), stream.name, stream.camera_model,
+                             *T_frame_body * *stream.T_body_sensor};
+  }
+  return Status::Error(description.path.string() +
+                       ": no camera stream, so there are no images to train splats on (nothing trained)");
+}
+
+bool KeyframeSelector::Select(const SE3& T_world_camera) {
+  if (last_) {
+    const SE3 motion = last_->inverse() * T_world_camera;
+    const double angle_deg = motion.so3().angle() * 180.0 / std::numbers::pi;
+    if (motion.translation().norm() < distance_m_ && angle_deg < angle_deg_) return false;
+  }
+  last_ = T_world_camera;
+  return true;
+}
+
+splat::TrainingView ToTrainingView(const StoredView& view) {
+  splat::TrainingView training;
+  training.camera = view.camera;
+  training.rgb.resize(view.rgb.size());
+  for (std::size_t i = 0; i < view.rgb.size(); ++i) training.rgb[i] = view.rgb[i] / 255.0f;
+  training.depth = view.depth;
+  return training;
+}
+
+Expected<SplatViews> LoadSplatViews(MeasurementStream& stream, const SplatCameraStream& camera,
+                                    const ViewLoading& loading,
+                                    const std::function<void(std::int64_t)>& progress) {
+  const SplatConfig& config = *loading.config;
+  SplatViews views;
+  views.camera_name = camera.name;
+  views.model = camera.model;
+  const Pinhole native = *PinholeOf(*camera.model);
+  int width = config.width, height = config.height;
+  if (width == 0) DefaultSize(native.width, native.height, config.max_width, width, height);
+  views.pinhole = ScalePinhole(native, width, height);
+  KeyframeSelector selector(config.keyframe_distance_m, config.keyframe_angle_deg);
+  std::int64_t selected = 0;
+  while (true) {
+    Expected<std::optional<Measurement>> next = stream.Next();
+    if (!next) return next.status();
+    if (!next->has_value()) break;
+    auto* frame = std::get_if<CameraFrame>(&(*next)->data);
+    if (!frame || (*next)->stream != camera.stream) continue;
+    ++views.images;
+    if (progress) progress(views.images);
+    const std::optional<SE3> T_world_frame = loading.trajectory->PoseAt(frame->stamp);
+    if (!T_world_frame) {
+      ++views.outside_trajectory;
+      continue;
+    }
+    // T_M_C = T_M_W * T_W_F(t) * T_F_C (splat_camera_poses.h).
+    const SE3 T_map_camera = loading.T_map_world * *T_world_frame * camera.T_frame_camera;
+    if (!selector.Select(T_map_camera)) continue;
+    if (!DecodeCameraFrame(*frame).ok() || frame->image.width != native.width ||
+        frame->image.height != native.height) {
+      ++views.undecodable;
+      continue;
+    }
+    StoredView view = MakeView(frame->image, *camera.model, native, views.pinhole, T_map_camera, frame->stamp,
+                               loading.depth_points);
+    (selected++ % config.holdout_stride == 0 ? views.test : views.train).push_back(std::move(view));
+  }
+  return views;
+}
+
+}  // namespace uf::app
