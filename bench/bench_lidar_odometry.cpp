@@ -18,6 +18,7 @@
 #include "odometry/estimator/lidar_odometry/lidar_odometry.h"
 #include "odometry/eval/evaluation.h"
 #include "odometry/io/dataset_reader.h"
+#include "odometry/io/for_each_measurement.h"
 #include "odometry/io/trajectory_file.h"
 
 namespace {
@@ -98,17 +99,16 @@ int main(int argc, char** argv) {
     return 1;
   }
   std::vector<uf::LidarScan> scans;  // read first so that reading does not count in the timing
-  while (true) {
-    auto next = (*reader)->Next();
-    if (!next.ok()) {
-      std::fprintf(stderr, "bench_lidar_odometry: %s\n", next.error().c_str());
-      return 1;
-    }
-    if (!*next) break;
-    if (auto* scan = std::get_if<uf::LidarScan>(&(*next)->data)) {
+  const uf::Status read = uf::ForEachMeasurement(**reader, [&](uf::Measurement& m) {
+    if (auto* scan = std::get_if<uf::LidarScan>(&m.data)) {
       if (no_deskew) scan->has_point_times = false;
       scans.push_back(std::move(*scan));
     }
+    return uf::Status();
+  });
+  if (!read.ok()) {
+    std::fprintf(stderr, "bench_lidar_odometry: %s\n", read.message().c_str());
+    return 1;
   }
   std::vector<double> ms, cpu_ms;
   std::vector<uf::Keyframe> keyframes;

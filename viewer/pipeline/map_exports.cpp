@@ -10,7 +10,7 @@
 #include "mapping/map_view.h"
 #include "mapping/meshing.h"
 
-namespace uf::app {
+namespace uf::pipeline {
 
 Status ParseMapFormats(const std::string& list, MapExportRequest& request) {
   request.ply = request.las = request.glb = false;
@@ -92,4 +92,4 @@ Expected<MapExportResult> WriteMapExports(const std::filesystem::path& folder, c
   return result;
 }
 
-}  // namespace uf::app
+}  // namespace uf::pipeline

@@ -12,7 +12,7 @@
 #include "mapping/global_map.h"
 #include "mapping/map_file.h"
 
-namespace uf::app {
+namespace uf::pipeline {
 
 struct MapExportRequest {
   bool ply = true, las = true, glb = true;
@@ -39,4 +39,4 @@ Status ParseMapFormats(const std::string& list, MapExportRequest& request);
 Expected<MapExportResult> WriteMapExports(const std::filesystem::path& folder, const mapping::GlobalMap& map,
                                           const MapExportRequest& request);
 
-}  // namespace uf::app
+}  // namespace uf::pipeline

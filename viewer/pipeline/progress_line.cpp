@@ -4,7 +4,7 @@
 
 #include <cstdio>
 
-namespace uf::app {
+namespace uf::pipeline {
 namespace {
 
 // The largest of 10, 20, 50, 100, 200, 500, ... that is <= done (0 below 10): the counts at which a line
@@ -68,4 +68,4 @@ void ProgressLine::Update(const std::string& stage, std::int64_t done, std::int6
   std::fflush(stderr);
 }
 
-}  // namespace uf::app
+}  // namespace uf::pipeline

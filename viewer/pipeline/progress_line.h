@@ -8,7 +8,7 @@
 #include <cstdint>
 #include <string>
 
-namespace uf::app {
+namespace uf::pipeline {
 
 class ProgressLine {
  public:
@@ -32,4 +32,4 @@ class ProgressLine {
   Clock::time_point stage_start_, last_print_;
 };
 
-}  // namespace uf::app
+}  // namespace uf::pipeline

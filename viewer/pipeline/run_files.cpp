@@ -9,7 +9,7 @@
 #include "odometry/io/atomic_file.h"
 #include "odometry/io/trajectory_file.h"
 
-namespace uf::app {
+namespace uf::pipeline {
 
 TimingSummary SummarizeTimings(std::vector<double> ms) {
   TimingSummary summary;
@@ -76,4 +76,4 @@ Trajectory ToLidarFrame(const Trajectory& imu_trajectory, const SE3& T_imu_lidar
   return lidar;
 }
 
-}  // namespace uf::app
+}  // namespace uf::pipeline

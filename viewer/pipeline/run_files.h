@@ -12,7 +12,7 @@
 #include "odometry/types/status.h"
 #include "odometry/types/trajectory.h"
 
-namespace uf::app {
+namespace uf::pipeline {
 
 // Milliseconds per scan, summarised.
 struct TimingSummary {
@@ -48,4 +48,4 @@ Trajectory ToImuFrame(const Trajectory& lidar_trajectory, const SE3& T_imu_lidar
 // The LiDAR's trajectory from the IMU's (LIO), in the same world: T_world_lidar = T_world_imu T_imu_lidar.
 Trajectory ToLidarFrame(const Trajectory& imu_trajectory, const SE3& T_imu_lidar);
 
-}  // namespace uf::app
+}  // namespace uf::pipeline

@@ -4,7 +4,7 @@
 
 #include <ctime>
 
-namespace uf::app {
+namespace uf::pipeline {
 
 namespace fs = std::filesystem;
 
@@ -49,4 +49,4 @@ Status UpdateLatestLink(const fs::path& runs_root, const fs::path& folder) {
   return {};
 }
 
-}  // namespace uf::app
+}  // namespace uf::pipeline

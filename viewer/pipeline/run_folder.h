@@ -9,7 +9,7 @@
 
 #include "odometry/types/status.h"
 
-namespace uf::app {
+namespace uf::pipeline {
 
 // "20261121-220314": the UTC calendar time of `time`, to the second.
 std::string RunFolderName(std::chrono::system_clock::time_point time);
@@ -22,4 +22,4 @@ Expected<std::filesystem::path> CreateVersionedRunFolder(const std::filesystem::
 // Points runs_root/latest at `folder` (a relative link: the folder's name), replacing any previous link.
 Status UpdateLatestLink(const std::filesystem::path& runs_root, const std::filesystem::path& folder);
 
-}  // namespace uf::app
+}  // namespace uf::pipeline

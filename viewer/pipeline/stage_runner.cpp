@@ -4,7 +4,7 @@
 #include <chrono>
 #include <cstdio>
 
-namespace uf::app {
+namespace uf::pipeline {
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -47,11 +47,13 @@ void StageContext::Progress(std::int64_t done, std::int64_t total) {
   progress_.Update(record_.name, done, total, record_.unit);
 }
 
-const StageRecord* PipelineResult::failure() const {
+const StageRecord* FailedStage(const std::vector<StageRecord>& stages) {
   for (const StageRecord& stage : stages)
     if (stage.status == StageStatus::kFailed) return &stage;
   return nullptr;
 }
+
+const StageRecord* PipelineResult::failure() const { return FailedStage(stages); }
 
 PipelineResult RunStages(const std::vector<Stage>& stages, ProgressLine& progress,
                          const std::string& command) {
@@ -131,4 +133,4 @@ std::string FormatStageMarkdown(const std::vector<StageRecord>& stages) {
   return md;
 }
 
-}  // namespace uf::app
+}  // namespace uf::pipeline

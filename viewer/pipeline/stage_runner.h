@@ -13,7 +13,7 @@
 #include "odometry/types/status.h"
 #include "viewer/pipeline/progress_line.h"
 
-namespace uf::app {
+namespace uf::pipeline {
 
 enum class StageStatus { kOk, kFailed, kSkipped, kNotRun };
 
@@ -56,6 +56,9 @@ struct Stage {
   std::function<Status(StageContext&)> run;
 };
 
+// The stage that failed, or nullptr.
+const StageRecord* FailedStage(const std::vector<StageRecord>& stages);
+
 struct PipelineResult {
   std::vector<StageRecord> stages;  // one per stage, in order
   // The stage that failed, or nullptr.
@@ -73,4 +76,4 @@ std::string FormatStageTable(const std::vector<StageRecord>& stages);
 // The same table in Markdown, with the failure's and the skips' reasons.
 std::string FormatStageMarkdown(const std::vector<StageRecord>& stages);
 
-}  // namespace uf::app
+}  // namespace uf::pipeline

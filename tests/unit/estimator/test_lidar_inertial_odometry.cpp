@@ -10,6 +10,7 @@
 #include "odometry/estimator/lidar_odometry/lidar_odometry.h"
 #include "odometry/eval/evaluation.h"
 #include "odometry/io/dataset_reader.h"
+#include "odometry/io/for_each_measurement.h"
 #include "odometry/io/trajectory_file.h"
 #include "odometry/sim/sequence/sequence_generator.h"
 #include "tests/support/temp_dir.h"
@@ -57,17 +58,12 @@ LioRun RunLio(
   config.max_solver_time_s = 10;  // only the iteration budget: the results do not depend on the load
   auto lio = LidarOdometry::Create(config);
   EXPECT_TRUE(lio.ok()) << lio.error();
-  while (true) {
-    auto next = (*reader)->Next();
-    EXPECT_TRUE(next.ok());
-    if (!next.ok() || !*next) break;
-    if (const auto* scan = std::get_if<LidarScan>(&(*next)->data)) {
-      EXPECT_TRUE(lio->AddScan(*scan).ok());
-    }
-    if (auto* sample = std::get_if<ImuSample>(&(*next)->data); sample && edit_imu(*sample)) {
-      EXPECT_TRUE(lio->AddImu(*sample).ok());
-    }
-  }
+  const Status read = ForEachMeasurement(**reader, [&](Measurement& m) {
+    if (const auto* scan = std::get_if<LidarScan>(&m.data)) return lio->AddScan(*scan);
+    if (auto* sample = std::get_if<ImuSample>(&m.data); sample && edit_imu(*sample)) return lio->AddImu(*sample);
+    return Status();
+  });
+  EXPECT_TRUE(read.ok()) << read.message();
   lio->Finish();
   for (const Keyframe& k : lio->TakeFinished()) {
     EXPECT_TRUE(k.T_world_body.matrix().allFinite() && k.velocity.allFinite()) << ToSeconds(k.stamp);

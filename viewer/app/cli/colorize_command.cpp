@@ -21,6 +21,20 @@
 #include "viewer/app/cli/exit_codes.h"
 
 namespace uf::app {
+
+using pipeline::ColorizeScan;
+using pipeline::DepthRange;
+using pipeline::FitCameraToImage;
+using pipeline::IsCalibrationExtension;
+using pipeline::IsImageExtension;
+using pipeline::IsScanExtension;
+using pipeline::LoadExtrinsic;
+using pipeline::LoadImage;
+using pipeline::LoadIntrinsics;
+using pipeline::LoadScan;
+using pipeline::LoadedIntrinsics;
+using pipeline::RenderDepthOverlay;
+using pipeline::VisibleDepthRange;
 namespace {
 
 namespace fs = std::filesystem;

@@ -6,7 +6,7 @@
 
 #include "odometry/eval/evaluation.h"
 #include "odometry/io/trajectory_file.h"
-#include "viewer/app/report/eval_report.h"
+#include "odometry/eval/evaluation_report.h"
 #include "viewer/app/cli/exit_codes.h"
 #include "viewer/app/cli/subcommand.h"
 

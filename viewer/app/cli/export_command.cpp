@@ -8,6 +8,11 @@
 #include "viewer/pipeline/map_exports.h"
 
 namespace uf::app {
+
+using pipeline::MapExportRequest;
+using pipeline::MapExportResult;
+using pipeline::ParseMapFormats;
+using pipeline::WriteMapExports;
 namespace {
 
 namespace fs = std::filesystem;

@@ -14,6 +14,9 @@
 #include "viewer/pipeline/stages/dataset_stage.h"
 
 namespace uf::app {
+
+using pipeline::DatasetSummary;
+using pipeline::SummarizeDataset;
 namespace {
 
 namespace fs = std::filesystem;

@@ -21,6 +21,8 @@
 #include "viewer/app/render_camera.h"
 
 namespace uf::app {
+
+using pipeline::ProgressLine;
 namespace {
 
 namespace fs = std::filesystem;

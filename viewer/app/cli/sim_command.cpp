@@ -12,6 +12,8 @@
 #include "viewer/app/sim_config.h"
 
 namespace uf::app {
+
+using pipeline::ProgressLine;
 namespace {
 namespace fs = std::filesystem;
 

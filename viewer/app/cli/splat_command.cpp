@@ -9,6 +9,13 @@
 #include "viewer/pipeline/splat/splat_job.h"
 
 namespace uf::app {
+
+using pipeline::ProgressLine;
+using pipeline::RunSplatJob;
+using pipeline::SplatJobCallbacks;
+using pipeline::SplatJobOptions;
+using pipeline::SplatJobResult;
+using pipeline::SplatMetrics;
 namespace {
 
 struct SplatArguments {

@@ -15,7 +15,7 @@
 #include "odometry/io/calibration_file.h"
 #include "odometry/io/dataset_reader.h"
 
-namespace uf::app {
+namespace uf::pipeline {
 namespace {
 
 namespace fs = std::filesystem;
@@ -278,4 +278,4 @@ Expected<std::shared_ptr<const CameraModel>> FitCameraToImage(const CameraModel&
   return fitted;
 }
 
-}  // namespace uf::app
+}  // namespace uf::pipeline

@@ -18,7 +18,7 @@
 #include "odometry/types/se3.h"
 #include "odometry/types/status.h"
 
-namespace uf::app {
+namespace uf::pipeline {
 
 struct LoadedIntrinsics {
   std::shared_ptr<const CameraModel> camera;  // of the calibrated image size
@@ -46,4 +46,4 @@ bool IsCalibrationExtension(const std::string& path);
 Expected<std::shared_ptr<const CameraModel>> FitCameraToImage(const CameraModel& camera, int width,
                                                               int height, Eigen::Vector2d* shift = nullptr);
 
-}  // namespace uf::app
+}  // namespace uf::pipeline

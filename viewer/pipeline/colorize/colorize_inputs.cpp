@@ -9,7 +9,7 @@
 #include "odometry/io/folders/point_cloud_files.h"
 #include "odometry/io/image_decode.h"
 
-namespace uf::app {
+namespace uf::pipeline {
 namespace {
 
 std::string LowerExtension(const std::string& path) {
@@ -62,4 +62,4 @@ Expected<Image> LoadImage(const std::string& path) {
   return image;
 }
 
-}  // namespace uf::app
+}  // namespace uf::pipeline

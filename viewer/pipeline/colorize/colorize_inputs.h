@@ -10,7 +10,7 @@
 #include "odometry/types/stamp.h"
 #include "odometry/types/status.h"
 
-namespace uf::app {
+namespace uf::pipeline {
 
 struct ColorizeScan {
   std::vector<Eigen::Vector3f> points;  // LiDAR frame, m
@@ -28,4 +28,4 @@ Expected<ColorizeScan> LoadScan(const std::string& path);
 // Errors name the file: unreadable, empty, or not decodable.
 Expected<Image> LoadImage(const std::string& path);
 
-}  // namespace uf::app
+}  // namespace uf::pipeline

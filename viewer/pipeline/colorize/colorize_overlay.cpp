@@ -4,7 +4,7 @@
 #include <cmath>
 #include <vector>
 
-namespace uf::app {
+namespace uf::pipeline {
 
 DepthRange VisibleDepthRange(const mapping::ProjectedScan& scan) {
   std::vector<float> depths;
@@ -74,4 +74,4 @@ Image RenderDepthOverlay(const Image& image, const mapping::ProjectedScan& scan,
   return overlay;
 }
 
-}  // namespace uf::app
+}  // namespace uf::pipeline

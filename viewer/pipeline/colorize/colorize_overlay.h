@@ -10,7 +10,7 @@
 #include "mapping/colorize_projection.h"
 #include "odometry/types/measurements.h"
 
-namespace uf::app {
+namespace uf::pipeline {
 
 // The depth range the colour map spans.
 struct DepthRange {
@@ -29,4 +29,4 @@ std::array<std::uint8_t, 3> DepthColor(float depth, const DepthRange& range);
 // square of (2 r + 1) pixels a side, r = max(1, round(width / 1000)).
 Image RenderDepthOverlay(const Image& image, const mapping::ProjectedScan& scan, const DepthRange& range);
 
-}  // namespace uf::app
+}  // namespace uf::pipeline

@@ -1,11 +1,11 @@
 #include "viewer/pipeline/splat/splat_job.h"
 
 #include "odometry/io/dataset_reader.h"
-#include "viewer/pipeline/splat/splat_camera_poses.h"
+#include "viewer/pipeline/run/run_record.h"
 #include "viewer/pipeline/splat/splat_run_inputs.h"
 #include "viewer/pipeline/splat/splat_training.h"
 
-namespace uf::app {
+namespace uf::pipeline {
 namespace {
 
 namespace fs = std::filesystem;
@@ -33,23 +33,21 @@ Expected<SplatJobResult> RunSplatJob(const fs::path& run_dir, const SplatJobOpti
                                      const SplatJobCallbacks& callbacks) {
   const SplatConfig& config = options.config;
   if (Status s = config.Validate(); !s.ok()) return Status::Error("splat: " + s.message());
-  Expected<RunInfo> info = ReadRunJson(run_dir);
-  if (!info) return info.status();
+  Expected<pipeline::RunRecord> record = pipeline::ReadRunRecord(run_dir);
+  if (!record) return record.status();
+  const pipeline::RunFrames& frames = record->frames;
   Expected<DatasetConfig> dataset_config = RunDatasetConfig(run_dir);
   if (!dataset_config) return dataset_config.status();
-  Expected<std::unique_ptr<DatasetReader>> reader = OpenDataset(info->dataset, dataset_config->reader);
+  Expected<std::unique_ptr<DatasetReader>> reader = OpenDataset(record->dataset, dataset_config->reader);
   if (!reader) return reader.status();
   Expected<MeasurementStream> stream = MeasurementStream::Create(**reader, dataset_config->stream);
   if (!stream) return stream.status();
   const DatasetDescription& description = stream->description();
-  Expected<SplatCameraStream> camera = FindSplatCamera(description, info->output_frame);
+  Expected<SplatCameraStream> camera = FindSplatCamera(description, frames.T_output_body);
   if (!camera) return camera.status();
   Expected<Trajectory> trajectory =
       ReadSplatTrajectory(options.poses.empty() ? run_dir / "trajectory.tum" : fs::path(options.poses));
   if (!trajectory) return trajectory.status();
-  Expected<SE3> T_map_world =
-      MapFromTrajectoryWorld(description, info->mode, info->output_frame, info->map_from == "trajectory");
-  if (!T_map_world) return T_map_world.status();
 
   Expected<splat::SeedResult> seeded = SeedFromRunMap(run_dir, config.training.sh_degree, config.seed_points);
   if (!seeded) return seeded.status();
@@ -59,7 +57,7 @@ Expected<SplatJobResult> RunSplatJob(const fs::path& run_dir, const SplatJobOpti
 
   ViewLoading loading;
   loading.trajectory = &*trajectory;
-  loading.T_map_world = *T_map_world;
+  loading.T_map_world = frames.T_map_world;
   loading.config = &config;
   if (config.training.depth_weight > 0) loading.depth_points = seeded->model.positions;
   Expected<SplatViews> views = LoadSplatViews(*stream, *camera, loading, [&](std::int64_t images) {
@@ -132,4 +130,4 @@ Expected<SplatJobResult> RunSplatJob(const fs::path& run_dir, const SplatJobOpti
   return result;
 }
 
-}  // namespace uf::app
+}  // namespace uf::pipeline

@@ -17,7 +17,9 @@
 #include "viewer/pipeline/splat/splat_outputs.h"
 #include "viewer/pipeline/splat/splat_views.h"
 
-namespace uf::app {
+namespace uf::pipeline {
+
+using app::SplatConfig;
 
 struct SplatJobOptions {
   SplatConfig config;
@@ -42,4 +44,4 @@ struct SplatJobResult {
 Expected<SplatJobResult> RunSplatJob(const std::filesystem::path& run_dir, const SplatJobOptions& options,
                                      const SplatJobCallbacks& callbacks = {});
 
-}  // namespace uf::app
+}  // namespace uf::pipeline

@@ -11,7 +11,7 @@
 #include "odometry/io/atomic_file.h"
 #include "odometry/io/image_decode.h"
 
-namespace uf::app {
+namespace uf::pipeline {
 namespace {
 
 namespace fs = std::filesystem;
@@ -131,4 +131,4 @@ Expected<std::vector<std::string>> WriteLossPlot(const fs::path& folder, const s
   return std::vector<std::string>{"plots/splat_loss.png"};
 }
 
-}  // namespace uf::app
+}  // namespace uf::pipeline

@@ -14,7 +14,7 @@
 #include "splat/render_types.h"
 #include "viewer/pipeline/splat/splat_training.h"
 
-namespace uf::app {
+namespace uf::pipeline {
 
 // metrics.json. Keys: psnr_test, ssim_test (means over the held-out views, dB / [0, 1]),
 // psnr_test_initial (the seeded model, before training: how well the map and the poses line up),
@@ -59,4 +59,4 @@ Expected<std::vector<std::string>> WriteComparisons(const std::filesystem::path&
 Expected<std::vector<std::string>> WriteLossPlot(const std::filesystem::path& folder,
                                                  const std::vector<double>& loss);
 
-}  // namespace uf::app
+}  // namespace uf::pipeline

@@ -1,10 +1,5 @@
-// What splat training reads from a run folder: run.json (which dataset the run read, in which mode and
-// output frame: written by `ultrafusion run` beside config.yaml), the dataset's reader configuration
-// (config.yaml's dataset: section), trajectory.tum, and the Gaussians seeded from map.vdb.
-//
-// run.json: {"dataset": "/abs/path", "output_frame": "lidar" | "imu", "mode": "lo" | "lio",
-//            "map_from": "odometry" | "trajectory"}  (trajectory: `run --from map` remade the map from
-// trajectory.tum, which puts it in the trajectory's world; see splat_camera_poses.h).
+// What splat training reads from a run folder besides run.json (run/run_record.h): the dataset's reader
+// configuration (config.yaml's dataset: section), trajectory.tum, and the Gaussians seeded from map.vdb.
 #pragma once
 
 #include <filesystem>
@@ -16,22 +11,9 @@
 #include "splat/seeding.h"
 #include "viewer/app/dataset_config.h"
 
-namespace uf::app {
+namespace uf::pipeline {
 
-inline constexpr const char* kRunJsonFile = "run.json";
-
-struct RunInfo {
-  std::string dataset;                // absolute path
-  std::string output_frame;           // of trajectory.tum: "lidar" or "imu"
-  std::string mode;                   // "lo" or "lio"
-  std::string map_from = "odometry";  // "odometry" or "trajectory"
-};
-
-// Writes folder/run.json atomically.
-Status WriteRunJson(const std::filesystem::path& folder, const RunInfo& info);
-
-// Reads folder/run.json; a folder without one gets an error that says to re-run `ultrafusion run`.
-Expected<RunInfo> ReadRunJson(const std::filesystem::path& folder);
+using app::DatasetConfig;
 
 // The dataset: section of folder/config.yaml (the defaults when the run saved none).
 Expected<DatasetConfig> RunDatasetConfig(const std::filesystem::path& folder);
@@ -44,4 +26,4 @@ Expected<Trajectory> ReadSplatTrajectory(const std::filesystem::path& file);
 Expected<splat::SeedResult> SeedFromRunMap(const std::filesystem::path& folder, int sh_degree,
                                            std::size_t max_gaussians);
 
-}  // namespace uf::app
+}  // namespace uf::pipeline

@@ -9,7 +9,7 @@
 #include "splat/seeding.h"
 #include "splat/training/image_metrics.h"
 
-namespace uf::app {
+namespace uf::pipeline {
 
 using Clock = std::chrono::steady_clock;
 
@@ -117,4 +117,4 @@ std::vector<StoredView> SampleViews(const std::vector<StoredView>& views, std::s
   return sample;
 }
 
-}  // namespace uf::app
+}  // namespace uf::pipeline

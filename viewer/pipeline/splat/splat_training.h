@@ -15,7 +15,9 @@
 #include "viewer/app/splat_config.h"
 #include "viewer/pipeline/splat/splat_views.h"
 
-namespace uf::app {
+namespace uf::pipeline {
+
+using app::SplatConfig;
 
 struct TrainingProgress {
   int iteration = 0, iterations = 0;  // done, planned
@@ -68,4 +70,4 @@ Expected<SplatScores> ScoreViews(splat::SplatTrainer& trainer, const std::vector
 // Up to `count` views spread evenly over `views` (all of them when there are fewer).
 std::vector<StoredView> SampleViews(const std::vector<StoredView>& views, std::size_t count);
 
-}  // namespace uf::app
+}  // namespace uf::pipeline

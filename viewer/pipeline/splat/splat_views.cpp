@@ -4,11 +4,20 @@
 #include <cmath>
 #include <numbers>
 
+#include "odometry/io/for_each_measurement.h"
 #include "odometry/io/image_decode.h"
-#include "viewer/pipeline/splat/splat_camera_poses.h"
 
-namespace uf::app {
+namespace uf::pipeline {
 namespace {
+
+using app::DefaultSize;
+using app::IsDistorted;
+using app::PinholeOf;
+using app::ProjectDepth;
+using app::ResizeArea;
+using app::ScalePinhole;
+using app::ToRgbFloat;
+using app::Undistort;
 
 // The view of one decoded image: undistorted to the model's pinhole when it has distortion, resized to the
 // training size, quantised to 8 bits (the source's precision) for storage.
@@ -34,8 +43,7 @@ StoredView MakeView(const Image& image, const CameraModel& model, const Pinhole&
 
 }  // namespace
 
-Expected<SplatCameraStream> FindSplatCamera(const DatasetDescription& description,
-                                            const std::string& output_frame) {
+Expected<SplatCameraStream> FindSplatCamera(const DatasetDescription& description, const SE3& T_output_body) {
   for (std::size_t s = 0; s < description.streams.size(); ++s) {
     const StreamInfo& stream = description.streams[s];
     if (stream.kind != SensorKind::kCamera) continue;
@@ -46,10 +54,8 @@ Expected<SplatCameraStream> FindSplatCamera(const DatasetDescription& descriptio
       return Status::Error(where + " has no extrinsic (T_body_sensor): its images cannot be placed");
     if (!PinholeOf(*stream.camera_model))
       return Status::Error(where + ": unsupported camera model (pinhole-radtan and equidistant are)");
-    Expected<SE3> T_frame_body = OutputFrameFromBody(description, output_frame);
-    if (!T_frame_body) return T_frame_body.status();
     return SplatCameraStream{static_cast<int>(s), stream.name, stream.camera_model,
-                             *T_frame_body * *stream.T_body_sensor};
+                             T_output_body * *stream.T_body_sensor};
   }
   return Status::Error(description.path.string() +
                        ": no camera stream, so there are no images to train splats on (nothing trained)");
@@ -87,32 +93,31 @@ Expected<SplatViews> LoadSplatViews(MeasurementStream& stream, const SplatCamera
   views.pinhole = ScalePinhole(native, width, height);
   KeyframeSelector selector(config.keyframe_distance_m, config.keyframe_angle_deg);
   std::int64_t selected = 0;
-  while (true) {
-    Expected<std::optional<Measurement>> next = stream.Next();
-    if (!next) return next.status();
-    if (!next->has_value()) break;
-    auto* frame = std::get_if<CameraFrame>(&(*next)->data);
-    if (!frame || (*next)->stream != camera.stream) continue;
+  const Status read = ForEachMeasurement(stream, [&](Measurement& m) {
+    auto* frame = std::get_if<CameraFrame>(&m.data);
+    if (!frame || m.stream != camera.stream) return Status();
     ++views.images;
     if (progress) progress(views.images);
     const std::optional<SE3> T_world_frame = loading.trajectory->PoseAt(frame->stamp);
     if (!T_world_frame) {
       ++views.outside_trajectory;
-      continue;
+      return Status();
     }
-    // T_M_C = T_M_W * T_W_F(t) * T_F_C (splat_camera_poses.h).
+    // T_M_C = T_M_W * T_W_F(t) * T_F_C (see the header).
     const SE3 T_map_camera = loading.T_map_world * *T_world_frame * camera.T_frame_camera;
-    if (!selector.Select(T_map_camera)) continue;
+    if (!selector.Select(T_map_camera)) return Status();
     if (!DecodeCameraFrame(*frame).ok() || frame->image.width != native.width ||
         frame->image.height != native.height) {
       ++views.undecodable;
-      continue;
+      return Status();
     }
     StoredView view = MakeView(frame->image, *camera.model, native, views.pinhole, T_map_camera, frame->stamp,
                                loading.depth_points);
     (selected++ % config.holdout_stride == 0 ? views.test : views.train).push_back(std::move(view));
-  }
+    return Status();
+  });
+  if (!read.ok()) return read;
   return views;
 }
 
-}  // namespace uf::app
+}  // namespace uf::pipeline

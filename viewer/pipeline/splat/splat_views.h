@@ -1,7 +1,14 @@
 // The training and held-out views of a run: the dataset's first camera stream read again, each image placed
-// at its stamp on the run's trajectory (splat_camera_poses.h), keyframe images selected by camera motion,
-// made into pinhole images at the training resolution (splat_images.h), and split: every holdout_stride-th
-// selected image (index % stride == 0, as 3DGS) is held out for testing and never trained on.
+// at its stamp on the run's trajectory, keyframe images selected by camera motion, made into pinhole images
+// at the training resolution (splat_images.h), and split: every holdout_stride-th selected image
+// (index % stride == 0, as 3DGS) is held out for testing and never trained on.
+//
+// Where the camera was (frames of run_frames.h, recorded in run.json): trajectory.tum holds T_W_F(t), the
+// camera sits at T_F_C = T_F_B * T_B_C in the trajectory's frame (T_B_C its T_body_sensor), and the map is
+// in M, so
+//   T_M_C(t) = T_M_W * T_W_F(t) * T_F_C,
+// with T_W_F(t) interpolated between the bracketing poses (Trajectory::PoseAt: slerp and lerp); images
+// outside the trajectory's span are not used (no extrapolation).
 #pragma once
 
 #include <cstdint>
@@ -17,7 +24,10 @@
 #include "viewer/app/splat_config.h"
 #include "viewer/app/splat_images.h"
 
-namespace uf::app {
+namespace uf::pipeline {
+
+using app::SplatConfig;
+using app::Pinhole;
 
 // The camera images come from: the dataset's first camera stream, its model and T_F_C (its pose in the
 // trajectory's frame F).
@@ -29,9 +39,8 @@ struct SplatCameraStream {
 };
 
 // Errors: no camera stream ("train nothing": the message says so), a camera without intrinsics or without
-// T_body_sensor, a camera model that is not PinholeRadtan or Equidistant.
-Expected<SplatCameraStream> FindSplatCamera(const DatasetDescription& description,
-                                            const std::string& output_frame);
+// T_body_sensor, a camera model that is not PinholeRadtan or Equidistant. T_output_body: T_F_B.
+Expected<SplatCameraStream> FindSplatCamera(const DatasetDescription& description, const SE3& T_output_body);
 
 // Selects an image when the camera moved >= distance_m or turned >= angle_deg since the last selected one
 // (the first image is always selected).
@@ -77,4 +86,4 @@ Expected<SplatViews> LoadSplatViews(MeasurementStream& stream, const SplatCamera
                                     const ViewLoading& loading,
                                     const std::function<void(std::int64_t)>& progress = {});
 
-}  // namespace uf::app
+}  // namespace uf::pipeline

@@ -6,7 +6,7 @@
 
 #include "odometry/io/dataset_reader.h"
 
-namespace uf::app {
+namespace uf::pipeline {
 namespace {
 
 namespace fs = std::filesystem;
@@ -75,4 +75,17 @@ Expected<DatasetSummary> SummarizeDataset(const fs::path& path, const DatasetCon
   return summary;
 }
 
-}  // namespace uf::app
+Expected<DatasetStageOutput> RunDatasetStage(const fs::path& dataset, const DatasetConfig& config,
+                                             int lidar_stream, StageContext& context) {
+  context.SetUnit("messages");
+  Expected<DatasetSummary> summary =
+      SummarizeDataset(dataset, config, [&](std::int64_t messages) { context.Progress(messages); });
+  if (!summary) return summary.status();
+  DatasetStageOutput output;
+  const auto lidar = static_cast<std::size_t>(lidar_stream);
+  if (lidar < summary->streams.size()) output.lidar_scans = summary->streams[lidar].time.count;
+  output.summary = std::move(*summary);
+  return output;
+}
+
+}  // namespace uf::pipeline

@@ -8,10 +8,34 @@
 #include <filesystem>
 #include <functional>
 
+#include "odometry/io/dataset_reader.h"
+#include "odometry/io/stream_diagnostics.h"
 #include "viewer/app/dataset_config.h"
-#include "viewer/app/report/info_report.h"
+#include "viewer/pipeline/stage_runner.h"
 
-namespace uf::app {
+namespace uf::pipeline {
+
+using app::DatasetConfig;
+
+struct PointCountRange {
+  std::int64_t min = 0, max = 0;
+  double mean = 0;
+};
+
+struct StreamSummary {
+  StreamInfo info;
+  StreamTimeReport time;
+  std::optional<PointCountRange> points_per_scan;  // LiDAR streams with at least one scan
+};
+
+struct DatasetSummary {
+  DatasetDescription description;
+  std::vector<StreamSummary> streams;
+  std::vector<ReadWarning> warnings;
+  double read_seconds = 0;  // wall-clock time spent reading
+  std::int64_t bytes = 0;   // size of the dataset's files
+};
+
 
 // Called every few messages with the messages read so far.
 using MessageProgress = std::function<void(std::int64_t messages)>;
@@ -23,4 +47,13 @@ Expected<DatasetSummary> SummarizeDataset(const std::filesystem::path& path, con
 // The size of a dataset's files in bytes (the file itself, or everything under the folder).
 std::int64_t DatasetBytes(const std::filesystem::path& path);
 
-}  // namespace uf::app
+struct DatasetStageOutput {
+  DatasetSummary summary;
+  std::int64_t lidar_scans = 0;  // of the stream `lidar_stream`; the odometry stage's total
+};
+
+// The stage: SummarizeDataset with the progress in messages.
+Expected<DatasetStageOutput> RunDatasetStage(const std::filesystem::path& dataset, const DatasetConfig& config,
+                                             int lidar_stream, StageContext& context);
+
+}  // namespace uf::pipeline

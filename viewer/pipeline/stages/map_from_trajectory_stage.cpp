@@ -1,24 +1,12 @@
 #include "viewer/pipeline/stages/map_from_trajectory_stage.h"
 
-#include <algorithm>
-
+#include "odometry/io/for_each_measurement.h"
 #include "odometry/io/trajectory_file.h"
-#include "viewer/pipeline/stages/map_stage.h"
 
-namespace uf::app {
-namespace {
+namespace uf::pipeline {
 
-// T_out_est: the estimator's body in the run's output frame (see the header).
-SE3 OutputFromEstimator(const RunState& state) {
-  const bool out_imu = state.output_frame == "imu";
-  if (out_imu == state.lio) return SE3();
-  return out_imu ? *state.sensors.T_imu_lidar : state.sensors.T_imu_lidar->inverse();
-}
-
-// The scan deskewed into the world as a keyframe stamped at the middle of its sweep; none when the
-// trajectory does not cover that time.
-std::optional<Keyframe> DeskewScan(const LidarScan& scan, const Trajectory& T_world_est,
-                                   const SE3& T_est_lidar, const RunState& state) {
+std::optional<Keyframe> DeskewScan(const LidarScan& scan, const Trajectory& T_world_est, const SE3& T_est_lidar,
+                                   double min_range_m, double max_range_m) {
   Keyframe keyframe;
   keyframe.stamp = scan.stamp + (scan.end - scan.stamp) / 2;
   const std::optional<SE3> middle = T_world_est.PoseAt(keyframe.stamp);
@@ -30,8 +18,7 @@ std::optional<Keyframe> DeskewScan(const LidarScan& scan, const Trajectory& T_wo
   for (const LidarPoint& point : scan.points) {
     const Eigen::Vector3d p(point.x, point.y, point.z);
     const double range = p.norm();
-    if (!p.allFinite() || range < state.min_range_m || range > state.max_range_m) continue;
-    // Without per-point times the whole scan takes the pose of its middle.
+    if (!p.allFinite() || range < min_range_m || range > max_range_m) continue;
     std::optional<SE3> T_world_est_point = middle;
     if (scan.has_point_times) T_world_est_point = T_world_est.PoseAt(scan.stamp + point.offset_ns);
     if (!T_world_est_point) continue;
@@ -42,50 +29,44 @@ std::optional<Keyframe> DeskewScan(const LidarScan& scan, const Trajectory& T_wo
   return keyframe;
 }
 
-}  // namespace
-
-Status RunMapFromTrajectoryStage(RunState& state, StageContext& context) {
+Expected<MapFromTrajectoryOutput> RunMapFromTrajectory(const MapFromTrajectoryInput& in, StageContext& context) {
   context.SetUnit("scans");
-  const std::string file = (state.out / "trajectory.tum").string();
+  const std::string file = (in.out / "trajectory.tum").string();
   Expected<Trajectory> read = ReadTrajectory(file);
   if (!read) return Status::Error(file + ": " + read.error());
-  if (read->size() < 2 || !read->has_stamps())
-    return Status::Error(file + ": needs at least two stamped poses");
+  if (read->size() < 2 || !read->has_stamps()) return Status::Error(file + ": needs at least two stamped poses");
   // The trajectory in the estimator's body frame, as the odometry stage would have left it.
-  const SE3 T_out_est = OutputFromEstimator(state);
-  state.estimated.stamps = read->stamps;
-  state.estimated.poses.clear();
-  for (const SE3& T_world_out : read->poses) state.estimated.poses.push_back(T_world_out * T_out_est);
-  const SE3 T_est_lidar = state.lio ? *state.sensors.T_imu_lidar : SE3();
+  MapFromTrajectoryOutput out;
+  const SE3 T_out_est = in.frames.T_output_estimator();
+  out.estimated.stamps = read->stamps;
+  for (const SE3& T_world_out : read->poses) out.estimated.poses.push_back(T_world_out * T_out_est);
+  const SE3 T_est_lidar = in.frames.T_estimator_lidar();
 
-  std::int64_t scans = 0, outside = 0;
-  while (true) {
-    Expected<std::optional<Measurement>> next = state.stream->Next();
-    if (!next) return next.status();
-    if (!next->has_value()) break;
-    Measurement& m = **next;
-    if (const auto* scan = std::get_if<LidarScan>(&m.data); scan && m.stream == state.sensors.lidar) {
-      ++scans;
-      std::optional<Keyframe> keyframe = DeskewScan(*scan, state.estimated, T_est_lidar, state);
+  std::int64_t outside = 0;
+  const Status status = ForEachMeasurement(*in.stream, [&](Measurement& m) {
+    if (const auto* scan = std::get_if<LidarScan>(&m.data); scan && m.stream == in.sensors.lidar) {
+      ++out.scans;
+      std::optional<Keyframe> keyframe =
+          DeskewScan(*scan, out.estimated, T_est_lidar, in.min_range_m, in.max_range_m);
       if (!keyframe) {
         ++outside;
-        continue;
+        return Status();
       }
-      if (Status s = state.mapper->AddKeyframe(std::move(*keyframe)); !s.ok()) return s;
-      ++state.keyframes_mapped;
-      context.Progress(scans);
-    } else if (auto* frame = std::get_if<CameraFrame>(&m.data); frame && state.mapper->UsesCamera(m.stream)) {
-      state.mapper->AddCameraFrame(m.stream, std::move(*frame));
-    } else if (const auto* fix = std::get_if<GnssFix>(&m.data); fix && m.stream == state.sensors.gnss) {
-      state.fixes.push_back(*fix);
+      if (Status s = in.mapper->AddKeyframe(std::move(*keyframe)); !s.ok()) return s;
+      ++out.keyframes_mapped;
+      context.Progress(out.scans);
+    } else if (auto* frame = std::get_if<CameraFrame>(&m.data); frame && in.mapper->UsesCamera(m.stream)) {
+      in.mapper->AddCameraFrame(m.stream, std::move(*frame));
+    } else if (const auto* fix = std::get_if<GnssFix>(&m.data); fix && m.stream == in.sensors.gnss) {
+      out.fixes.push_back(*fix);
     }
-  }
+    return Status();
+  });
+  if (!status.ok()) return status;
   if (outside > 0)
-    state.report.notes.push_back("--from map: " + std::to_string(outside) + " of " + std::to_string(scans) +
-                                 " scans lie outside trajectory.tum's time span and are not mapped");
-  state.report.scans = scans;
-  state.report.keyframes = static_cast<std::int64_t>(state.estimated.size());
-  return RunMapStage(state, context);
+    out.notes.push_back("--from map: " + std::to_string(outside) + " of " + std::to_string(out.scans) +
+                        " scans lie outside trajectory.tum's time span and are not mapped");
+  return out;
 }
 
-}  // namespace uf::app
+}  // namespace uf::pipeline

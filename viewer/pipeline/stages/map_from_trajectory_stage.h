@@ -1,27 +1,54 @@
-// The map stage of `ultrafusion run --from map`: instead of keyframes from the odometry, the trajectory of
-// an earlier run (its trajectory.tum) and the dataset's scans read again. Each scan is deskewed with the
-// trajectory interpolated at every point's time and handed to the mapper as a keyframe, so the map,
-// colour and exports are made exactly as after the odometry.
+// The map stage of `ultrafusion run --from map`, first half: instead of keyframes from the odometry, the
+// trajectory of an earlier run (its trajectory.tum) and the dataset's scans read again. Each scan is
+// deskewed with the trajectory interpolated at every point's time and handed to the mapper as a keyframe,
+// so that the map, its colour and its exports are then made exactly as after the odometry (RunMapStage).
 //
-// Frames: trajectory.tum holds T_world_out(t) for the run's output frame (`out`: lidar or imu). The mapper
-// wants the estimator's body (`est`: the LiDAR in LO, the IMU in LIO):
-//   T_world_est(t) = T_world_out(t) * T_out_est,  T_out_est = I, T_imu_lidar or T_imu_lidar^-1,
+// Frames (run_frames.h): trajectory.tum holds T_W_F(t); the mapper wants the estimator's body E:
+//   T_W_E(t) = T_W_F(t) * T_F_E,
 // and a point p measured at time t_p in the LiDAR frame lands at
-//   p_world = T_world_est(t_p) * T_est_lidar * p,  T_est_lidar = I (LO) or T_imu_lidar (LIO),
-// with T_world_est(t) from Trajectory::PoseAt (slerp and lerp between the bracketing poses,
-// odometry/types/trajectory.h). Points outside the trajectory's
-// time span are dropped (the scans there are counted as skipped).
+//   p_W = T_W_E(t_p) * T_E_lidar * p,
+// with T_W_E(t) from Trajectory::PoseAt (slerp and lerp between the bracketing poses). Points outside the
+// trajectory's time span are dropped (the scans there are counted and noted).
 #pragma once
 
+#include <cstdint>
+#include <filesystem>
 #include <optional>
+#include <string>
+#include <vector>
 
-#include "odometry/types/trajectory.h"
-#include "viewer/pipeline/stages/run_stages.h"
+#include "odometry/io/dataset_sensors.h"
+#include "odometry/io/measurement_stream.h"
+#include "odometry/types/keyframe.h"
+#include "viewer/app/keyframe_mapper.h"
+#include "viewer/pipeline/run/run_frames.h"
+#include "viewer/pipeline/stage_runner.h"
 
-namespace uf::app {
+namespace uf::pipeline {
 
-// Reads state.out/trajectory.tum, feeds the dataset's scans (and camera frames, GNSS fixes) to the
-// mapper, then finishes and saves the map as RunMapStage does.
-Status RunMapFromTrajectoryStage(RunState& state, StageContext& context);
+struct MapFromTrajectoryInput {
+  MeasurementStream* stream = nullptr;
+  app::KeyframeMapper* mapper = nullptr;
+  DatasetSensors sensors;
+  RunFrames frames;
+  double min_range_m = 1.0, max_range_m = 100.0;  // LiDAR points mapped (the odometry's range limits), m
+  std::filesystem::path out;                      // holds trajectory.tum
+};
 
-}  // namespace uf::app
+struct MapFromTrajectoryOutput {
+  Trajectory estimated;  // T_W_E
+  std::vector<GnssFix> fixes;
+  std::int64_t scans = 0, keyframes_mapped = 0;
+  std::vector<std::string> notes;  // scans outside the trajectory
+};
+
+Expected<MapFromTrajectoryOutput> RunMapFromTrajectory(const MapFromTrajectoryInput& input,
+                                                       StageContext& context);
+
+// The scan deskewed into the world as a keyframe stamped at the middle of its sweep; none when the
+// trajectory T_W_E does not cover that time. Points outside [min_range_m, max_range_m] or not finite are
+// dropped; without per-point times the whole scan takes the pose of its middle.
+std::optional<Keyframe> DeskewScan(const LidarScan& scan, const Trajectory& T_world_est, const SE3& T_est_lidar,
+                                   double min_range_m, double max_range_m);
+
+}  // namespace uf::pipeline

@@ -1,23 +1,48 @@
-// The files of `ultrafusion run`'s map and exports stages: map.vdb, then its exports (map.ply, map.las,
-// map.glb, georef.json) in the run folder, summarised for the report; the georeference from GNSS; and where
-// the cameras sit relative to the estimator's body frame.
+// The map stage of `ultrafusion run`: the keyframes the odometry handed to the KeyframeMapper are all in once
+// the last ones are finished; the georeference comes from the GNSS fixes (none without them); map.vdb and
+// its voxel attributes are saved. The exports of the map are the next stage's (exports_stage.h).
 #pragma once
 
 #include <filesystem>
 #include <optional>
 #include <span>
+#include <string>
+#include <vector>
 
 #include "mapping/map_file.h"
 #include "odometry/io/dataset_reader.h"
 #include "odometry/types/trajectory.h"
 #include "viewer/app/keyframe_mapper.h"
-#include "viewer/app/report/run_report.h"
+#include "viewer/pipeline/run/run_frames.h"
+#include "viewer/pipeline/stage_runner.h"
 
-namespace uf::app {
+namespace uf::pipeline {
 
-// The dataset's body frame in the estimator's body frame: LO estimates the LiDAR (T_lidar_body, from the
-// LiDAR's T_body_sensor; identity when it has none), LIO the IMU (T_imu_body).
-SE3 EstimatorFromBody(const DatasetDescription& description, int lidar_stream, int imu_stream, bool lio);
+// What the report says of the map: a one-line summary ("1.2 M points, 64 % coloured, ..."), the files
+// written, the mapper's warnings.
+struct MapSummary {
+  std::string summary, files;
+  std::vector<std::string> warnings;
+};
+
+struct MapStageInput {
+  app::KeyframeMapper* mapper = nullptr;
+  const DatasetDescription* description = nullptr;
+  int gnss_stream = -1;
+  RunFrames frames;
+  const Trajectory* estimated = nullptr;  // T_world_E
+  std::span<const GnssFix> fixes;
+  std::int64_t keyframes_mapped = 0;
+  std::filesystem::path out;
+};
+
+struct MapStageOutput {
+  std::optional<mapping::MapGeoreference> georef;
+  MapSummary map;
+  std::vector<std::string> notes;  // the georeference's, or why there is none
+};
+
+Expected<MapStageOutput> RunMapStage(const MapStageInput& input, StageContext& context);
 
 // The georeference of the run's map from the GNSS fixes (export/gnss_alignment.h), with the antenna placed
 // by the GNSS stream's T_body_sensor; none (and a note why) without fixes or when the alignment is not
@@ -28,17 +53,4 @@ std::optional<mapping::MapGeoreference> GeoreferenceFromGnss(const DatasetDescri
                                                              std::span<const GnssFix> fixes, bool lio,
                                                              std::vector<std::string>& notes);
 
-// The map stage's file: saves map.vdb (and its voxel attributes) and starts report.map (size, colour);
-// returns the files written, relative to `out`.
-Expected<std::vector<std::string>> SaveRunMap(const std::filesystem::path& out, const KeyframeMapper& mapper,
-                                              const std::optional<mapping::MapGeoreference>& georef,
-                                              RunReport& report);
-
-// The exports stage: map.ply, map.las, map.glb and georef.json (in ENU when georeferenced, else in the map
-// frame); completes report.map. Returns the files written, relative to `out`.
-Expected<std::vector<std::string>> WriteRunMapExports(const std::filesystem::path& out,
-                                                      const KeyframeMapper& mapper,
-                                                      const std::optional<mapping::MapGeoreference>& georef,
-                                                      bool mesh, RunReport& report);
-
-}  // namespace uf::app
+}  // namespace uf::pipeline

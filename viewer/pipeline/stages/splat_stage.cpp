@@ -9,36 +9,13 @@
 #include "splat/distorted_view.h"
 #include "splat/splat_renderer.h"
 #include "viewer/pipeline/run_files.h"
+#include "viewer/pipeline/splat/splat_views.h"
 
-namespace uf::app {
+namespace uf::pipeline {
 namespace {
 
 namespace fs = std::filesystem;
 
-
-SplatSummary Summarize(const SplatJobResult& result) {
-  const SplatMetrics& m = result.metrics;
-  SplatSummary summary;
-  summary.metrics = {
-      {"held-out PSNR [dB] (psnr_test)", FormatValue("%.2f", m.test.psnr)},
-      {"held-out SSIM (ssim_test)", FormatValue("%.3f", m.test.ssim)},
-      {"held-out PSNR of the seeded model [dB]", FormatValue("%.2f", m.psnr_test_initial)},
-      {"training PSNR [dB] (psnr_train)", FormatValue("%.2f", m.train.psnr)},
-      {"views: training / held out", std::to_string(m.views_train) + " / " + std::to_string(m.views_test)},
-      {"iterations", std::to_string(m.iterations) + " of " + std::to_string(m.iterations_planned) +
-                         (m.stopped_by_time ? " (time budget reached)" : "")},
-      {"iterations per second", FormatValue("%.2f", m.iterations_per_s())},
-      {"Gaussians: seeded -> trained",
-       std::to_string(m.gaussians_initial) + " -> " + std::to_string(m.gaussians)},
-      {"resolution [px]", std::to_string(m.width) + " x " + std::to_string(m.height)},
-      {"device", m.device},
-      {"camera", m.camera + " (" + std::to_string(m.images) + " images)"}};
-  for (const std::string& file : result.files) {
-    if (summary.comparison.empty() && file.ends_with("_compare.png")) summary.comparison = file;
-    if (file == "plots/splat_loss.png") summary.loss_plot = file;
-  }
-  return summary;
-}
 
 // views/camera.yaml in the format of `ultrafusion render --camera` (render_camera.h), for a pinhole-radtan
 // camera; false for other models.
@@ -57,15 +34,17 @@ bool WriteCameraYaml(const fs::path& file, const CameraModel& model, Status& sta
 
 }  // namespace
 
-std::string SplatSkipReason(const DatasetDescription& description, const std::string& output_frame) {
-  Expected<SplatCameraStream> camera = FindSplatCamera(description, output_frame);
+std::string SplatSkipReason(const DatasetDescription& description, const SE3& T_output_body) {
+  Expected<SplatCameraStream> camera = FindSplatCamera(description, T_output_body);
   return camera ? "" : camera.error();
 }
 
-Status RunSplatStage(RunState& state, StageContext& context) {
+Expected<SplatStageOutput> RunSplatStage(const fs::path& out, const app::SplatConfig& config,
+                                         StageContext& context) {
   context.SetUnit("iterations");
+  SplatStageOutput output;
   SplatJobOptions options;
-  options.config = state.splat_config;
+  options.config = config;
   SplatJobCallbacks callbacks;
   std::int64_t iterations = 0;
   callbacks.progress = [&](const std::string& phase, std::int64_t done, std::int64_t total,
@@ -74,39 +53,39 @@ Status RunSplatStage(RunState& state, StageContext& context) {
     context.SetUnit(unit);
     context.Progress(done, total);
   };
-  callbacks.warning = [&](const std::string& warning) { state.report.notes.push_back("splat: " + warning); };
-  Expected<SplatJobResult> result = RunSplatJob(state.out, options, callbacks);
+  callbacks.warning = [&](const std::string& warning) { output.notes.push_back("splat: " + warning); };
+  Expected<SplatJobResult> result = RunSplatJob(out, options, callbacks);
   context.SetUnit("iterations");
   context.Progress(iterations, iterations);
   if (!result) return result.status();
   for (const std::string& file : result->files)
     if (!file.starts_with("comparisons/")) context.AddOutput(file);
   if (!result->test.empty()) context.AddOutput("comparisons/");
-  state.report.splat = Summarize(*result);
-  state.splat = std::move(*result);
-  return {};
+  output.result = std::move(*result);
+  return output;
 }
 
-Status RunViewsStage(RunState& state, StageContext& context) {
+Expected<std::string> RunViewsStage(const fs::path& out, const SplatJobResult& splat,
+                                    const Eigen::Vector3f& background, StageContext& context) {
   context.SetUnit("views");
-  const std::vector<StoredView>& views = state.splat->test;
-  Expected<splat::GaussianModel> model = exporting::ReadSplatPly((state.out / "splats.ply").string());
+  const std::vector<StoredView>& views = splat.test;
+  Expected<splat::GaussianModel> model = exporting::ReadSplatPly((out / "splats.ply").string());
   if (!model) return model.status();
   Expected<std::unique_ptr<splat::SplatRenderer>> renderer = splat::SplatRenderer::Create();
   if (!renderer) return renderer.status();
   if (Status s = (*renderer)->Upload(*model); !s.ok()) return s;
-  const fs::path folder = state.out / "views";
+  const fs::path folder = out / "views";
   std::error_code error;
   fs::create_directories(folder, error);
   if (error) return Status::Error(folder.string() + ": cannot create: " + error.message());
 
   // The camera's own model: a distorted one renders through a covering pinhole and is resampled.
-  const CameraModel& camera = *state.splat->model;
-  const Pinhole native = *PinholeOf(camera);
+  const CameraModel& camera = *splat.model;
+  const app::Pinhole native = *app::PinholeOf(camera);
   std::optional<splat::DistortedViewResampler> resampler;
-  if (IsDistorted(camera)) resampler.emplace(camera, native.fx, native.fy, native.cx, native.cy);
+  if (app::IsDistorted(camera)) resampler.emplace(camera, native.fx, native.fy, native.cx, native.cy);
   splat::RenderSettings settings;
-  settings.background = state.splat_config.training.render.background;
+  settings.background = background;
   Trajectory poses;
   for (std::size_t i = 0; i < views.size(); ++i) {
     const SE3& T_world_camera = views[i].camera.T_world_camera;
@@ -135,11 +114,8 @@ Status RunViewsStage(RunState& state, StageContext& context) {
   if (!camera_written.ok()) return camera_written;
   context.AddOutput("views/ (" + std::to_string(views.size()) + " x .exr, .png; poses.tum" +
                     (yaml ? ", camera.yaml)" : ")"));
-  if (state.report.splat)
-    state.report.splat->views = std::to_string(views.size()) + " held-out views rendered at " +
-                                std::to_string(camera.width()) + " x " + std::to_string(camera.height()) +
-                                " px into views/ (EXR: R G B A, Z, depth.expected; PNG previews).";
-  return {};
+  return std::to_string(views.size()) + " held-out views rendered at " + std::to_string(camera.width()) +
+         " x " + std::to_string(camera.height()) + " px into views/ (EXR: R G B A, Z, depth.expected; PNG previews).";
 }
 
-}  // namespace uf::app
+}  // namespace uf::pipeline

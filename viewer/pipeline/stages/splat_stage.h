@@ -9,17 +9,30 @@
 //          views/poses.tum --camera views/camera.yaml` renders them again.
 #pragma once
 
+#include <filesystem>
 #include <string>
+#include <vector>
 
-#include "viewer/pipeline/stages/run_stages.h"
+#include "odometry/io/dataset_reader.h"
+#include "viewer/pipeline/splat/splat_job.h"
+#include "viewer/pipeline/stage_runner.h"
 
-namespace uf::app {
+namespace uf::pipeline {
 
 // Why the splat stage cannot run on this dataset ("" when it can): no camera stream, or a camera without
-// intrinsics or extrinsic.
-std::string SplatSkipReason(const DatasetDescription& description, const std::string& output_frame);
+// intrinsics or extrinsic. T_output_body: T_F_B of the run (run_frames.h).
+std::string SplatSkipReason(const DatasetDescription& description, const SE3& T_output_body);
 
-Status RunSplatStage(RunState& state, StageContext& context);
-Status RunViewsStage(RunState& state, StageContext& context);
+struct SplatStageOutput {
+  SplatJobResult result;
+  std::vector<std::string> notes;  // the job's warnings
+};
 
-}  // namespace uf::app
+Expected<SplatStageOutput> RunSplatStage(const std::filesystem::path& out, const app::SplatConfig& config,
+                                         StageContext& context);
+
+// Renders the held-out views of `splat` into out/views/; returns the report's line on them.
+Expected<std::string> RunViewsStage(const std::filesystem::path& out, const SplatJobResult& splat,
+                                    const Eigen::Vector3f& background, StageContext& context);
+
+}  // namespace uf::pipeline

@@ -10,7 +10,7 @@
 #include "tests/support/temp_dir.h"
 #include "viewer/pipeline/stage_runner.h"
 
-namespace uf::app {
+namespace uf::pipeline {
 namespace {
 
 TEST(PipelineStages, RunInOrderSkipWhatIsSkippedAndRecordItemsAndOutputs) {
@@ -114,4 +114,4 @@ TEST(PipelineStages, StageStatusNames) {
 }
 
 }  // namespace
-}  // namespace uf::app
+}  // namespace uf::pipeline

@@ -9,7 +9,7 @@
 #include "tests/support/temp_dir.h"
 #include "viewer/pipeline/run_folder.h"
 
-namespace uf::app {
+namespace uf::pipeline {
 namespace {
 
 namespace fs = std::filesystem;
@@ -72,4 +72,4 @@ TEST(RunFolder, AnUncreatableRootIsAnErrorNamingIt) {
 }
 
 }  // namespace
-}  // namespace uf::app
+}  // namespace uf::pipeline

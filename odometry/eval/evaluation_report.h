@@ -6,7 +6,7 @@
 
 #include "odometry/eval/evaluation.h"
 
-namespace uf::app {
+namespace uf {
 
 struct EvalContext {
   std::string reference_path, estimate_path;
@@ -21,4 +21,4 @@ Status WriteEvalJson(const std::string& path, const EvalContext& context, const 
 // ape_top_view.png, ape_over_time.png and, when there are RPE pairs, rpe_over_time.png.
 Status WriteEvalPlots(const std::string& folder, const EvalContext& context, const EvalResult& result);
 
-}  // namespace uf::app
+}  // namespace uf

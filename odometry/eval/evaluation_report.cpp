@@ -1,4 +1,4 @@
-#include "viewer/app/report/eval_report.h"
+#include "odometry/eval/evaluation_report.h"
 
 #include <cstdio>
 #include <filesystem>
@@ -8,9 +8,8 @@
 
 #include "odometry/eval/plots.h"
 #include "odometry/io/atomic_file.h"
-#include "viewer/app/cli/exit_codes.h"
 
-namespace uf::app {
+namespace uf {
 namespace {
 
 std::string Row(const char* name, const ErrorStats& s) {
@@ -132,4 +131,4 @@ Status WriteEvalPlots(const std::string& folder, const EvalContext& context, con
                         RpeLabel(context), time_label, "RPE [m]");
 }
 
-}  // namespace uf::app
+}  // namespace uf

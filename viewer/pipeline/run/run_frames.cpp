@@ -1,0 +1,120 @@
+#include "viewer/pipeline/run/run_frames.h"
+
+#include "odometry/io/dataset_sensors.h"
+
+namespace uf::pipeline {
+namespace {
+
+template <typename Enum, std::size_t N>
+std::optional<Enum> Parse(std::string_view text, const std::array<Enum, N>& values) {
+  for (Enum value : values)
+    if (Name(value) == text) return value;
+  return std::nullopt;
+}
+
+// The first stream of `kind`, or nullptr.
+const StreamInfo* FirstStream(const DatasetDescription& description, SensorKind kind) {
+  for (const StreamInfo& stream : description.streams)
+    if (stream.kind == kind) return &stream;
+  return nullptr;
+}
+
+// T_lidar0_lidar(t) -> T_imu0_imu(t) = T_imu_lidar * T_lidar0_lidar(t) * T_imu_lidar^-1: the IMU's pose in a
+// world that is the IMU frame at the start.
+Trajectory ToImuFrame(const Trajectory& lidar_trajectory, const SE3& T_imu_lidar) {
+  Trajectory imu;
+  imu.stamps = lidar_trajectory.stamps;
+  imu.poses.reserve(lidar_trajectory.size());
+  const SE3 T_lidar_imu = T_imu_lidar.inverse();
+  for (const SE3& T_lidar0_lidar : lidar_trajectory.poses)
+    imu.poses.push_back(T_imu_lidar * T_lidar0_lidar * T_lidar_imu);
+  return imu;
+}
+
+// T_world_imu(t) -> T_world_lidar(t) = T_world_imu(t) * T_imu_lidar, in the same world.
+Trajectory ToLidarFrame(const Trajectory& imu_trajectory, const SE3& T_imu_lidar) {
+  Trajectory lidar;
+  lidar.stamps = imu_trajectory.stamps;
+  lidar.poses.reserve(imu_trajectory.size());
+  for (const SE3& T_world_imu : imu_trajectory.poses) lidar.poses.push_back(T_world_imu * T_imu_lidar);
+  return lidar;
+}
+
+// T_F_B: the LiDAR's or the IMU's T_body_sensor inverted (identity when it has none: the body is then that
+// sensor, as ImuFromLidar and the estimator take it).
+Expected<SE3> OutputFromBody(const DatasetDescription& description, TrajectoryFrame frame) {
+  if (frame == TrajectoryFrame::kImu) {
+    const StreamInfo* imu = FirstStream(description, SensorKind::kImu);
+    return imu && imu->T_body_sensor ? imu->T_body_sensor->inverse() : SE3();
+  }
+  const StreamInfo* lidar = FirstStream(description, SensorKind::kLidar);
+  if (!lidar) return Status::Error(description.path.string() + ": no LiDAR stream (the trajectory's frame)");
+  return lidar->T_body_sensor ? lidar->T_body_sensor->inverse() : SE3();
+}
+
+}  // namespace
+
+std::string_view Name(OdometryMode mode) { return mode == OdometryMode::kLio ? "lio" : "lo"; }
+std::string_view Name(TrajectoryFrame frame) { return frame == TrajectoryFrame::kImu ? "imu" : "lidar"; }
+std::string_view Name(MapSource source) { return source == MapSource::kTrajectory ? "trajectory" : "odometry"; }
+
+std::optional<OdometryMode> ParseOdometryMode(std::string_view text) {
+  return Parse(text, std::array{OdometryMode::kLo, OdometryMode::kLio});
+}
+std::optional<TrajectoryFrame> ParseTrajectoryFrame(std::string_view text) {
+  return Parse(text, std::array{TrajectoryFrame::kLidar, TrajectoryFrame::kImu});
+}
+std::optional<MapSource> ParseMapSource(std::string_view text) {
+  return Parse(text, std::array{MapSource::kOdometry, MapSource::kTrajectory});
+}
+
+TrajectoryFrame EstimatorFrame(OdometryMode mode) {
+  return mode == OdometryMode::kLio ? TrajectoryFrame::kImu : TrajectoryFrame::kLidar;
+}
+
+SE3 RunFrames::T_estimator_lidar() const { return mode == OdometryMode::kLio ? *T_imu_lidar : SE3(); }
+
+SE3 RunFrames::T_output_estimator() const {
+  if (trajectory_frame == EstimatorFrame(mode)) return SE3();
+  return trajectory_frame == TrajectoryFrame::kImu ? *T_imu_lidar : T_imu_lidar->inverse();
+}
+
+Trajectory RunFrames::OutputTrajectory(const Trajectory& estimated) const {
+  if (trajectory_frame == EstimatorFrame(mode)) return estimated;
+  return trajectory_frame == TrajectoryFrame::kImu ? ToImuFrame(estimated, *T_imu_lidar)
+                                                   : ToLidarFrame(estimated, *T_imu_lidar);
+}
+
+Expected<RunFrames> ResolveRunFrames(const DatasetDescription& description, OdometryMode mode,
+                                     TrajectoryFrame trajectory_frame, MapSource map_from) {
+  const DatasetSensors sensors = FindSensors(description);
+  if (sensors.lidar < 0) return Status::Error(description.path.string() + ": no LiDAR stream");
+  RunFrames frames;
+  frames.mode = mode;
+  frames.trajectory_frame = trajectory_frame;
+  frames.map_from = map_from;
+  frames.T_imu_lidar = sensors.T_imu_lidar;
+  const bool lio = mode == OdometryMode::kLio;
+  if ((lio || trajectory_frame != EstimatorFrame(mode)) && !frames.T_imu_lidar)
+    return Status::Error(description.path.string() + ": no LiDAR-to-IMU transform (T_body_sensor of " +
+                         description.streams[static_cast<std::size_t>(sensors.lidar)].name + ")");
+  // T_E_B from the estimated sensor's T_body_sensor (identity when it has none).
+  const int estimated = lio ? sensors.imu : sensors.lidar;
+  if (estimated >= 0) {
+    const std::optional<SE3>& T_body_sensor =
+        description.streams[static_cast<std::size_t>(estimated)].T_body_sensor;
+    if (T_body_sensor) frames.T_estimator_body = T_body_sensor->inverse();
+  }
+  Expected<SE3> T_output_body = OutputFromBody(description, trajectory_frame);
+  if (!T_output_body) return T_output_body.status();
+  frames.T_output_body = *T_output_body;
+  // T_M_W = T_lidar_imu for an LO run written in the IMU frame whose map came from the odometry, where
+  // T_imu_lidar = T_F_B(imu) * T_B_lidar (ImuFromLidar).
+  if (!lio && trajectory_frame == TrajectoryFrame::kImu && map_from == MapSource::kOdometry) {
+    const StreamInfo& lidar = description.streams[static_cast<std::size_t>(sensors.lidar)];
+    frames.T_map_world = (frames.T_output_body * *lidar.T_body_sensor).inverse();
+  }
+  return frames;
+}
+
+}  // namespace uf::pipeline

@@ -1,0 +1,75 @@
+// `ultrafusion run` as a library: a request (what the command line asked for) is planned into a RunPlan
+// (every check that can fail before a file is written: configuration, dataset, mode, frames, estimator and
+// mapper), then the stages run in order on it:
+//
+//   dataset   one pass over the dataset as `ultrafusion info` makes it        stages/dataset_stage.h
+//   odometry  LO or LIO; keyframes go straight to the map's mapper           stages/odometry_stage.h
+//   map       the last keyframes, the georeference, map.vdb                   stages/map_stage.h
+//             (--from map: the earlier trajectory and the scans read again)   stages/map_from_trajectory_stage.h
+//   exports   map.ply, map.las, map.glb, georef.json                          stages/exports_stage.h
+//   splat     splats trained on the camera images; views: rendered views      stages/splat_stage.h
+//   accuracy  against the ground truth beside the dataset                     stages/accuracy_stage.h
+//
+// Each stage takes an input struct made from the plan and the earlier stages' outputs, and returns its own
+// output; nothing else is shared between them. Adding a stage is a file in stages/ and an entry in
+// RunStageList (run_stage_list.cpp).
+#pragma once
+
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "odometry/estimator/lidar_odometry/lidar_odometry.h"
+#include "odometry/io/dataset_sensors.h"
+#include "odometry/io/measurement_stream.h"
+#include "viewer/app/dataset_config.h"
+#include "viewer/app/keyframe_mapper.h"
+#include "viewer/app/splat_config.h"
+#include "viewer/pipeline/progress_line.h"
+#include "viewer/pipeline/run/run_frames.h"
+#include "viewer/pipeline/run/run_summary.h"
+
+namespace uf::pipeline {
+
+enum class ModeChoice { kAuto, kLo, kLio };     // --mode
+enum class RunFrom { kStart, kMap, kSplat };   // --from: re-run from that stage on an earlier run's outputs
+
+struct RunRequest {
+  std::filesystem::path dataset, out;  // out: "" = a new runs/<UTC time>/ with runs/latest
+  ModeChoice mode = ModeChoice::kAuto;
+  std::optional<TrajectoryFrame> output_frame;  // none: the estimator's body
+  RunFrom from = RunFrom::kStart;
+  bool no_map = false, no_splat = false, no_mesh = false;
+  double map_voxel_m = 0.05;
+  // The sections of --config (the defaults without one).
+  app::DatasetConfig dataset_config;
+  estimator::LidarOdometryConfig lo_config;
+  app::SplatConfig splat_config;
+};
+
+// Everything the stages need, resolved and opened.
+struct RunPlan {
+  RunRequest request;
+  std::unique_ptr<DatasetReader> reader;
+  std::unique_ptr<MeasurementStream> stream;
+  std::unique_ptr<estimator::LidarOdometry> odometry;
+  std::unique_ptr<app::KeyframeMapper> mapper;  // none with --no-map or --from splat
+  DatasetSensors sensors;
+  RunFrames frames;
+  estimator::LidarOdometryConfig lo_config;  // as the estimator runs it
+  RunSummary summary;                        // what is known before the stages run
+};
+
+// Whether a planning error is the user's options or configuration (exit code 2) or the data (1).
+enum class PlanErrorKind { kUsage, kData };
+
+// Checks the request and opens what the stages use; writes nothing. `kind` receives the error's kind.
+Expected<RunPlan> PlanRun(RunRequest request, PlanErrorKind& kind);
+
+// Creates the output folder (request.out, new or empty, else a new versioned one), writes config.yaml and
+// run.json, runs the stages and returns what happened (a failed stage is in summary.stages, not an error).
+// Errors: the output folder or its first files cannot be written.
+Expected<RunSummary> RunPipeline(RunPlan& plan, std::filesystem::path& out);
+
+}  // namespace uf::pipeline

@@ -1,0 +1,190 @@
+// The stages of `ultrafusion run` in order, each wired to the plan and to the outputs of the stages before
+// it (run_pipeline.h), and the run around them: output folder, config.yaml, run.json, the summary.
+#include <chrono>
+
+#include "viewer/pipeline/run/run_pipeline.h"
+#include "viewer/pipeline/run/run_record.h"
+#include "viewer/pipeline/run_files.h"
+#include "viewer/pipeline/run_folder.h"
+#include "viewer/pipeline/stages/exports_stage.h"
+#include "viewer/pipeline/stages/map_from_trajectory_stage.h"
+#include "viewer/pipeline/stages/splat_stage.h"
+
+namespace uf::pipeline {
+namespace {
+
+namespace fs = std::filesystem;
+
+// --out DIR (new or empty), else a new runs/<UTC time>/ under the current folder with runs/latest on it.
+Expected<fs::path> CreateOutputFolder(const RunRequest& r) {
+  if (r.out.empty()) {
+    Expected<fs::path> folder = CreateVersionedRunFolder("runs", std::chrono::system_clock::now());
+    if (!folder) return folder.status();
+    if (Status s = UpdateLatestLink("runs", *folder); !s.ok()) return s;
+    return folder;
+  }
+  std::error_code error;
+  fs::create_directories(r.out, error);
+  if (error) return Status::Error(r.out.string() + ": cannot create the folder: " + error.message());
+  return r.out;
+}
+
+// The stages' outputs, each written by its own stage only and read by the later ones.
+struct StageOutputs {
+  std::optional<DatasetStageOutput> dataset;
+  std::optional<OdometryStageOutput> odometry;
+  std::optional<MapFromTrajectoryOutput> from_trajectory;
+  std::optional<MapStageOutput> map;
+  std::optional<MapExportResult> exports;
+  std::optional<SplatStageOutput> splat;
+  std::optional<std::string> views;
+  std::optional<GroundTruthCheck> accuracy;
+};
+
+// Runs `stage` and keeps its output in `slot`.
+template <typename T>
+Status Keep(std::optional<T>& slot, Expected<T> output) {
+  if (!output) return output.status();
+  slot = std::move(*output);
+  return {};
+}
+
+// The map stage on the odometry's keyframes, or (--from map) on the earlier trajectory and the scans.
+Status RunMap(RunPlan& plan, const fs::path& out, StageOutputs& o, StageContext& context) {
+  MapStageInput in;
+  in.mapper = plan.mapper.get();
+  in.description = &plan.stream->description();
+  in.gnss_stream = plan.sensors.gnss;
+  in.frames = plan.frames;
+  in.out = out;
+  if (plan.request.from == RunFrom::kMap) {
+    const MapFromTrajectoryInput from{.stream = plan.stream.get(),
+                                      .mapper = plan.mapper.get(),
+                                      .sensors = plan.sensors,
+                                      .frames = plan.frames,
+                                      .min_range_m = plan.lo_config.min_range_m,
+                                      .max_range_m = plan.lo_config.max_range_m,
+                                      .out = out};
+    if (Status s = Keep(o.from_trajectory, RunMapFromTrajectory(from, context)); !s.ok()) return s;
+    in.estimated = &o.from_trajectory->estimated;
+    in.fixes = o.from_trajectory->fixes;
+    in.keyframes_mapped = o.from_trajectory->keyframes_mapped;
+  } else {
+    in.estimated = &o.odometry->estimated;
+    in.fixes = o.odometry->fixes;
+    in.keyframes_mapped = o.odometry->keyframes_mapped;
+  }
+  return Keep(o.map, RunMapStage(in, context));
+}
+
+std::vector<Stage> RunStageList(RunPlan& plan, const fs::path& out, StageOutputs& o) {
+  const RunRequest& r = plan.request;
+  const DatasetDescription& description = plan.stream->description();
+  const bool from_map = r.from == RunFrom::kMap, from_splat = r.from == RunFrom::kSplat;
+  const std::string reuse = from_map     ? "--from map: trajectory.tum of the earlier run"
+                            : from_splat ? "--from splat: the earlier run's outputs"
+                                         : "";
+  const std::string no_splat = r.no_splat ? "--no-splat"
+                               : r.no_map ? "--no-map: no map to seed the splats from"
+                                          : SplatSkipReason(description, plan.frames.T_output_body);
+  const bool lio = plan.frames.mode == OdometryMode::kLio;
+  auto dataset = [&](StageContext& c) {
+    return Keep(o.dataset, RunDatasetStage(r.dataset, r.dataset_config, plan.sensors.lidar, c));
+  };
+  auto odometry = [&](StageContext& c) {
+    const OdometryStageInput in{.stream = plan.stream.get(),
+                                .odometry = plan.odometry.get(),
+                                .mapper = plan.mapper.get(),
+                                .sensors = plan.sensors,
+                                .frames = plan.frames,
+                                .lidar_scans = o.dataset ? o.dataset->lidar_scans : 0,
+                                .out = out};
+    return Keep(o.odometry, RunOdometryStage(in, c));
+  };
+  auto map = [&](StageContext& c) { return RunMap(plan, out, o, c); };
+  auto exports = [&](StageContext& c) {
+    const ExportsStageInput in{
+        .mapper = plan.mapper.get(), .georef = o.map->georef, .mesh = !r.no_mesh, .out = out};
+    return Keep(o.exports, RunExportsStage(in, c));
+  };
+  auto splat = [&](StageContext& c) { return Keep(o.splat, RunSplatStage(out, r.splat_config, c)); };
+  auto views = [&](StageContext& c) {
+    return Keep(o.views,
+                RunViewsStage(out, o.splat->result, r.splat_config.training.render.background, c));
+  };
+  auto accuracy = [&](StageContext& c) {
+    o.accuracy = RunAccuracyStage(*description.ground_truth, out, c);
+    return Status();
+  };
+  return {
+      {"dataset", "the dataset", reuse, dataset},
+      {"odometry", lio ? "LiDAR and IMU streams" : "LiDAR stream", reuse, odometry},
+      {"map", from_map ? "trajectory.tum, the dataset's scans" : "keyframes (odometry)",
+       r.no_map ? "--no-map" : (from_map ? "" : reuse), map},
+      {"exports", "map (map stage)",
+       r.no_map     ? "--no-map: no map to export"
+       : from_splat ? reuse
+                    : "",
+       exports},
+      {"splat", "map.vdb, trajectory.tum, camera images", no_splat, splat},
+      {"views", "splats (splat stage)", no_splat.empty() ? "" : "no splats", views},
+      {"accuracy", "trajectory.tum, ground truth",
+       description.ground_truth ? "" : "no ground truth beside the dataset", accuracy},
+  };
+}
+
+// The summary of the run from what the stages left.
+void Summarize(const RunPlan& plan, StageOutputs& o, RunSummary& summary) {
+  if (o.dataset) summary.dataset_summary = std::move(o.dataset->summary);
+  if (o.odometry) {
+    const std::string plot = summary.odometry.timing_plot;
+    summary.odometry = std::move(o.odometry->summary);
+    if (summary.odometry.timing_plot.empty()) summary.odometry.timing_plot = plot;
+    if (plan.frames.mode == OdometryMode::kLio)
+      summary.notes.push_back(summary.odometry.initialization.empty()
+                                  ? "LIO never initialized: the whole run is LiDAR-only (see warnings)"
+                                  : "LIO initialized: " + summary.odometry.initialization);
+  }
+  if (o.from_trajectory) {
+    for (std::string& note : o.from_trajectory->notes) summary.notes.push_back(std::move(note));
+    summary.odometry.scans = o.from_trajectory->scans;
+    summary.odometry.keyframes = static_cast<std::int64_t>(o.from_trajectory->estimated.size());
+  }
+  if (o.map) {
+    for (std::string& note : o.map->notes) summary.notes.push_back(std::move(note));
+    summary.map = std::move(o.map->map);
+    if (o.exports) AddExportsToSummary(*o.exports, !plan.request.no_mesh, *summary.map);
+  }
+  if (o.splat) {
+    for (std::string& note : o.splat->notes) summary.notes.push_back(std::move(note));
+    summary.splat = std::move(o.splat->result);
+  }
+  if (o.views) summary.splat_views = *o.views;
+  if (o.accuracy) summary.accuracy = std::move(*o.accuracy);
+}
+
+}  // namespace
+
+Expected<RunSummary> RunPipeline(RunPlan& plan, fs::path& out) {
+  const RunRequest& r = plan.request;
+  RunSummary& summary = plan.summary;
+  Expected<fs::path> folder = CreateOutputFolder(r);
+  if (!folder) return folder.status();
+  out = *folder;
+  const std::string config = "# The resolved configuration of this run. Repeat it exactly with\n#   " +
+                             summary.repeat_command + "\n" + summary.config_yaml;
+  if (Status s = WriteTextFileAtomically(out / "config.yaml", config); !s.ok()) return s;
+  // run.json: --from splat keeps the earlier run's (its trajectory and map are the ones trained on).
+  if (r.from != RunFrom::kSplat || !ReadRunRecord(out).ok())
+    if (Status s = WriteRunRecord(out, {fs::absolute(r.dataset).string(), plan.frames}); !s.ok()) return s;
+
+  ProgressLine progress("run");
+  StageOutputs outputs;
+  const PipelineResult result = RunStages(RunStageList(plan, out, outputs), progress, "run");
+  summary.stages = result.stages;
+  for (const StageRecord& stage : result.stages) summary.wall_seconds += stage.seconds;
+  Summarize(plan, outputs, summary);
+  return std::move(summary);
+}
+
+}  // namespace uf::pipeline

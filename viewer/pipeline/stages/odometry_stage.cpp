@@ -1,0 +1,107 @@
+#include "viewer/pipeline/stages/odometry_stage.h"
+
+#include "odometry/io/for_each_measurement.h"
+
+namespace uf::pipeline {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Per-scan processing times of the odometry, in scan order.
+struct ScanTimes {
+  std::vector<Stamp> stamps;
+  std::vector<double> ms;
+};
+
+// Moves the keyframes that left the odometry's window into the trajectory (and the mapper), in time order.
+Status CollectFinished(const OdometryStageInput& in, OdometryStageOutput& out, ScanTimes& times,
+                       std::int64_t& keyframes) {
+  for (Keyframe& k : in.odometry->TakeFinished()) {
+    ++keyframes;
+    Trajectory& trajectory = out.estimated;
+    if (!trajectory.stamps.empty() && k.stamp <= trajectory.stamps.back()) continue;  // keep stamps increasing
+    trajectory.stamps.push_back(k.stamp);
+    trajectory.poses.push_back(k.T_world_body);
+    if (in.mapper) {
+      if (Status s = in.mapper->AddKeyframe(std::move(k)); !s.ok()) return s;
+      ++out.keyframes_mapped;
+    }
+  }
+  for (const estimator::OdometryStats& scan : in.odometry->TakeProcessedStats()) {
+    times.stamps.push_back(scan.stamp);
+    times.ms.push_back(scan.solve_ms);
+  }
+  return {};
+}
+
+// trajectory.tum, trajectory_kitti.txt, timing.json and the timing plot.
+Status WriteOdometryFiles(const OdometryStageInput& in, const OdometryStageOutput& out, const ScanTimes& times,
+                          OdometrySummary& summary, StageContext& context) {
+  const std::int64_t warnings =
+      static_cast<std::int64_t>(summary.reader_warnings.size() + summary.odometry_warnings.size());
+  if (Status s = WriteTrajectoryFiles(in.out, in.frames.OutputTrajectory(out.estimated)); !s.ok()) return s;
+  if (Status s = WriteTimingJson(in.out / "timing.json", summary.timing, summary.skipped, warnings); !s.ok())
+    return s;
+  for (const char* file : {"trajectory.tum", "trajectory_kitti.txt", "timing.json"}) context.AddOutput(file);
+  if (times.ms.empty()) return {};
+  std::error_code error;
+  fs::create_directories(in.out / "plots", error);
+  if (error) return Status::Error((in.out / "plots").string() + ": cannot create: " + error.message());
+  if (Status s = WriteTimingPlot(in.out / "plots/timing_per_scan.png", times.stamps, times.ms); !s.ok())
+    return s;
+  summary.timing_plot = "plots/timing_per_scan.png";
+  context.AddOutput(summary.timing_plot);
+  return {};
+}
+
+}  // namespace
+
+Expected<OdometryStageOutput> RunOdometryStage(const OdometryStageInput& in, StageContext& context) {
+  context.SetUnit("scans");
+  OdometryStageOutput out;
+  ScanTimes times;
+  std::int64_t scans = 0, keyframes = 0;
+  const DatasetSensors& sensors = in.sensors;
+  estimator::LidarOdometry& odometry = *in.odometry;
+  const Status read = ForEachMeasurement(*in.stream, [&](Measurement& m) {
+    Status status;
+    if (const auto* scan = std::get_if<LidarScan>(&m.data); scan && m.stream == sensors.lidar) {
+      status = odometry.AddScan(*scan);
+      ++scans;
+    } else if (const auto* sample = std::get_if<ImuSample>(&m.data); sample && m.stream == sensors.imu) {
+      status = odometry.AddImu(*sample);
+    } else if (auto* frame = std::get_if<CameraFrame>(&m.data);
+               frame && in.mapper && in.mapper->UsesCamera(m.stream)) {
+      in.mapper->AddCameraFrame(m.stream, std::move(*frame));
+      return Status();
+    } else if (const auto* fix = std::get_if<GnssFix>(&m.data); fix && m.stream == sensors.gnss) {
+      out.fixes.push_back(*fix);
+      return Status();
+    } else {
+      return Status();
+    }
+    if (status.ok()) status = CollectFinished(in, out, times, keyframes);
+    if (status.ok()) context.Progress(scans, in.lidar_scans);
+    return status;
+  });
+  if (!read.ok()) return read;
+  odometry.Finish();
+  if (Status s = CollectFinished(in, out, times, keyframes); !s.ok()) return s;
+
+  OdometrySummary& summary = out.summary;
+  if (in.frames.mode == OdometryMode::kLio) summary.initialization = odometry.initialization();
+  summary.scans = scans;
+  summary.keyframes = static_cast<std::int64_t>(out.estimated.size());
+  summary.skipped = scans - keyframes;
+  summary.timing = SummarizeTimings(times.ms);
+  summary.reader_warnings = in.stream->warnings();
+  summary.odometry_warnings = odometry.warnings();
+  if (out.estimated.empty())
+    return Status::Error(in.stream->description().path.string() + ": the odometry produced no pose (" +
+                         std::to_string(scans) + " scans, " + std::to_string(summary.odometry_warnings.size()) +
+                         " warnings)");
+  if (Status s = WriteOdometryFiles(in, out, times, summary, context); !s.ok()) return s;
+  return out;
+}
+
+}  // namespace uf::pipeline
