@@ -157,9 +157,10 @@ std::optional<int> Prepare(const RunArguments& a, RunState& state) {
       report.timing_plot = "plots/timing_per_scan.png";
   }
   if (!a.no_map && a.from != "splat") {
-    KeyframeMapperOptions options;
+    mapping::KeyframeMapperOptions options;
     options.map.voxel_size_m = a.map_voxel_m;
-    Expected<KeyframeMapper> created = KeyframeMapper::Create(options, description, state.T_estimator_body);
+    Expected<mapping::KeyframeMapper> created =
+        mapping::KeyframeMapper::Create(options, description, state.T_estimator_body);
     if (!created) return ReportUsageError(created.status());
     state.mapper.emplace(std::move(*created));
   }

@@ -41,7 +41,8 @@ std::optional<mapping::MapGeoreference> GeoreferenceFromGnss(const DatasetDescri
                                   aligned->origin.height_m, aligned->T_enu_world};
 }
 
-Expected<std::vector<std::string>> SaveRunMap(const std::filesystem::path& out, const KeyframeMapper& mapper,
+Expected<std::vector<std::string>> SaveRunMap(const std::filesystem::path& out,
+                                              const mapping::KeyframeMapper& mapper,
                                               const std::optional<mapping::MapGeoreference>& georef,
                                               RunReport& report) {
   const mapping::GlobalMap& map = mapper.map();
@@ -65,7 +66,7 @@ Expected<std::vector<std::string>> SaveRunMap(const std::filesystem::path& out, 
 }
 
 Expected<std::vector<std::string>> WriteRunMapExports(const std::filesystem::path& out,
-                                                      const KeyframeMapper& mapper,
+                                                      const mapping::KeyframeMapper& mapper,
                                                       const std::optional<mapping::MapGeoreference>& georef,
                                                       bool mesh, RunReport& report) {
   MapExportRequest request;

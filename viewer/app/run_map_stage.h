@@ -7,10 +7,10 @@
 #include <optional>
 #include <span>
 
+#include "mapping/keyframe_mapper.h"
 #include "mapping/map_file.h"
 #include "odometry/io/dataset_reader.h"
 #include "odometry/types/trajectory.h"
-#include "viewer/app/keyframe_mapper.h"
 #include "viewer/app/run_report.h"
 
 namespace uf::app {
@@ -30,14 +30,15 @@ std::optional<mapping::MapGeoreference> GeoreferenceFromGnss(const DatasetDescri
 
 // The map stage's file: saves map.vdb (and its voxel attributes) and starts report.map (size, colour);
 // returns the files written, relative to `out`.
-Expected<std::vector<std::string>> SaveRunMap(const std::filesystem::path& out, const KeyframeMapper& mapper,
+Expected<std::vector<std::string>> SaveRunMap(const std::filesystem::path& out,
+                                              const mapping::KeyframeMapper& mapper,
                                               const std::optional<mapping::MapGeoreference>& georef,
                                               RunReport& report);
 
 // The exports stage: map.ply, map.las, map.glb and georef.json (in ENU when georeferenced, else in the map
 // frame); completes report.map. Returns the files written, relative to `out`.
 Expected<std::vector<std::string>> WriteRunMapExports(const std::filesystem::path& out,
-                                                      const KeyframeMapper& mapper,
+                                                      const mapping::KeyframeMapper& mapper,
                                                       const std::optional<mapping::MapGeoreference>& georef,
                                                       bool mesh, RunReport& report);
 

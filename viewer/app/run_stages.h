@@ -20,12 +20,12 @@
 #include <string>
 #include <vector>
 
+#include "mapping/keyframe_mapper.h"
 #include "mapping/map_file.h"
 #include "odometry/estimator/lidar_odometry/lidar_odometry.h"
 #include "odometry/io/dataset_sensors.h"
 #include "odometry/io/measurement_stream.h"
 #include "viewer/app/dataset_config.h"
-#include "viewer/app/keyframe_mapper.h"
 #include "viewer/app/pipeline_stages.h"
 #include "viewer/app/run_report.h"
 #include "viewer/app/splat_job.h"
@@ -45,8 +45,8 @@ struct RunState {
   std::unique_ptr<DatasetReader> reader;
   std::optional<MeasurementStream> stream;
   std::optional<estimator::LidarOdometry> odometry;
-  std::optional<KeyframeMapper> mapper;  // none with --no-map
-  SplatConfig splat_config;              // the splat: section of --config
+  std::optional<mapping::KeyframeMapper> mapper;  // none with --no-map
+  SplatConfig splat_config;                       // the splat: section of --config
 
   // Filled by the stages.
   std::int64_t lidar_scans = 0;  // in the dataset (dataset stage); 0: unknown

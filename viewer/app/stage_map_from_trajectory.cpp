@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "mapping/deskew_with_trajectory.h"
 #include "odometry/io/trajectory_file.h"
 #include "viewer/app/run_map_stage.h"
 
@@ -13,33 +14,6 @@ SE3 OutputFromEstimator(const RunState& state) {
   const bool out_imu = state.output_frame == "imu";
   if (out_imu == state.lio) return SE3();
   return out_imu ? *state.sensors.T_imu_lidar : state.sensors.T_imu_lidar->inverse();
-}
-
-// The scan deskewed into the world as a keyframe stamped at the middle of its sweep; none when the
-// trajectory does not cover that time.
-std::optional<Keyframe> DeskewScan(const LidarScan& scan, const Trajectory& T_world_est,
-                                   const SE3& T_est_lidar, const RunState& state) {
-  Keyframe keyframe;
-  keyframe.stamp = scan.stamp + (scan.end - scan.stamp) / 2;
-  const std::optional<SE3> middle = T_world_est.PoseAt(keyframe.stamp);
-  if (!middle) return std::nullopt;
-  keyframe.T_world_body = *middle;
-  keyframe.scan_world.reserve(scan.points.size());
-  keyframe.scan_intensity.reserve(scan.points.size());
-  const SE3 T_world_lidar_middle = *middle * T_est_lidar;
-  for (const LidarPoint& point : scan.points) {
-    const Eigen::Vector3d p(point.x, point.y, point.z);
-    const double range = p.norm();
-    if (!p.allFinite() || range < state.min_range_m || range > state.max_range_m) continue;
-    // Without per-point times the whole scan takes the pose of its middle.
-    std::optional<SE3> T_world_est_point = middle;
-    if (scan.has_point_times) T_world_est_point = T_world_est.PoseAt(scan.stamp + point.offset_ns);
-    if (!T_world_est_point) continue;
-    const SE3 T_world_lidar = scan.has_point_times ? *T_world_est_point * T_est_lidar : T_world_lidar_middle;
-    keyframe.scan_world.push_back((T_world_lidar * p).cast<float>());
-    keyframe.scan_intensity.push_back(point.intensity);
-  }
-  return keyframe;
 }
 
 }  // namespace
@@ -66,7 +40,8 @@ Status RunMapFromTrajectoryStage(RunState& state, StageContext& context) {
     Measurement& m = **next;
     if (const auto* scan = std::get_if<LidarScan>(&m.data); scan && m.stream == state.sensors.lidar) {
       ++scans;
-      std::optional<Keyframe> keyframe = DeskewScan(*scan, state.estimated, T_est_lidar, state);
+      std::optional<Keyframe> keyframe = mapping::DeskewWithTrajectory(*scan, state.estimated, T_est_lidar,
+                                                                       state.min_range_m, state.max_range_m);
       if (!keyframe) {
         ++outside;
         continue;

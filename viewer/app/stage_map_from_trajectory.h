@@ -1,16 +1,13 @@
 // The map stage of `ultrafusion run --from map`: instead of keyframes from the odometry, the trajectory of
 // an earlier run (its trajectory.tum) and the dataset's scans read again. Each scan is deskewed with the
-// trajectory interpolated at every point's time and handed to the mapper as a keyframe, so the map,
-// colour and exports are made exactly as after the odometry.
+// trajectory interpolated at every point's time (mapping/deskew_with_trajectory.h) and handed to the mapper
+// as a keyframe, so the map, colour and exports are made exactly as after the odometry.
 //
 // Frames: trajectory.tum holds T_world_out(t) for the run's output frame (`out`: lidar or imu). The mapper
 // wants the estimator's body (`est`: the LiDAR in LO, the IMU in LIO):
 //   T_world_est(t) = T_world_out(t) * T_out_est,  T_out_est = I, T_imu_lidar or T_imu_lidar^-1,
-// and a point p measured at time t_p in the LiDAR frame lands at
-//   p_world = T_world_est(t_p) * T_est_lidar * p,  T_est_lidar = I (LO) or T_imu_lidar (LIO),
-// with T_world_est(t) from Trajectory::PoseAt (slerp and lerp between the bracketing poses,
-// odometry/types/trajectory.h). Points outside the trajectory's
-// time span are dropped (the scans there are counted as skipped).
+// and T_est_lidar = I (LO) or T_imu_lidar (LIO). Scans whose middle lies outside the trajectory's time span
+// are counted as skipped.
 #pragma once
 
 #include <optional>
