@@ -15,7 +15,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-
 SplatSummary Summarize(const SplatJobResult& result) {
   const SplatMetrics& m = result.metrics;
   SplatSummary summary;
@@ -102,9 +101,9 @@ Status RunViewsStage(RunState& state, StageContext& context) {
 
   // The camera's own model: a distorted one renders through a covering pinhole and is resampled.
   const CameraModel& camera = *state.splat->model;
-  const Pinhole native = *PinholeOf(camera);
+  const splat::Pinhole native = *splat::PinholeOf(camera);
   std::optional<splat::DistortedViewResampler> resampler;
-  if (IsDistorted(camera)) resampler.emplace(camera, native.fx, native.fy, native.cx, native.cy);
+  if (splat::IsDistorted(camera)) resampler.emplace(camera, native.fx, native.fy, native.cx, native.cy);
   splat::RenderSettings settings;
   settings.background = state.splat_config.training.render.background;
   Trajectory poses;

@@ -1,7 +1,8 @@
 // The training and held-out views of a run: the dataset's first camera stream read again, each image placed
 // at its stamp on the run's trajectory (splat_camera_poses.h), keyframe images selected by camera motion,
-// made into pinhole images at the training resolution (splat_images.h), and split: every holdout_stride-th
-// selected image (index % stride == 0, as 3DGS) is held out for testing and never trained on.
+// made into pinhole images at the training resolution (splat/views/training_images.h), and split: every
+// holdout_stride-th selected image (index % stride == 0, as 3DGS) is held out for testing and never trained
+// on.
 #pragma once
 
 #include <cstdint>
@@ -14,8 +15,8 @@
 #include "odometry/io/measurement_stream.h"
 #include "odometry/types/trajectory.h"
 #include "splat/training/training_options.h"
+#include "splat/views/training_images.h"
 #include "viewer/app/splat_config.h"
-#include "viewer/app/splat_images.h"
 
 namespace uf::app {
 
@@ -57,7 +58,7 @@ splat::TrainingView ToTrainingView(const StoredView& view);
 
 struct SplatViews {
   std::vector<StoredView> train, test;
-  Pinhole pinhole;                           // the training images' camera
+  splat::Pinhole pinhole;                    // the training images' camera
   std::string camera_name;                   // the stream
   std::shared_ptr<const CameraModel> model;  // the camera's own model (native size, distortion)
   std::int64_t images = 0;                   // frames of the camera stream
