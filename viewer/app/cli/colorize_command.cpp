@@ -9,22 +9,13 @@
 #include <string>
 #include <vector>
 
-#include "export/ply_writer.h"
-#include "mapping/colorize_edge_alignment.h"
-#include "mapping/colorizer.h"
-#include "mapping/point_source.h"
-#include "odometry/io/atomic_file.h"
-#include "odometry/io/image_decode.h"
+#include "viewer/app/cli/exit_codes.h"
 #include "viewer/pipeline/colorize/colorize_calibration.h"
 #include "viewer/pipeline/colorize/colorize_inputs.h"
-#include "viewer/pipeline/colorize/colorize_overlay.h"
-#include "viewer/app/cli/exit_codes.h"
+#include "viewer/pipeline/colorize/colorize_job.h"
 
 namespace uf::app {
 
-using pipeline::ColorizeScan;
-using pipeline::DepthRange;
-using pipeline::FitCameraToImage;
 using pipeline::IsCalibrationExtension;
 using pipeline::IsImageExtension;
 using pipeline::IsScanExtension;
@@ -32,23 +23,12 @@ using pipeline::LoadExtrinsic;
 using pipeline::LoadImage;
 using pipeline::LoadIntrinsics;
 using pipeline::LoadScan;
-using pipeline::LoadedIntrinsics;
-using pipeline::RenderDepthOverlay;
-using pipeline::VisibleDepthRange;
 namespace {
 
 namespace fs = std::filesystem;
 
 struct ColorizeArguments {
   std::string scan_path, image_path, intrinsics_path, extrinsic_path, out_path, overlay_path;
-};
-
-// What the run found, for the printed summary.
-struct ColorizeSummary {
-  std::size_t points = 0, in_front = 0;
-  mapping::ColorizeResult colors;
-  mapping::EdgeAlignment edges;
-  DepthRange depth_range;
 };
 
 std::string Format(const char* format, double a, double b = 0) {
@@ -76,47 +56,7 @@ Status CheckArguments(const ColorizeArguments& a) {
   return Status();
 }
 
-// The PLY's points: every scan point, coloured or not (has_color tells), one observation each.
-mapping::VectorPointSource ToPointSource(const ColorizeScan& scan, const mapping::ColorizeResult& colors) {
-  std::vector<mapping::MapPoint> points(scan.points.size());
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    mapping::MapPoint& p = points[i];
-    p.position = scan.points[i].cast<double>();
-    p.intensity = scan.intensities[i];
-    p.count = 1;
-    p.last_stamp = scan.stamp;
-    if (colors.colors[i]) {
-      p.rgb = *colors.colors[i];
-      p.has_color = true;
-    }
-  }
-  return mapping::VectorPointSource(std::move(points));
-}
-
-// Writes the overlay (when asked) and the PLY so that either both appear or neither: the overlay goes to
-// a temporary file first (which also proves its folder writable), then the PLY, then the overlay is renamed.
-Status WriteOutputs(const ColorizeArguments& a, const ColorizeScan& scan, const ColorizeSummary& summary,
-                    const std::optional<Image>& overlay) {
-  std::unique_ptr<AtomicFileWriter> overlay_file;
-  if (overlay) {
-    auto png = EncodePng(*overlay, a.overlay_path);
-    if (!png) return png.status();
-    overlay_file = std::make_unique<AtomicFileWriter>(a.overlay_path);
-    if (Status s = overlay_file->status(); !s.ok()) return s;
-    overlay_file->stream().write(reinterpret_cast<const char*>(png->data()), std::streamsize(png->size()));
-  }
-  if (Status s = exporting::WritePly(a.out_path, ToPointSource(scan, summary.colors)); !s.ok()) return s;
-  if (overlay_file) {
-    if (Status s = overlay_file->Commit(); !s.ok()) {
-      std::error_code ignored;
-      fs::remove(a.out_path, ignored);  // neither output rather than half of them
-      return s;
-    }
-  }
-  return Status();
-}
-
-void PrintSummary(std::ostream& out, const ColorizeArguments& a, const ColorizeSummary& s) {
+void PrintSummary(std::ostream& out, const ColorizeArguments& a, const pipeline::ColorizeSummary& s) {
   const auto row = [&](const std::string& label, const std::string& value) {
     out << "  " << label << std::string(label.size() < 42 ? 42 - label.size() : 1, ' ') << value << "\n";
   };
@@ -143,31 +83,6 @@ void PrintSummary(std::ostream& out, const ColorizeArguments& a, const ColorizeS
   out << "\n";
 }
 
-// The intrinsics fitted to the image's size (FitCameraToImage: a centred crop), with a note when the sizes
-// differ and a warning when they differ so much that a scaled image is more likely than a cropped one.
-Expected<std::shared_ptr<const CameraModel>> CameraForImage(const LoadedIntrinsics& intrinsics,
-                                                            const Image& image, const std::string& path) {
-  const CameraModel& calibrated = *intrinsics.camera;
-  const int w = calibrated.width(), h = calibrated.height();
-  if (w == image.width && h == image.height) return intrinsics.camera;
-  Eigen::Vector2d shift;
-  auto fitted = FitCameraToImage(calibrated, image.width, image.height, &shift);
-  if (!fitted) return Status::Error(path + ": " + fitted.error());
-  const bool larger = image.width >= w && image.height >= h, smaller = image.width <= w && image.height <= h;
-  std::cout << "  note: calibrated for " << w << "x" << h << ", the image is " << image.width << "x"
-            << image.height << ": "
-            << (larger    ? "the calibrated image taken as its centred crop"
-                : smaller ? "taken as a centred crop of the calibrated image"
-                          : "taken as a centred crop (centres aligned)")
-            << Format(", principal point shifted by (%+.1f, %+.1f) px", shift.x(), shift.y()) << "\n";
-  if (std::abs(image.width - w) > w / 4 || std::abs(image.height - h) > h / 4)
-    std::cerr
-        << "ultrafusion: warning: the image and calibrated sizes differ by more than 25 %: if the image "
-           "was scaled rather than cropped, "
-        << path << " does not fit it\n";
-  return fitted;
-}
-
 int RunColorize(const ColorizeArguments& a) {
   if (Status s = CheckArguments(a); !s.ok()) return ReportUsageError(s);
   auto scan = LoadScan(a.scan_path);
@@ -187,45 +102,16 @@ int RunColorize(const ColorizeArguments& a) {
             << "  intrinsics  " << intrinsics->description << "\n"
             << "  extrinsic   " << extrinsic->description << "\n";
 
-  auto fitted = CameraForImage(*intrinsics, *image, a.intrinsics_path);
+  auto fitted = pipeline::CameraForImage(*intrinsics, *image, a.intrinsics_path);
   if (!fitted) return ReportError(fitted.status());
-  const CameraModel& camera = **fitted;
-
-  // The LiDAR frame is the world frame: T_world_cam = T_lidar_cam = T_cam_lidar^-1.
-  const SE3 T_world_cam = extrinsic->T_cam_lidar.inverse();
-  const SE3 T_cam_world = extrinsic->T_cam_lidar;
-  ColorizeSummary summary;
-  summary.points = scan->points.size();
-  for (const Eigen::Vector3f& p : scan->points)
-    if ((T_cam_world * p.cast<double>()).z() > CameraModel::kMinDepth) ++summary.in_front;
-  if (summary.in_front == 0)
-    return ReportError(Status::Error("no point of " + a.scan_path +
-                                     " is in front of the camera: check that " + a.extrinsic_path +
-                                     " maps LiDAR points into the camera frame (T_cam_lidar)"));
-
-  const mapping::ColorizerOptions options;
-  const mapping::CameraView view{&*image, &camera, T_world_cam, scan->stamp};
-  auto colors = mapping::Colorize(scan->points, std::span(&scan->stamp, 1), std::span(&view, 1), options);
-  if (!colors) return ReportError(colors.status());
-  summary.colors = std::move(*colors);
-  if (summary.colors.in_footprint == 0)
-    return ReportError(Status::Error("none of the " + std::to_string(summary.in_front) +
-                                     " points in front of the camera projects into the image: check the "
-                                     "intrinsics and the extrinsic"));
-
-  mapping::EdgeAlignmentOptions edge_options;
-  edge_options.visibility = options.visibility;
-  const mapping::ProjectedScan projected =
-      mapping::ProjectWithOcclusion(scan->points, camera, T_world_cam, options.visibility);
-  summary.edges = mapping::EdgeAlignmentScorer(*image, edge_options).Score(projected);
-
-  std::optional<Image> overlay;
-  if (!a.overlay_path.empty()) {
-    summary.depth_range = VisibleDepthRange(projected);
-    overlay = RenderDepthOverlay(*image, projected, summary.depth_range);
-  }
-  if (Status s = WriteOutputs(a, *scan, summary, overlay); !s.ok()) return ReportError(s);
-  PrintSummary(std::cout, a, summary);
+  if (!fitted->note.empty()) std::cout << "  note: " << fitted->note << "\n";
+  if (!fitted->warning.empty()) std::cerr << "ultrafusion: warning: " << fitted->warning << "\n";
+  auto summary = pipeline::ColorizeWithImage(*scan, *image, *fitted->camera, extrinsic->T_cam_lidar,
+                                             !a.overlay_path.empty(), {a.scan_path, a.extrinsic_path});
+  if (!summary) return ReportError(summary.status());
+  if (Status s = pipeline::WriteColorizeOutputs(a.out_path, a.overlay_path, *scan, *summary); !s.ok())
+    return ReportError(s);
+  PrintSummary(std::cout, a, *summary);
   return kExitOk;
 }
 

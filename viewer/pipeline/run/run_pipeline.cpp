@@ -138,12 +138,12 @@ Expected<RunPlan> PlanRun(RunRequest request, PlanErrorKind& kind) {
   if (!odometry) return odometry.status();
   plan.odometry = std::make_unique<estimator::LidarOdometry>(std::move(*odometry));
   if (!r.no_map && r.from != RunFrom::kSplat) {
-    app::KeyframeMapperOptions options;
+    mapping::KeyframeMapperOptions options;
     options.map.voxel_size_m = r.map_voxel_m;
-    Expected<app::KeyframeMapper> mapper =
-        app::KeyframeMapper::Create(options, description, plan.frames.T_estimator_body);
+    Expected<mapping::KeyframeMapper> mapper =
+        mapping::KeyframeMapper::Create(options, description, plan.frames.T_estimator_body);
     if (!mapper) return mapper.status();
-    plan.mapper = std::make_unique<app::KeyframeMapper>(std::move(*mapper));
+    plan.mapper = std::make_unique<mapping::KeyframeMapper>(std::move(*mapper));
   }
   DescribeRun(plan, plan.summary);
   return plan;

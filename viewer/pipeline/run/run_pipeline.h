@@ -24,7 +24,7 @@
 #include "odometry/io/dataset_sensors.h"
 #include "odometry/io/measurement_stream.h"
 #include "viewer/app/dataset_config.h"
-#include "viewer/app/keyframe_mapper.h"
+#include "mapping/keyframe_mapper.h"
 #include "viewer/app/splat_config.h"
 #include "viewer/pipeline/progress_line.h"
 #include "viewer/pipeline/run/run_frames.h"
@@ -54,7 +54,7 @@ struct RunPlan {
   std::unique_ptr<DatasetReader> reader;
   std::unique_ptr<MeasurementStream> stream;
   std::unique_ptr<estimator::LidarOdometry> odometry;
-  std::unique_ptr<app::KeyframeMapper> mapper;  // none with --no-map or --from splat
+  std::unique_ptr<mapping::KeyframeMapper> mapper;  // none with --no-map or --from splat
   DatasetSensors sensors;
   RunFrames frames;
   estimator::LidarOdometryConfig lo_config;  // as the estimator runs it

@@ -6,41 +6,28 @@
 #include <numeric>
 #include <random>
 
-#include "splat/seeding.h"
+#include "splat/sky.h"
 #include "splat/training/image_metrics.h"
+#include "splat/training/scene_extent.h"
 
 namespace uf::pipeline {
 
 using Clock = std::chrono::steady_clock;
 
-double SceneExtent(const std::vector<StoredView>& views) {
-  if (views.empty()) return 1e-3;
-  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-  for (const StoredView& v : views) centroid += v.camera.T_world_camera.translation();
-  centroid /= static_cast<double>(views.size());
-  double radius = 0;
-  for (const StoredView& v : views)
-    radius = std::max(radius, (v.camera.T_world_camera.translation() - centroid).norm());
-  return std::max(radius, 1e-3);
+namespace {
+
+// The training cameras' centres, T_world_camera's translations.
+std::vector<Eigen::Vector3d> CameraCentres(const std::vector<StoredView>& views) {
+  std::vector<Eigen::Vector3d> centres;
+  centres.reserve(views.size());
+  for (const StoredView& v : views) centres.push_back(v.camera.T_world_camera.translation());
+  return centres;
 }
 
+}  // namespace
+
 void AddSky(splat::GaussianModel& model, const std::vector<StoredView>& train, const SplatConfig& config) {
-  if (train.empty() || config.sky_gaussians <= 0) return;
-  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
-  for (const StoredView& v : train) centre += v.camera.T_world_camera.translation() / train.size();
-  std::vector<double> distances;
-  distances.reserve(model.size());
-  for (const Eigen::Vector3f& p : model.positions) distances.push_back((p.cast<double>() - centre).norm());
-  double radius = 10.0;
-  if (!distances.empty()) {
-    auto percentile = distances.begin() + static_cast<std::ptrdiff_t>(0.95 * (distances.size() - 1));
-    std::nth_element(distances.begin(), percentile, distances.end());
-    radius = std::max(radius, 1.2 * *percentile);
-  }
-  const double count = config.sky_gaussians;
-  const double largest_spacing = config.training.prune_world_fraction * SceneExtent(train);
-  radius = std::min(radius, largest_spacing * std::sqrt(count / (4 * M_PI)));
-  splat::AddBackgroundSphere(model, centre, radius, config.sky_gaussians, 0.5);
+  splat::AddSky(model, CameraCentres(train), config.sky_gaussians, config.training.prune_world_fraction);
 }
 
 Expected<SplatTrainingResult> TrainSplats(const splat::GaussianModel& seed,
@@ -49,7 +36,7 @@ Expected<SplatTrainingResult> TrainSplats(const splat::GaussianModel& seed,
                                           const std::string& device,
                                           const std::function<void(const TrainingProgress&)>& progress) {
   SplatTrainingResult result;
-  result.scene_extent = SceneExtent(train);
+  result.scene_extent = splat::SceneExtent(CameraCentres(train));
   splat::SplatRendererOptions options;
   options.device = device;
   Expected<std::unique_ptr<splat::SplatTrainer>> trainer =

@@ -45,13 +45,7 @@ struct SplatTrainingResult {
   double psnr_test_initial = 0;  // of the seeded model on the held-out views (0 without them)
 };
 
-// The radius of the camera centres around their centroid (m), at least 1e-3 (SplatTrainer's scene extent).
-double SceneExtent(const std::vector<StoredView>& views);
-
-// Adds the sky sphere of config.sky_gaussians Gaussians (splat::AddBackgroundSphere) around the training
-// cameras' centroid: radius 1.2 x the 95th percentile distance of the seeded Gaussians from it, reduced when
-// needed so that the discs (spacing radius sqrt(4 pi / n)) stay under half the size-pruning limit
-// (prune_world_fraction x the scene extent); opacity 0.5.
+// Adds the sky sphere of config.sky_gaussians Gaussians around the training cameras (splat/sky.h).
 void AddSky(splat::GaussianModel& model, const std::vector<StoredView>& train, const SplatConfig& config);
 
 // Trains `seed` on `train` (not empty); `test` is scored once before the first step. `device`:

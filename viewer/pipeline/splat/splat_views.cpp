@@ -11,23 +11,23 @@ namespace uf::pipeline {
 namespace {
 
 using app::DefaultSize;
-using app::IsDistorted;
-using app::PinholeOf;
-using app::ProjectDepth;
-using app::ResizeArea;
-using app::ScalePinhole;
-using app::ToRgbFloat;
-using app::Undistort;
+using splat::IsDistorted;
+using splat::PinholeOf;
+using splat::ProjectDepth;
+using splat::ResizeArea;
+using splat::ScalePinhole;
+using splat::ToRgbFloat;
+using splat::Undistort;
 
 // The view of one decoded image: undistorted to the model's pinhole when it has distortion, resized to the
 // training size, quantised to 8 bits (the source's precision) for storage.
-StoredView MakeView(const Image& image, const CameraModel& model, const Pinhole& native,
-                    const Pinhole& target, const SE3& T_world_camera, Stamp stamp,
+StoredView MakeView(const Image& image, const CameraModel& model, const splat::Pinhole& native,
+                    const splat::Pinhole& target, const SE3& T_world_camera, Stamp stamp,
                     std::span<const Eigen::Vector3f> depth_points) {
-  std::vector<float> rgb = ToRgbFloat(image);
-  if (IsDistorted(model)) rgb = Undistort(rgb, model, native);
+  std::vector<float> rgb = splat::ToRgbFloat(image);
+  if (splat::IsDistorted(model)) rgb = splat::Undistort(rgb, model, native);
   if (target.width != native.width || target.height != native.height)
-    rgb = ResizeArea(rgb, native.width, native.height, 3, target.width, target.height);
+    rgb = splat::ResizeArea(rgb, native.width, native.height, 3, target.width, target.height);
   StoredView view;
   view.stamp = stamp;
   view.camera.width = target.width, view.camera.height = target.height;
@@ -37,7 +37,7 @@ StoredView MakeView(const Image& image, const CameraModel& model, const Pinhole&
   view.rgb.resize(rgb.size());
   for (std::size_t i = 0; i < rgb.size(); ++i)
     view.rgb[i] = static_cast<std::uint8_t>(std::lround(255.0f * std::clamp(rgb[i], 0.0f, 1.0f)));
-  if (!depth_points.empty()) view.depth = ProjectDepth(depth_points, view.camera);
+  if (!depth_points.empty()) view.depth = splat::ProjectDepth(depth_points, view.camera);
   return view;
 }
 
@@ -52,7 +52,7 @@ Expected<SplatCameraStream> FindSplatCamera(const DatasetDescription& descriptio
       return Status::Error(where + " has no intrinsics (camera model): its images cannot be placed");
     if (!stream.T_body_sensor)
       return Status::Error(where + " has no extrinsic (T_body_sensor): its images cannot be placed");
-    if (!PinholeOf(*stream.camera_model))
+    if (!splat::PinholeOf(*stream.camera_model))
       return Status::Error(where + ": unsupported camera model (pinhole-radtan and equidistant are)");
     return SplatCameraStream{static_cast<int>(s), stream.name, stream.camera_model,
                              T_output_body * *stream.T_body_sensor};
@@ -87,10 +87,10 @@ Expected<SplatViews> LoadSplatViews(MeasurementStream& stream, const SplatCamera
   SplatViews views;
   views.camera_name = camera.name;
   views.model = camera.model;
-  const Pinhole native = *PinholeOf(*camera.model);
+  const splat::Pinhole native = *splat::PinholeOf(*camera.model);
   int width = config.width, height = config.height;
   if (width == 0) DefaultSize(native.width, native.height, config.max_width, width, height);
-  views.pinhole = ScalePinhole(native, width, height);
+  views.pinhole = splat::ScalePinhole(native, width, height);
   KeyframeSelector selector(config.keyframe_distance_m, config.keyframe_angle_deg);
   std::int64_t selected = 0;
   const Status read = ForEachMeasurement(stream, [&](Measurement& m) {

@@ -1,6 +1,6 @@
 // The training and held-out views of a run: the dataset's first camera stream read again, each image placed
 // at its stamp on the run's trajectory, keyframe images selected by camera motion, made into pinhole images
-// at the training resolution (splat_images.h), and split: every holdout_stride-th selected image
+// at the training resolution (splat/views/training_images.h), and split: every holdout_stride-th selected image
 // (index % stride == 0, as 3DGS) is held out for testing and never trained on.
 //
 // Where the camera was (frames of run_frames.h, recorded in run.json): trajectory.tum holds T_W_F(t), the
@@ -21,13 +21,13 @@
 #include "odometry/io/measurement_stream.h"
 #include "odometry/types/trajectory.h"
 #include "splat/training/training_options.h"
+#include "splat/views/training_images.h"
 #include "viewer/app/splat_config.h"
-#include "viewer/app/splat_images.h"
 
 namespace uf::pipeline {
 
 using app::SplatConfig;
-using app::Pinhole;
+using splat::Pinhole;
 
 // The camera images come from: the dataset's first camera stream, its model and T_F_C (its pose in the
 // trajectory's frame F).
@@ -66,7 +66,7 @@ splat::TrainingView ToTrainingView(const StoredView& view);
 
 struct SplatViews {
   std::vector<StoredView> train, test;
-  Pinhole pinhole;                           // the training images' camera
+  splat::Pinhole pinhole;                    // the training images' camera
   std::string camera_name;                   // the stream
   std::shared_ptr<const CameraModel> model;  // the camera's own model (native size, distortion)
   std::int64_t images = 0;                   // frames of the camera stream

@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <optional>
 
-#include "viewer/app/keyframe_mapper.h"
+#include "mapping/keyframe_mapper.h"
 #include "viewer/pipeline/map_exports.h"
 #include "viewer/pipeline/stage_runner.h"
 #include "viewer/pipeline/stages/map_stage.h"
@@ -13,7 +13,7 @@
 namespace uf::pipeline {
 
 struct ExportsStageInput {
-  const app::KeyframeMapper* mapper = nullptr;
+  const mapping::KeyframeMapper* mapper = nullptr;
   std::optional<mapping::MapGeoreference> georef;
   bool mesh = true;
   std::filesystem::path out;

@@ -20,7 +20,7 @@
 #include "odometry/io/dataset_sensors.h"
 #include "odometry/io/measurement_stream.h"
 #include "odometry/types/keyframe.h"
-#include "viewer/app/keyframe_mapper.h"
+#include "mapping/keyframe_mapper.h"
 #include "viewer/pipeline/run/run_frames.h"
 #include "viewer/pipeline/stage_runner.h"
 
@@ -28,7 +28,7 @@ namespace uf::pipeline {
 
 struct MapFromTrajectoryInput {
   MeasurementStream* stream = nullptr;
-  app::KeyframeMapper* mapper = nullptr;
+  mapping::KeyframeMapper* mapper = nullptr;
   DatasetSensors sensors;
   RunFrames frames;
   double min_range_m = 1.0, max_range_m = 100.0;  // LiDAR points mapped (the odometry's range limits), m

@@ -8,7 +8,7 @@ namespace uf::pipeline {
 namespace {
 
 // Saves map.vdb (and its voxel attributes) and summarises it.
-Expected<MapSummary> SaveRunMap(const std::filesystem::path& out, const app::KeyframeMapper& mapper,
+Expected<MapSummary> SaveRunMap(const std::filesystem::path& out, const mapping::KeyframeMapper& mapper,
                                 const std::optional<mapping::MapGeoreference>& georef) {
   const mapping::GlobalMap& map = mapper.map();
   if (Status s = mapping::SaveMap(map, georef, out / mapping::kMapFileName); !s.ok()) return s;

@@ -12,7 +12,7 @@
 #include "mapping/map_file.h"
 #include "odometry/io/dataset_reader.h"
 #include "odometry/types/trajectory.h"
-#include "viewer/app/keyframe_mapper.h"
+#include "mapping/keyframe_mapper.h"
 #include "viewer/pipeline/run/run_frames.h"
 #include "viewer/pipeline/stage_runner.h"
 
@@ -26,7 +26,7 @@ struct MapSummary {
 };
 
 struct MapStageInput {
-  app::KeyframeMapper* mapper = nullptr;
+  mapping::KeyframeMapper* mapper = nullptr;
   const DatasetDescription* description = nullptr;
   int gnss_stream = -1;
   RunFrames frames;

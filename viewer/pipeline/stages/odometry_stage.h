@@ -13,7 +13,7 @@
 #include "odometry/estimator/lidar_odometry/lidar_odometry.h"
 #include "odometry/io/dataset_sensors.h"
 #include "odometry/io/measurement_stream.h"
-#include "viewer/app/keyframe_mapper.h"
+#include "mapping/keyframe_mapper.h"
 #include "viewer/pipeline/run/run_frames.h"
 #include "viewer/pipeline/run_files.h"
 #include "viewer/pipeline/stage_runner.h"
@@ -23,7 +23,7 @@ namespace uf::pipeline {
 struct OdometryStageInput {
   MeasurementStream* stream = nullptr;
   estimator::LidarOdometry* odometry = nullptr;
-  app::KeyframeMapper* mapper = nullptr;  // none with --no-map
+  mapping::KeyframeMapper* mapper = nullptr;  // none with --no-map
   DatasetSensors sensors;
   RunFrames frames;
   std::int64_t lidar_scans = 0;  // the total for the progress line; 0: unknown

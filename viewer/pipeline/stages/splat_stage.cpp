@@ -81,9 +81,9 @@ Expected<std::string> RunViewsStage(const fs::path& out, const SplatJobResult& s
 
   // The camera's own model: a distorted one renders through a covering pinhole and is resampled.
   const CameraModel& camera = *splat.model;
-  const app::Pinhole native = *app::PinholeOf(camera);
+  const splat::Pinhole native = *splat::PinholeOf(camera);
   std::optional<splat::DistortedViewResampler> resampler;
-  if (app::IsDistorted(camera)) resampler.emplace(camera, native.fx, native.fy, native.cx, native.cy);
+  if (splat::IsDistorted(camera)) resampler.emplace(camera, native.fx, native.fy, native.cx, native.cy);
   splat::RenderSettings settings;
   settings.background = background;
   Trajectory poses;

@@ -1,15 +1,16 @@
 // Training images: area resizing against hand-computed averages, intrinsics that keep the image edges,
-// undistortion through the camera model, LiDAR depth with a z-buffer, 8-bit conversion.
+// undistortion through the camera model, LiDAR depth with a z-buffer, 8-bit conversion, the pinhole of each
+// camera model.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "viewer/app/splat_images.h"
+#include "splat/views/training_images.h"
 
-namespace uf::app {
+namespace uf::splat {
 namespace {
 
-TEST(SplatImages, HalvingAveragesEachTwoByTwoBlock) {
+TEST(TrainingImages, HalvingAveragesEachTwoByTwoBlock) {
   // 4 x 2, one channel: rows 0..3 and 10..13.
   const std::vector<float> image = {0, 1, 2, 3, 10, 11, 12, 13};
   const std::vector<float> half = ResizeArea(image, 4, 2, 1, 2, 1);
@@ -18,7 +19,7 @@ TEST(SplatImages, HalvingAveragesEachTwoByTwoBlock) {
   EXPECT_FLOAT_EQ(half[1], (2 + 3 + 12 + 13) / 4.0f);
 }
 
-TEST(SplatImages, FractionalRatiosWeighPixelsByTheAreaTheyOverlap) {
+TEST(TrainingImages, FractionalRatiosWeighPixelsByTheAreaTheyOverlap) {
   // 3 -> 2 pixels: target pixel 0 covers source [0, 1.5): all of pixel 0 and half of pixel 1.
   const std::vector<float> image = {3, 6, 9};
   const std::vector<float> out = ResizeArea(image, 3, 1, 1, 2, 1);
@@ -32,7 +33,7 @@ TEST(SplatImages, FractionalRatiosWeighPixelsByTheAreaTheyOverlap) {
   EXPECT_FLOAT_EQ(one[2], 5);
 }
 
-TEST(SplatImages, ScaledIntrinsicsKeepTheImageEdgesInPlace) {
+TEST(TrainingImages, ScaledIntrinsicsKeepTheImageEdgesInPlace) {
   const Pinhole camera{640, 480, 500, 510, 319.5, 239.5};
   const Pinhole half = ScalePinhole(camera, 320, 240);
   EXPECT_DOUBLE_EQ(half.fx, 250);
@@ -44,7 +45,7 @@ TEST(SplatImages, ScaledIntrinsicsKeepTheImageEdgesInPlace) {
   EXPECT_NEAR(half.fx * x + half.cx, -0.5, 1e-12);
 }
 
-TEST(SplatImages, UndistortionSamplesTheDistortedImageWhereTheModelProjectsEachRay) {
+TEST(TrainingImages, UndistortionSamplesTheDistortedImageWhereTheModelProjectsEachRay) {
   PinholeRadtanIntrinsics k;
   k.fx = k.fy = 40, k.cx = 19.5, k.cy = 14.5, k.k1 = -0.2, k.p1 = 0.01;
   const PinholeRadtan model(40, 30, k);
@@ -71,8 +72,52 @@ TEST(SplatImages, UndistortionSamplesTheDistortedImageWhereTheModelProjectsEachR
   EXPECT_FALSE(IsDistorted(plain));
 }
 
-TEST(SplatImages, LidarDepthKeepsTheNearestPointPerPixel) {
-  splat::SplatCamera camera;
+// A model that is neither pinhole-radtan nor equidistant (an orthographic camera, for the test only).
+class Orthographic : public CameraModel {
+ public:
+  Orthographic() : CameraModel(4, 3) {}
+  Eigen::Vector3d Unproject(const Eigen::Vector2d&) const override { return Eigen::Vector3d::UnitZ(); }
+  std::unique_ptr<CameraModel> Clone() const override { return std::make_unique<Orthographic>(*this); }
+
+ protected:
+  std::optional<Eigen::Vector2d> ProjectInFront(const Eigen::Vector3d& p,
+                                                Eigen::Matrix<double, 2, 3>*) const override {
+    return Eigen::Vector2d(p.x(), p.y());
+  }
+  Status ValidateIntrinsics() const override { return {}; }
+};
+
+TEST(TrainingImages, ThePinholeOfAModelIsItsSizeFocalLengthsAndPrincipalPoint) {
+  PinholeRadtanIntrinsics radtan;
+  radtan.fx = 400, radtan.fy = 410, radtan.cx = 319.5, radtan.cy = 239.25, radtan.k2 = 0.01;
+  const std::optional<Pinhole> p = PinholeOf(PinholeRadtan(640, 480, radtan));
+  ASSERT_TRUE(p.has_value());
+  EXPECT_EQ(p->width, 640);
+  EXPECT_EQ(p->height, 480);
+  EXPECT_EQ(p->fx, 400);
+  EXPECT_EQ(p->fy, 410);
+  EXPECT_EQ(p->cx, 319.5);
+  EXPECT_EQ(p->cy, 239.25);
+  EXPECT_TRUE(IsDistorted(PinholeRadtan(640, 480, radtan)));  // k2 alone is a distortion
+
+  // A fisheye keeps its focal lengths and principal point, and is always distorted, even without
+  // coefficients (its projection is not a pinhole's).
+  const Equidistant fisheye(1280, 1024, EquidistantIntrinsics{350, 350.5, 640.1, 511.9});
+  const std::optional<Pinhole> f = PinholeOf(fisheye);
+  ASSERT_TRUE(f.has_value());
+  EXPECT_EQ(f->width, 1280);
+  EXPECT_EQ(f->height, 1024);
+  EXPECT_EQ(f->fx, 350);
+  EXPECT_EQ(f->fy, 350.5);
+  EXPECT_EQ(f->cx, 640.1);
+  EXPECT_EQ(f->cy, 511.9);
+  EXPECT_TRUE(IsDistorted(fisheye));
+
+  EXPECT_FALSE(PinholeOf(Orthographic()).has_value());
+}
+
+TEST(TrainingImages, LidarDepthKeepsTheNearestPointPerPixel) {
+  SplatCamera camera;
   camera.width = 8, camera.height = 6, camera.fx = camera.fy = 4, camera.cx = 3.5, camera.cy = 2.5;
   // The camera at (0, 0, -1), its axes the world's.
   camera.T_world_camera = SE3(SO3(), Eigen::Vector3d(0, 0, -1));
@@ -89,7 +134,7 @@ TEST(SplatImages, LidarDepthKeepsTheNearestPointPerPixel) {
   EXPECT_EQ(filled, 1);
 }
 
-TEST(SplatImages, GrayImagesBecomeGreyRgb) {
+TEST(TrainingImages, GrayImagesBecomeGreyRgb) {
   Image gray;
   gray.width = 2, gray.height = 1, gray.channels = 1, gray.pixels = {0, 255};
   EXPECT_EQ(ToRgbFloat(gray), (std::vector<float>{0, 0, 0, 1, 1, 1}));
@@ -99,4 +144,4 @@ TEST(SplatImages, GrayImagesBecomeGreyRgb) {
 }
 
 }  // namespace
-}  // namespace uf::app
+}  // namespace uf::splat

@@ -1,8 +1,8 @@
-#include "viewer/app/keyframe_mapper.h"
+#include "mapping/keyframe_mapper.h"
 
 #include "odometry/io/image_decode.h"
 
-namespace uf::app {
+namespace uf::mapping {
 namespace {
 
 // The body pose at `stamp` between two keyframes (slerp of the rotation, lerp of the translation).
@@ -16,8 +16,8 @@ SE3 Interpolate(const Keyframe& a, const Keyframe& b, Stamp stamp) {
 Expected<KeyframeMapper> KeyframeMapper::Create(const KeyframeMapperOptions& options,
                                                 const DatasetDescription& description,
                                                 const SE3& T_estimator_body) {
-  if (Status s = mapping::ValidateColorizerOptions(options.colorizer); !s.ok()) return s;
-  Expected<mapping::GlobalMap> map = mapping::GlobalMap::Create(options.map);
+  if (Status s = ValidateColorizerOptions(options.colorizer); !s.ok()) return s;
+  Expected<GlobalMap> map = GlobalMap::Create(options.map);
   if (!map) return map.status();
   KeyframeMapper mapper(options, std::move(*map));
   for (std::size_t s = 0; s < description.streams.size(); ++s) {
@@ -81,7 +81,7 @@ std::optional<SE3> KeyframeMapper::BodyPoseAt(Stamp stamp, const Keyframe& keyfr
 
 Status KeyframeMapper::MapKeyframe(const Keyframe& keyframe, const Keyframe* before, const Keyframe* after) {
   const Stamp reach = FromSeconds(options_.max_frame_distance_s);
-  std::vector<mapping::CameraView> views;
+  std::vector<CameraView> views;
   for (HeldFrame& held : frames_) {
     if (held.decode_failed || std::llabs(held.frame.stamp - keyframe.stamp) > reach) continue;
     const std::optional<SE3> T_world_body = BodyPoseAt(held.frame.stamp, keyframe, before, after);
@@ -92,9 +92,9 @@ Status KeyframeMapper::MapKeyframe(const Keyframe& keyframe, const Keyframe* bef
                           " s not used: " + s.message());
       continue;
     }
-    mapping::CameraView view{&held.frame.image, held.camera->model.get(),
-                             *T_world_body * held.camera->T_body_cam, held.frame.stamp};
-    if (Status s = mapping::CheckCameraView(view); !s.ok()) {
+    CameraView view{&held.frame.image, held.camera->model.get(), *T_world_body * held.camera->T_body_cam,
+                    held.frame.stamp};
+    if (Status s = CheckCameraView(view); !s.ok()) {
       held.decode_failed = true;
       warnings_.push_back("camera frame at " + std::to_string(ToSeconds(held.frame.stamp)) +
                           " s not used: " + s.message());
@@ -102,11 +102,11 @@ Status KeyframeMapper::MapKeyframe(const Keyframe& keyframe, const Keyframe* bef
     }
     views.push_back(view);
   }
-  std::vector<mapping::PointColor> colors;
+  std::vector<PointColor> colors;
   if (!views.empty()) {
     const Stamp stamp = keyframe.stamp;
-    Expected<mapping::ColorizeResult> colored =
-        mapping::Colorize(keyframe.scan_world, std::span<const Stamp>(&stamp, 1), views, options_.colorizer);
+    Expected<ColorizeResult> colored =
+        Colorize(keyframe.scan_world, std::span<const Stamp>(&stamp, 1), views, options_.colorizer);
     if (!colored) return colored.status();
     colored_ += colored->colored;
     in_footprint_ += colored->in_footprint;
@@ -119,4 +119,4 @@ void KeyframeMapper::DropFramesBefore(Stamp stamp) {
   while (!frames_.empty() && frames_.front().frame.stamp < stamp) frames_.pop_front();
 }
 
-}  // namespace uf::app
+}  // namespace uf::mapping

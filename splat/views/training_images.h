@@ -1,9 +1,10 @@
 // Camera images made into splat training images: 8-bit to float rgb, lens distortion removed, resized to the
-// training resolution with the intrinsics to match, and LiDAR depth rendered into the view.
+// training resolution with the intrinsics to match, and LiDAR depth rendered into the view. The training and
+// held-out views of splat training are made with these (docs/ARCHITECTURE.md, the splat stage).
 //
-// Pixel convention (render_types.h, camera_model.h): pixel (x, y) is centred at (x, y), so pixel x covers
-// [x - 0.5, x + 0.5]. Resizing by s = W'/W keeps the image's edges where they are: an image coordinate u
-// becomes u' = s (u + 0.5) - 0.5, hence fx' = s fx and cx' = s (cx + 0.5) - 0.5 (likewise y with
+// Pixel convention (splat/render_types.h, odometry/types/camera_model.h): pixel (x, y) is centred at (x, y),
+// so pixel x covers [x - 0.5, x + 0.5]. Resizing by s = W'/W keeps the image's edges where they are: an image
+// coordinate u becomes u' = s (u + 0.5) - 0.5, hence fx' = s fx and cx' = s (cx + 0.5) - 0.5 (likewise y with
 // s_y = H'/H). Down-scaling averages the source pixels over each target pixel's footprint, weighted by the
 // area they overlap (box filter, exact for any ratio); up-scaling thereby picks the covering pixel.
 #pragma once
@@ -16,7 +17,7 @@
 #include "odometry/types/measurements.h"
 #include "splat/render_types.h"
 
-namespace uf::app {
+namespace uf::splat {
 
 struct Pinhole {
   int width = 0, height = 0;
@@ -46,7 +47,7 @@ Pinhole ScalePinhole(const Pinhole& pinhole, int width, int height);
 // LiDAR depth for a view: each point t = T_camera_world p in front of the camera (t_z > near) lands in the
 // pixel (round(fx t_x / t_z + cx), round(fy t_y / t_z + cy)); a pixel keeps the nearest t_z (a z-buffer).
 // width x height floats, 0 where no point landed.
-std::vector<float> ProjectDepth(std::span<const Eigen::Vector3f> points, const splat::SplatCamera& camera,
+std::vector<float> ProjectDepth(std::span<const Eigen::Vector3f> points, const SplatCamera& camera,
                                 float near = 0.2f);
 
-}  // namespace uf::app
+}  // namespace uf::splat

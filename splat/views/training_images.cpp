@@ -1,9 +1,9 @@
-#include "viewer/app/splat_images.h"
+#include "splat/views/training_images.h"
 
 #include <algorithm>
 #include <cmath>
 
-namespace uf::app {
+namespace uf::splat {
 namespace {
 
 // Per target pixel along one axis: the source pixels it overlaps and the overlap lengths, normalised.
@@ -127,7 +127,7 @@ Pinhole ScalePinhole(const Pinhole& p, int width, int height) {
   return scaled;
 }
 
-std::vector<float> ProjectDepth(std::span<const Eigen::Vector3f> points, const splat::SplatCamera& camera,
+std::vector<float> ProjectDepth(std::span<const Eigen::Vector3f> points, const SplatCamera& camera,
                                 float near) {
   std::vector<float> depth(static_cast<std::size_t>(camera.width) * camera.height, 0.0f);
   const SE3 T_camera_world = camera.T_world_camera.inverse();
@@ -145,4 +145,4 @@ std::vector<float> ProjectDepth(std::span<const Eigen::Vector3f> points, const s
   return depth;
 }
 
-}  // namespace uf::app
+}  // namespace uf::splat

@@ -1,5 +1,6 @@
-// The mapping stage of `ultrafusion run`: keyframes from the estimator go into the global map (OpenVDB),
-// coloured from the camera images taken around them.
+// Keyframes into the global map (OpenVDB), coloured from the camera images taken around them: the map
+// stage of `ultrafusion run` (docs/ARCHITECTURE.md) feeds it the estimator's keyframes, or with --from map
+// the scans deskewed with an earlier trajectory (deskew_with_trajectory.h).
 //
 // A keyframe carries its pose at the middle of its sweep; a camera frame is taken at its own time, so the
 // camera pose is interpolated between the keyframes that bracket the frame (slerp/lerp of T_world_body),
@@ -21,11 +22,11 @@
 #include "odometry/io/dataset_reader.h"
 #include "odometry/types/keyframe.h"
 
-namespace uf::app {
+namespace uf::mapping {
 
 struct KeyframeMapperOptions {
-  mapping::GlobalMapConfig map;
-  mapping::ColorizerOptions colorizer;
+  GlobalMapConfig map;
+  ColorizerOptions colorizer;
   double max_frame_distance_s = 0.1;  // camera frames used for a keyframe: within this of its stamp
 };
 
@@ -43,7 +44,7 @@ class KeyframeMapper {
   // Colours and inserts the keyframes still held.
   Status Finish();
 
-  const mapping::GlobalMap& map() const { return map_; }
+  const GlobalMap& map() const { return map_; }
   const std::vector<std::string>& warnings() const { return warnings_; }
   std::size_t colored_points() const { return colored_; }
   std::size_t in_footprint_points() const { return in_footprint_; }
@@ -59,8 +60,7 @@ class KeyframeMapper {
     CameraFrame frame;
     bool decode_failed = false;
   };
-  KeyframeMapper(KeyframeMapperOptions options, mapping::GlobalMap map)
-      : options_(options), map_(std::move(map)) {}
+  KeyframeMapper(KeyframeMapperOptions options, GlobalMap map) : options_(options), map_(std::move(map)) {}
   // Colours and inserts `keyframe`, interpolating camera poses between `before` and `after` (either may be
   // missing: frames outside the bracket are not used).
   Status MapKeyframe(const Keyframe& keyframe, const Keyframe* before, const Keyframe* after);
@@ -69,7 +69,7 @@ class KeyframeMapper {
   void DropFramesBefore(Stamp stamp);
 
   KeyframeMapperOptions options_;
-  mapping::GlobalMap map_;
+  GlobalMap map_;
   std::vector<Camera> cameras_;
   std::deque<HeldFrame> frames_;
   std::deque<Keyframe> keyframes_;  // at most two: the one waiting for its successor, and its predecessor
@@ -77,4 +77,4 @@ class KeyframeMapper {
   std::size_t colored_ = 0, in_footprint_ = 0;
 };
 
-}  // namespace uf::app
+}  // namespace uf::mapping
