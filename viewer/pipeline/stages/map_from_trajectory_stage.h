@@ -1,6 +1,6 @@
 // The map stage of `ultrafusion run --from map`, first half: instead of keyframes from the odometry, the
-// trajectory of an earlier run (its trajectory.tum) and the dataset's scans read again. Each scan is
-// deskewed with the trajectory interpolated at every point's time and handed to the mapper as a keyframe,
+// trajectory of an earlier run (its trajectory.tum) and the dataset's scans read again. Each scan is deskewed
+// with the trajectory at every point's time (mapping/deskew_with_trajectory.h) and handed to the mapper as a keyframe,
 // so that the map, its colour and its exports are then made exactly as after the odometry (RunMapStage).
 //
 // Frames (run_frames.h): trajectory.tum holds T_W_F(t); the mapper wants the estimator's body E:
@@ -44,11 +44,5 @@ struct MapFromTrajectoryOutput {
 
 Expected<MapFromTrajectoryOutput> RunMapFromTrajectory(const MapFromTrajectoryInput& input,
                                                        StageContext& context);
-
-// The scan deskewed into the world as a keyframe stamped at the middle of its sweep; none when the
-// trajectory T_W_E does not cover that time. Points outside [min_range_m, max_range_m] or not finite are
-// dropped; without per-point times the whole scan takes the pose of its middle.
-std::optional<Keyframe> DeskewScan(const LidarScan& scan, const Trajectory& T_world_est, const SE3& T_est_lidar,
-                                   double min_range_m, double max_range_m);
 
 }  // namespace uf::pipeline
