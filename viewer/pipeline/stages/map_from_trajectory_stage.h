@@ -1,7 +1,8 @@
 // The map stage of `ultrafusion run --from map`, first half: instead of keyframes from the odometry, the
 // trajectory of an earlier run (its trajectory.tum) and the dataset's scans read again. Each scan is deskewed
-// with the trajectory at every point's time (mapping/deskew_with_trajectory.h) and handed to the mapper as a keyframe,
-// so that the map, its colour and its exports are then made exactly as after the odometry (RunMapStage).
+// with the trajectory at every point's time (mapping/deskew_with_trajectory.h) and handed to the mapper as a
+// keyframe, so that the map, its colour and its exports are then made exactly as after the odometry
+// (RunMapStage).
 //
 // Frames (run_frames.h): trajectory.tum holds T_W_F(t); the mapper wants the estimator's body E:
 //   T_W_E(t) = T_W_F(t) * T_F_E,
