@@ -1,9 +1,8 @@
 // `ultrafusion run DATASET [--out DIR] [--config FILE] [--mode auto|lo|lio] [--output-frame lidar|imu]
-// [--no-map] [--no-mesh] [--map-voxel M]`: runs the pipeline's stages (run_stages.h: dataset, odometry,
-// map, exports, accuracy) over a dataset, with progress per stage and a summary table at the end, into DIR
-// or a new runs/<UTC time>/ (run_folder.h). Writes config.yaml (the resolved config and the command line
-// that repeats the run), the stages' files, report.md and report.html.
-// Settings come from the defaults, then the `dataset:`, `lo:` and `lio:` sections of --config.
+// [--from map|splat] [--no-map] [--no-mesh] [--no-splat] [--map-voxel M]`: the options and the `dataset:`,
+// `lo:`, `lio:` and `splat:` sections of --config become a pipeline::RunRequest, which the pipeline
+// (viewer/pipeline/run/run_pipeline.h) plans and runs stage by stage into DIR or a new runs/<UTC time>/;
+// report.md and report.html are written from its summary (report/run_report.h), a table printed.
 // Modes: lo = LiDAR-only odometry, lio = LiDAR-inertial; auto = LIO when there is an IMU and the LiDAR's
 // extrinsic, else LO (with a warning).
 // Errors: bad options or config exit 2 and bad data found before anything is written exit 1, both leaving
