@@ -60,7 +60,8 @@ LioRun RunLio(
   EXPECT_TRUE(lio.ok()) << lio.error();
   const Status read = ForEachMeasurement(**reader, [&](Measurement& m) {
     if (const auto* scan = std::get_if<LidarScan>(&m.data)) return lio->AddScan(*scan);
-    if (auto* sample = std::get_if<ImuSample>(&m.data); sample && edit_imu(*sample)) return lio->AddImu(*sample);
+    if (auto* sample = std::get_if<ImuSample>(&m.data); sample && edit_imu(*sample))
+      return lio->AddImu(*sample);
     return Status();
   });
   EXPECT_TRUE(read.ok()) << read.message();

@@ -46,8 +46,8 @@ void ExpectSame(const SE3& a, const SE3& b) {
 
 // The camera pose the views use: T_M_W * T_W_F(t) * T_F_C.
 RunFrames Frames(const Rig& rig, OdometryMode mode, TrajectoryFrame frame, bool from_trajectory = false) {
-  Expected<RunFrames> frames = ResolveRunFrames(rig.description, mode, frame,
-                                                from_trajectory ? MapSource::kTrajectory : MapSource::kOdometry);
+  Expected<RunFrames> frames = ResolveRunFrames(
+      rig.description, mode, frame, from_trajectory ? MapSource::kTrajectory : MapSource::kOdometry);
   EXPECT_TRUE(frames.ok()) << frames.error();
   return *frames;
 }
@@ -121,7 +121,9 @@ TEST(RunFrames, NamesReadBackAndAMissingExtrinsicIsAnError) {
   Rig rig;
   rig.description.streams[1].T_body_sensor.reset();
   EXPECT_TRUE(ResolveRunFrames(rig.description, kLo, kLidar, MapSource::kOdometry).ok());
-  EXPECT_NE(ResolveRunFrames(rig.description, kLo, kImu, MapSource::kOdometry).error().find("T_body_sensor of lidar"),
+  EXPECT_NE(ResolveRunFrames(rig.description, kLo, kImu, MapSource::kOdometry)
+                .error()
+                .find("T_body_sensor of lidar"),
             std::string::npos);
 }
 
@@ -138,13 +140,20 @@ TEST(SplatCameraPoses, KeyframesAreSelectedByDistanceOrAngle) {
 TEST(SplatCameraPoses, CamerasThatCannotBePlacedAreErrorsThatSaySo) {
   Rig rig;
   rig.description.streams[2].camera_model.reset();
-  EXPECT_NE(FindSplatCamera(rig.description, Frames(rig, kLio, kImu).T_output_body).error().find("cam0 has no intrinsics"),
+  EXPECT_NE(FindSplatCamera(rig.description, Frames(rig, kLio, kImu).T_output_body)
+                .error()
+                .find("cam0 has no intrinsics"),
             std::string::npos);
   rig = Rig();
   rig.description.streams[2].T_body_sensor.reset();
-  EXPECT_NE(FindSplatCamera(rig.description, Frames(rig, kLio, kImu).T_output_body).error().find("no extrinsic"), std::string::npos);
+  EXPECT_NE(
+      FindSplatCamera(rig.description, Frames(rig, kLio, kImu).T_output_body).error().find("no extrinsic"),
+      std::string::npos);
   rig.description.streams.pop_back();
-  EXPECT_NE(FindSplatCamera(rig.description, Frames(rig, kLio, kImu).T_output_body).error().find("no camera stream"), std::string::npos);
+  EXPECT_NE(FindSplatCamera(rig.description, Frames(rig, kLio, kImu).T_output_body)
+                .error()
+                .find("no camera stream"),
+            std::string::npos);
 }
 
 }  // namespace

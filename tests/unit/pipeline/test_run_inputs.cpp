@@ -1,5 +1,5 @@
-// run.json written and read back (every transform bit for bit), and the errors for run folders that cannot be trained on: no run.json,
-// a damaged one, no trajectory, a trajectory with NaN, no map.
+// run.json written and read back (every transform bit for bit), and the errors for run folders that cannot be
+// trained on: no run.json, a damaged one, no trajectory, a trajectory with NaN, no map.
 #include <gtest/gtest.h>
 
 #include "tests/support/temp_dir.h"
@@ -16,7 +16,8 @@ TEST(RunRecord, RunJsonRoundTripsEveryTransformExactly) {
   RunRecord record;
   record.dataset = "/data/seq";
   RunFrames& f = record.frames;
-  f.mode = OdometryMode::kLio, f.trajectory_frame = TrajectoryFrame::kImu, f.map_from = MapSource::kTrajectory;
+  f.mode = OdometryMode::kLio, f.trajectory_frame = TrajectoryFrame::kImu,
+  f.map_from = MapSource::kTrajectory;
   Vector6d xi;
   xi << 0.1, -0.2, 0.3, 0.01, 0.02, -0.03;
   f.T_imu_lidar = SE3::Exp(xi);

@@ -5,8 +5,8 @@
 #include <memory>
 
 #include "odometry/eval/evaluation.h"
-#include "odometry/io/trajectory_file.h"
 #include "odometry/eval/evaluation_report.h"
+#include "odometry/io/trajectory_file.h"
 #include "viewer/app/cli/exit_codes.h"
 #include "viewer/app/cli/subcommand.h"
 

@@ -57,8 +57,10 @@ int RunExport(const ExportArguments& a) {
 
 Subcommand AddExportCommand(CLI::App& app) {
   auto a = std::make_shared<ExportArguments>();
-  CLI::App* command = app.add_subcommand("export", "Write a run's map (map.vdb, map.voxels) as PLY, LAS 1.4 and glTF");
-  command->add_option("RUN_DIR", a->run_dir, "Output folder of `ultrafusion run` (holds map.vdb and map.voxels)")
+  CLI::App* command =
+      app.add_subcommand("export", "Write a run's map (map.vdb, map.voxels) as PLY, LAS 1.4 and glTF");
+  command
+      ->add_option("RUN_DIR", a->run_dir, "Output folder of `ultrafusion run` (holds map.vdb and map.voxels)")
       ->required();
   command->add_option("--format", a->formats, "Comma-separated: ply, las, glb")->capture_default_str();
   command

@@ -11,14 +11,13 @@
 #include "export/exr_view.h"
 #include "export/splat_gltf.h"
 #include "export/splat_ply.h"
-#include "odometry/io/atomic_file.h"
-#include "odometry/io/image_decode.h"
 #include "odometry/io/trajectory_file.h"
 #include "splat/distorted_view.h"
 #include "splat/splat_renderer.h"
 #include "viewer/app/cli/exit_codes.h"
-#include "viewer/pipeline/progress_line.h"
 #include "viewer/app/render_camera.h"
+#include "viewer/pipeline/progress_line.h"
+#include "viewer/pipeline/splat/splat_outputs.h"
 
 namespace uf::app {
 
@@ -42,23 +41,6 @@ Expected<splat::GaussianModel> LoadSplats(const std::string& path) {
   if (extension == ".ply") return exporting::ReadSplatPly(path);
   if (extension == ".glb") return exporting::ReadSplatGltf(path);
   return Status::Error(path + ": unknown splat file type '" + extension + "' (expected .ply or .glb)");
-}
-
-// 8-bit preview of the display-referred colour (already composited over the background).
-Status WritePreviewPng(const splat::RenderedView& view, const fs::path& path) {
-  Image image;
-  image.width = view.width;
-  image.height = view.height;
-  image.channels = 3;
-  image.pixels.resize(view.rgb.size());
-  for (std::size_t i = 0; i < view.rgb.size(); ++i)
-    image.pixels[i] = static_cast<std::uint8_t>(std::lround(255.0f * std::clamp(view.rgb[i], 0.0f, 1.0f)));
-  Expected<std::vector<std::uint8_t>> png = EncodePng(image, path.string());
-  if (!png) return png.status();
-  AtomicFileWriter file(path.string());
-  if (Status s = file.status(); !s.ok()) return s;
-  file.stream().write(reinterpret_cast<const char*>(png->data()), static_cast<std::streamsize>(png->size()));
-  return file.Commit();
 }
 
 // The camera of the output views: the file's, or resized to --width x --height.
@@ -122,7 +104,10 @@ int RunRender(const RenderArguments& a) {
           !s.ok())
         return ReportError(s);
       if (a.png)
-        if (Status s = WritePreviewPng(*view, fs::path(a.out) / (name + ".png")); !s.ok())
+        // 8-bit preview of the display-referred colour (already composited over the background).
+        if (Status s = pipeline::WriteRgbPng(fs::path(a.out) / (name + ".png"), view->rgb, view->width,
+                                             view->height);
+            !s.ok())
           return ReportError(s);
       progress.Update("views", static_cast<std::int64_t>(i + 1), static_cast<std::int64_t>(poses->size()));
     }

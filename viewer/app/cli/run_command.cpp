@@ -75,7 +75,8 @@ int RunRun(const RunArguments& a) {
   pipeline::PlanErrorKind kind;
   Expected<pipeline::RunPlan> plan = pipeline::PlanRun(std::move(*request), kind);
   if (!plan)
-    return kind == pipeline::PlanErrorKind::kUsage ? ReportUsageError(plan.status()) : ReportError(plan.status());
+    return kind == pipeline::PlanErrorKind::kUsage ? ReportUsageError(plan.status())
+                                                   : ReportError(plan.status());
   fs::path out;
   Expected<pipeline::RunSummary> summary = pipeline::RunPipeline(*plan, out);
   if (!summary) return ReportError(summary.status());
@@ -101,8 +102,9 @@ Subcommand AddRunCommand(CLI::App& app) {
                   "YAML file with dataset:, lo:, lio: and splat: sections (see configs/kitti.yaml, "
                   "configs/run-sim.yaml, configs/splat.yaml)")
       ->check(CLI::ExistingFile);
-  run->add_option("--mode", a->mode,
-                  "auto: LIO with an IMU and the LiDAR's extrinsic, else LO; lo: LiDAR only; lio: LiDAR + IMU")
+  run->add_option(
+         "--mode", a->mode,
+         "auto: LIO with an IMU and the LiDAR's extrinsic, else LO; lo: LiDAR only; lio: LiDAR + IMU")
       ->check(CLI::IsMember({"auto", "lo", "lio"}))
       ->capture_default_str();
   run->add_option("--output-frame", a->output_frame,

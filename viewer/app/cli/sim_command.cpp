@@ -8,8 +8,8 @@
 #include "odometry/sim/scene/scene_builder.h"
 #include "odometry/sim/sequence/sequence_generator.h"
 #include "viewer/app/cli/exit_codes.h"
-#include "viewer/pipeline/progress_line.h"
 #include "viewer/app/sim_config.h"
+#include "viewer/pipeline/progress_line.h"
 
 namespace uf::app {
 

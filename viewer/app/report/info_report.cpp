@@ -7,7 +7,8 @@
 namespace uf::app {
 namespace {
 
-// A camera calibration as JSON, and as one line: "radial-tangential 752x480, fx fy cx cy [...], distortion [...]".
+// A camera calibration as JSON, and as one line: "radial-tangential 752x480, fx fy cx cy [...], distortion
+// [...]".
 nlohmann::json CameraJson(const CameraModel& camera) {
   nlohmann::json j = {{"width", camera.width()}, {"height", camera.height()}};
   if (const auto* radtan = dynamic_cast<const PinholeRadtan*>(&camera)) {

@@ -76,12 +76,14 @@ Expected<FittedCamera> CameraForImage(const LoadedIntrinsics& intrinsics, const 
   if (std::abs(image.width - w) > w / 4 || std::abs(image.height - h) > h / 4)
     camera.warning =
         "the image and calibrated sizes differ by more than 25 %: if the image was scaled rather than "
-        "cropped, " + path + " does not fit it";
+        "cropped, " +
+        path + " does not fit it";
   return camera;
 }
 
-Expected<ColorizeSummary> ColorizeWithImage(const ColorizeScan& scan, const Image& image, const CameraModel& camera,
-                                            const SE3& T_cam_lidar, bool overlay, const ColorizeFileNames& names) {
+Expected<ColorizeSummary> ColorizeWithImage(const ColorizeScan& scan, const Image& image,
+                                            const CameraModel& camera, const SE3& T_cam_lidar, bool overlay,
+                                            const ColorizeFileNames& names) {
   // The LiDAR frame is the world frame: T_world_cam = T_lidar_cam = T_cam_lidar^-1.
   const SE3 T_world_cam = T_cam_lidar.inverse();
   const SE3 T_cam_world = T_cam_lidar;

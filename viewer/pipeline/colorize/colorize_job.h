@@ -1,7 +1,7 @@
 // `ultrafusion colorize` as a job: one LiDAR scan coloured from one camera image through a calibration, the
-// calibration scored by how well the scan's depth edges fall on image edges (mapping/colorize_edge_alignment.h),
-// and the outputs: the coloured points as PLY and, when asked, the image with the projected depth drawn.
-// The LiDAR frame is the world frame: T_world_cam = T_cam_lidar^-1.
+// calibration scored by how well the scan's depth edges fall on image edges
+// (mapping/colorize_edge_alignment.h), and the outputs: the coloured points as PLY and, when asked, the image
+// with the projected depth drawn. The LiDAR frame is the world frame: T_world_cam = T_cam_lidar^-1.
 #pragma once
 
 #include <memory>
@@ -40,8 +40,9 @@ struct ColorizeFileNames {
 };
 
 // Errors: no point in front of the camera (the extrinsic's direction), none inside the image.
-Expected<ColorizeSummary> ColorizeWithImage(const ColorizeScan& scan, const Image& image, const CameraModel& camera,
-                                            const SE3& T_cam_lidar, bool overlay, const ColorizeFileNames& names);
+Expected<ColorizeSummary> ColorizeWithImage(const ColorizeScan& scan, const Image& image,
+                                            const CameraModel& camera, const SE3& T_cam_lidar, bool overlay,
+                                            const ColorizeFileNames& names);
 
 // Writes the overlay (when the summary has one) and the PLY so that either both appear or neither: the
 // overlay goes to a temporary file first (which also proves its folder writable), then the PLY, then the

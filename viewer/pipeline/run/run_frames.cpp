@@ -56,7 +56,9 @@ Expected<SE3> OutputFromBody(const DatasetDescription& description, TrajectoryFr
 
 std::string_view Name(OdometryMode mode) { return mode == OdometryMode::kLio ? "lio" : "lo"; }
 std::string_view Name(TrajectoryFrame frame) { return frame == TrajectoryFrame::kImu ? "imu" : "lidar"; }
-std::string_view Name(MapSource source) { return source == MapSource::kTrajectory ? "trajectory" : "odometry"; }
+std::string_view Name(MapSource source) {
+  return source == MapSource::kTrajectory ? "trajectory" : "odometry";
+}
 
 std::optional<OdometryMode> ParseOdometryMode(std::string_view text) {
   return Parse(text, std::array{OdometryMode::kLo, OdometryMode::kLio});

@@ -24,8 +24,8 @@
 
 namespace uf::pipeline {
 
-enum class OdometryMode { kLo, kLio };          // LiDAR only; LiDAR + IMU
-enum class TrajectoryFrame { kLidar, kImu };    // frame F of trajectory.tum
+enum class OdometryMode { kLo, kLio };            // LiDAR only; LiDAR + IMU
+enum class TrajectoryFrame { kLidar, kImu };      // frame F of trajectory.tum
 enum class MapSource { kOdometry, kTrajectory };  // keyframes of the odometry; trajectory.tum (--from map)
 
 // "lo" / "lio", "lidar" / "imu", "odometry" / "trajectory": the words of the command line and run.json.

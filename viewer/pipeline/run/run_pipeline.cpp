@@ -84,16 +84,19 @@ void DescribeRun(const RunPlan& plan, RunSummary& summary) {
   if (r.no_map) summary.notes.push_back("--no-map: no map written");
   if (r.from == RunFrom::kSplat)
     summary.notes.push_back(
-        "--from splat: the splats are trained on map.vdb and trajectory.tum of the earlier run in this folder");
+        "--from splat: the splats are trained on map.vdb and trajectory.tum of the earlier run in this "
+        "folder");
   if (r.from == RunFrom::kMap) {
     summary.notes.push_back(
-        "--from map: the trajectory is trajectory.tum of the earlier run in this folder, the map made from the "
+        "--from map: the trajectory is trajectory.tum of the earlier run in this folder, the map made from "
+        "the "
         "dataset's scans deskewed with it; the odometry's figures are in timing.json");
     std::error_code error;
     if (fs::exists(r.out / "plots/timing_per_scan.png", error))
       summary.odometry.timing_plot = "plots/timing_per_scan.png";
   }
-  summary.config_yaml = app::EmitDatasetConfig(r.dataset_config) + app::EmitLidarOdometryConfig(plan.lo_config) +
+  summary.config_yaml = app::EmitDatasetConfig(r.dataset_config) +
+                        app::EmitLidarOdometryConfig(plan.lo_config) +
                         (r.no_splat ? "" : app::EmitSplatConfig(r.splat_config));
   summary.repeat_command = RepeatCommand(r, plan.frames);
 }

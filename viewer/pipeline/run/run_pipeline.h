@@ -5,7 +5,8 @@
 //   dataset   one pass over the dataset as `ultrafusion info` makes it        stages/dataset_stage.h
 //   odometry  LO or LIO; keyframes go straight to the map's mapper           stages/odometry_stage.h
 //   map       the last keyframes, the georeference, map.vdb                   stages/map_stage.h
-//             (--from map: the earlier trajectory and the scans read again)   stages/map_from_trajectory_stage.h
+//             (--from map: the earlier trajectory and the scans read again)
+//             stages/map_from_trajectory_stage.h
 //   exports   map.ply, map.las, map.glb, georef.json                          stages/exports_stage.h
 //   splat     splats trained on the camera images; views: rendered views      stages/splat_stage.h
 //   accuracy  against the ground truth beside the dataset                     stages/accuracy_stage.h
@@ -20,11 +21,11 @@
 #include <optional>
 #include <string>
 
+#include "mapping/keyframe_mapper.h"
 #include "odometry/estimator/lidar_odometry/lidar_odometry.h"
 #include "odometry/io/dataset_sensors.h"
 #include "odometry/io/measurement_stream.h"
 #include "viewer/app/dataset_config.h"
-#include "mapping/keyframe_mapper.h"
 #include "viewer/app/splat_config.h"
 #include "viewer/pipeline/progress_line.h"
 #include "viewer/pipeline/run/run_frames.h"
@@ -32,8 +33,8 @@
 
 namespace uf::pipeline {
 
-enum class ModeChoice { kAuto, kLo, kLio };     // --mode
-enum class RunFrom { kStart, kMap, kSplat };   // --from: re-run from that stage on an earlier run's outputs
+enum class ModeChoice { kAuto, kLo, kLio };   // --mode
+enum class RunFrom { kStart, kMap, kSplat };  // --from: re-run from that stage on an earlier run's outputs
 
 struct RunRequest {
   std::filesystem::path dataset, out;  // out: "" = a new runs/<UTC time>/ with runs/latest

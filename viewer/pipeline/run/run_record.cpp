@@ -70,7 +70,8 @@ Expected<RunRecord> ReadRunRecord(const fs::path& folder) {
   const std::string rerun = " (re-run `ultrafusion run` on the dataset: runs made before it was written " +
                             std::string("have none)");
   std::error_code error;
-  if (!fs::exists(file, error)) return Status::Error(path + ": missing; it names the dataset the run read" + rerun);
+  if (!fs::exists(file, error))
+    return Status::Error(path + ": missing; it names the dataset the run read" + rerun);
   std::ifstream in(file);
   json root;
   try {
@@ -98,7 +99,8 @@ Expected<RunRecord> ReadRunRecord(const fs::path& folder) {
   for (auto [key, T] : {std::pair<const char*, SE3*>{"T_estimator_body", &f.T_estimator_body},
                         {"T_output_body", &f.T_output_body},
                         {"T_map_world", &f.T_map_world}}) {
-    Expected<SE3> read = MatrixFromJson(frames.contains(key) ? frames[key] : json(), path + ": frames." + key);
+    Expected<SE3> read =
+        MatrixFromJson(frames.contains(key) ? frames[key] : json(), path + ": frames." + key);
     if (!read) return read.status();
     *T = *read;
   }

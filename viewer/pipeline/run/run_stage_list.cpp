@@ -109,8 +109,7 @@ std::vector<Stage> RunStageList(RunPlan& plan, const fs::path& out, StageOutputs
   };
   auto splat = [&](StageContext& c) { return Keep(o.splat, RunSplatStage(out, r.splat_config, c)); };
   auto views = [&](StageContext& c) {
-    return Keep(o.views,
-                RunViewsStage(out, o.splat->result, r.splat_config.training.render.background, c));
+    return Keep(o.views, RunViewsStage(out, o.splat->result, r.splat_config.training.render.background, c));
   };
   auto accuracy = [&](StageContext& c) {
     o.accuracy = RunAccuracyStage(*description.ground_truth, out, c);

@@ -26,7 +26,7 @@ struct RunSummary {
   std::vector<StageRecord> stages;
   double wall_seconds = 0;
   std::optional<DatasetSummary> dataset_summary;  // the dataset stage's
-  OdometrySummary odometry;  // zero counts when neither the odometry nor --from map ran
+  OdometrySummary odometry;                       // zero counts when neither the odometry nor --from map ran
   std::optional<MapSummary> map;                  // none with --no-map
   std::optional<SplatJobResult> splat;            // once the splat stage ran
   std::string splat_views;                        // the views stage's line, once it ran

@@ -1,7 +1,7 @@
 // The training and held-out views of a run: the dataset's first camera stream read again, each image placed
 // at its stamp on the run's trajectory, keyframe images selected by camera motion, made into pinhole images
-// at the training resolution (splat/views/training_images.h), and split: every holdout_stride-th selected image
-// (index % stride == 0, as 3DGS) is held out for testing and never trained on.
+// at the training resolution (splat/views/training_images.h), and split: every holdout_stride-th selected
+// image (index % stride == 0, as 3DGS) is held out for testing and never trained on.
 //
 // Where the camera was (frames of run_frames.h, recorded in run.json): trajectory.tum holds T_W_F(t), the
 // camera sits at T_F_C = T_F_B * T_B_C in the trajectory's frame (T_B_C its T_body_sensor), and the map is

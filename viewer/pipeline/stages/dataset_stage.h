@@ -36,7 +36,6 @@ struct DatasetSummary {
   std::int64_t bytes = 0;   // size of the dataset's files
 };
 
-
 // Called every few messages with the messages read so far.
 using MessageProgress = std::function<void(std::int64_t messages)>;
 
@@ -53,7 +52,8 @@ struct DatasetStageOutput {
 };
 
 // The stage: SummarizeDataset with the progress in messages.
-Expected<DatasetStageOutput> RunDatasetStage(const std::filesystem::path& dataset, const DatasetConfig& config,
-                                             int lidar_stream, StageContext& context);
+Expected<DatasetStageOutput> RunDatasetStage(const std::filesystem::path& dataset,
+                                             const DatasetConfig& config, int lidar_stream,
+                                             StageContext& context);
 
 }  // namespace uf::pipeline

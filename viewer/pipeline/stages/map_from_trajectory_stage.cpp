@@ -6,12 +6,14 @@
 
 namespace uf::pipeline {
 
-Expected<MapFromTrajectoryOutput> RunMapFromTrajectory(const MapFromTrajectoryInput& in, StageContext& context) {
+Expected<MapFromTrajectoryOutput> RunMapFromTrajectory(const MapFromTrajectoryInput& in,
+                                                       StageContext& context) {
   context.SetUnit("scans");
   const std::string file = (in.out / "trajectory.tum").string();
   Expected<Trajectory> read = ReadTrajectory(file);
   if (!read) return Status::Error(file + ": " + read.error());
-  if (read->size() < 2 || !read->has_stamps()) return Status::Error(file + ": needs at least two stamped poses");
+  if (read->size() < 2 || !read->has_stamps())
+    return Status::Error(file + ": needs at least two stamped poses");
   // The trajectory in the estimator's body frame, as the odometry stage would have left it.
   MapFromTrajectoryOutput out;
   const SE3 T_out_est = in.frames.T_output_estimator();

@@ -18,10 +18,10 @@
 #include <string>
 #include <vector>
 
+#include "mapping/keyframe_mapper.h"
 #include "odometry/io/dataset_sensors.h"
 #include "odometry/io/measurement_stream.h"
 #include "odometry/types/keyframe.h"
-#include "mapping/keyframe_mapper.h"
 #include "viewer/pipeline/run/run_frames.h"
 #include "viewer/pipeline/stage_runner.h"
 

@@ -62,8 +62,8 @@ Expected<MapStageOutput> RunMapStage(const MapStageInput& in, StageContext& cont
   if (Status s = in.mapper->Finish(); !s.ok()) return s;
   context.Progress(in.keyframes_mapped, in.keyframes_mapped);
   MapStageOutput out;
-  out.georef = GeoreferenceFromGnss(*in.description, in.gnss_stream, in.frames.T_estimator_body, *in.estimated,
-                                    in.fixes, in.frames.mode == OdometryMode::kLio, out.notes);
+  out.georef = GeoreferenceFromGnss(*in.description, in.gnss_stream, in.frames.T_estimator_body,
+                                    *in.estimated, in.fixes, in.frames.mode == OdometryMode::kLio, out.notes);
   Expected<MapSummary> map = SaveRunMap(in.out, *in.mapper, out.georef);
   if (!map) return map.status();
   out.map = std::move(*map);

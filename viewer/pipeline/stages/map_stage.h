@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
+#include "mapping/keyframe_mapper.h"
 #include "mapping/map_file.h"
 #include "odometry/io/dataset_reader.h"
 #include "odometry/types/trajectory.h"
-#include "mapping/keyframe_mapper.h"
 #include "viewer/pipeline/run/run_frames.h"
 #include "viewer/pipeline/stage_runner.h"
 

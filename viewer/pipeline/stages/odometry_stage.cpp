@@ -19,7 +19,8 @@ Status CollectFinished(const OdometryStageInput& in, OdometryStageOutput& out, S
   for (Keyframe& k : in.odometry->TakeFinished()) {
     ++keyframes;
     Trajectory& trajectory = out.estimated;
-    if (!trajectory.stamps.empty() && k.stamp <= trajectory.stamps.back()) continue;  // keep stamps increasing
+    if (!trajectory.stamps.empty() && k.stamp <= trajectory.stamps.back())
+      continue;  // keep stamps increasing
     trajectory.stamps.push_back(k.stamp);
     trajectory.poses.push_back(k.T_world_body);
     if (in.mapper) {
@@ -35,8 +36,8 @@ Status CollectFinished(const OdometryStageInput& in, OdometryStageOutput& out, S
 }
 
 // trajectory.tum, trajectory_kitti.txt, timing.json and the timing plot.
-Status WriteOdometryFiles(const OdometryStageInput& in, const OdometryStageOutput& out, const ScanTimes& times,
-                          OdometrySummary& summary, StageContext& context) {
+Status WriteOdometryFiles(const OdometryStageInput& in, const OdometryStageOutput& out,
+                          const ScanTimes& times, OdometrySummary& summary, StageContext& context) {
   const std::int64_t warnings =
       static_cast<std::int64_t>(summary.reader_warnings.size() + summary.odometry_warnings.size());
   if (Status s = WriteTrajectoryFiles(in.out, in.frames.OutputTrajectory(out.estimated)); !s.ok()) return s;
@@ -98,8 +99,8 @@ Expected<OdometryStageOutput> RunOdometryStage(const OdometryStageInput& in, Sta
   summary.odometry_warnings = odometry.warnings();
   if (out.estimated.empty())
     return Status::Error(in.stream->description().path.string() + ": the odometry produced no pose (" +
-                         std::to_string(scans) + " scans, " + std::to_string(summary.odometry_warnings.size()) +
-                         " warnings)");
+                         std::to_string(scans) + " scans, " +
+                         std::to_string(summary.odometry_warnings.size()) + " warnings)");
   if (Status s = WriteOdometryFiles(in, out, times, summary, context); !s.ok()) return s;
   return out;
 }

@@ -1,8 +1,8 @@
 // The odometry stage of `ultrafusion run`: LO or LIO over the dataset's measurement stream. The LiDAR scans
 // and IMU samples go to the estimator, the camera frames and the keyframes leaving its window go straight to
 // the map's KeyframeMapper (a scan is never held twice), the GNSS fixes are kept for the georeference.
-// Writes trajectory.tum and trajectory_kitti.txt (in the run's trajectory frame, RunFrames::OutputTrajectory),
-// timing.json and plots/timing_per_scan.png.
+// Writes trajectory.tum and trajectory_kitti.txt (in the run's trajectory frame,
+// RunFrames::OutputTrajectory), timing.json and plots/timing_per_scan.png.
 #pragma once
 
 #include <cstdint>
@@ -10,10 +10,10 @@
 #include <string>
 #include <vector>
 
+#include "mapping/keyframe_mapper.h"
 #include "odometry/estimator/lidar_odometry/lidar_odometry.h"
 #include "odometry/io/dataset_sensors.h"
 #include "odometry/io/measurement_stream.h"
-#include "mapping/keyframe_mapper.h"
 #include "viewer/pipeline/run/run_frames.h"
 #include "viewer/pipeline/run_files.h"
 #include "viewer/pipeline/stage_runner.h"

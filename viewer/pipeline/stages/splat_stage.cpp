@@ -16,7 +16,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-
 // views/camera.yaml in the format of `ultrafusion render --camera` (render_camera.h), for a pinhole-radtan
 // camera; false for other models.
 bool WriteCameraYaml(const fs::path& file, const CameraModel& model, Status& status) {
@@ -115,7 +114,8 @@ Expected<std::string> RunViewsStage(const fs::path& out, const SplatJobResult& s
   context.AddOutput("views/ (" + std::to_string(views.size()) + " x .exr, .png; poses.tum" +
                     (yaml ? ", camera.yaml)" : ")"));
   return std::to_string(views.size()) + " held-out views rendered at " + std::to_string(camera.width()) +
-         " x " + std::to_string(camera.height()) + " px into views/ (EXR: R G B A, Z, depth.expected; PNG previews).";
+         " x " + std::to_string(camera.height()) +
+         " px into views/ (EXR: R G B A, Z, depth.expected; PNG previews).";
 }
 
 }  // namespace uf::pipeline
