@@ -87,7 +87,7 @@ int RunRender(const RenderArguments& a) {
   splat::RenderSettings settings;
   settings.background = Eigen::Vector3f(a.background[0], a.background[1], a.background[2]);
   // Distorted cameras render through a covering pinhole and are resampled (splat/distorted_view.h).
-  const PinholeRadtanIntrinsics& k = camera->intrinsics;
+  const PinholeIntrinsics& k = camera->intrinsics.pinhole;
   std::optional<splat::DistortedViewResampler> resampler;
   if (camera->distorted) resampler.emplace(*camera->model, k.fx, k.fy, k.cx, k.cy);
   std::error_code error;
@@ -104,9 +104,7 @@ int RunRender(const RenderArguments& a) {
       if (resampler) {
         view_camera = resampler->Pinhole(poses->poses[i]);
       } else {
-        view_camera.width = camera->width;
-        view_camera.height = camera->height;
-        view_camera.fx = k.fx, view_camera.fy = k.fy, view_camera.cx = k.cx, view_camera.cy = k.cy;
+        view_camera.pinhole = k;
         view_camera.T_world_camera = poses->poses[i];
       }
       const Clock::time_point start = Clock::now();
@@ -125,9 +123,8 @@ int RunRender(const RenderArguments& a) {
       progress.Update("views", static_cast<std::int64_t>(i + 1), static_cast<std::int64_t>(poses->size()));
     }
   }
-  std::printf("render: %zu views of %d x %d px, %zu Gaussians on %s, %.1f ms/view\n", poses->size(),
-              camera->width, camera->height, model->size(), (*renderer)->device_name().c_str(),
-              render_ms / poses->size());
+  std::printf("render: %zu views of %d x %d px, %zu Gaussians on %s, %.1f ms/view\n", poses->size(), k.width,
+              k.height, model->size(), (*renderer)->device_name().c_str(), render_ms / poses->size());
   std::printf("  wrote %s: <stamp ns>.exr (R G B A, Z, %s)%s\n", a.out.c_str(),
               exporting::kExrExpectedDepthChannel, a.png ? " and <stamp ns>.png" : "");
   return kExitOk;

@@ -49,7 +49,8 @@ bool WriteCameraYaml(const fs::path& file, const CameraModel& model, Status& sta
   std::snprintf(text, sizeof(text),
                 "model: pinhole\nwidth: %d\nheight: %d\nfx: %.17g\nfy: %.17g\ncx: %.17g\ncy: %.17g\n"
                 "distortion: [%.17g, %.17g, %.17g, %.17g, %.17g]\n",
-                model.width(), model.height(), k.fx, k.fy, k.cx, k.cy, k.k1, k.k2, k.p1, k.p2, k.k3);
+                model.width(), model.height(), k.pinhole.fx, k.pinhole.fy, k.pinhole.cx, k.pinhole.cy, k.k1,
+                k.k2, k.p1, k.p2, k.k3);
   status = WriteTextFileAtomically(file, text);
   return true;
 }
@@ -101,7 +102,7 @@ Status RunViewsStage(RunState& state, StageContext& context) {
 
   // The camera's own model: a distorted one renders through a covering pinhole and is resampled.
   const CameraModel& camera = *state.splat->model;
-  const splat::Pinhole native = *splat::PinholeOf(camera);
+  const PinholeIntrinsics native = *splat::PinholeOf(camera);
   std::optional<splat::DistortedViewResampler> resampler;
   if (splat::IsDistorted(camera)) resampler.emplace(camera, native.fx, native.fy, native.cx, native.cy);
   splat::RenderSettings settings;
@@ -113,8 +114,7 @@ Status RunViewsStage(RunState& state, StageContext& context) {
     if (resampler) {
       pinhole = resampler->Pinhole(T_world_camera);
     } else {
-      pinhole.width = native.width, pinhole.height = native.height;
-      pinhole.fx = native.fx, pinhole.fy = native.fy, pinhole.cx = native.cx, pinhole.cy = native.cy;
+      pinhole.pinhole = native;
       pinhole.T_world_camera = T_world_camera;
     }
     Expected<splat::RenderedView> view = (*renderer)->Render(pinhole, settings);

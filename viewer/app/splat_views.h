@@ -58,7 +58,7 @@ splat::TrainingView ToTrainingView(const StoredView& view);
 
 struct SplatViews {
   std::vector<StoredView> train, test;
-  splat::Pinhole pinhole;                    // the training images' camera
+  PinholeIntrinsics pinhole;                 // the training images' camera
   std::string camera_name;                   // the stream
   std::shared_ptr<const CameraModel> model;  // the camera's own model (native size, distortion)
   std::int64_t images = 0;                   // frames of the camera stream

@@ -44,7 +44,7 @@ DatasetDescription Description(bool intrinsics = true, bool extrinsic = true) {
   camera.kind = SensorKind::kCamera;
   if (intrinsics)
     camera.camera_model =
-        std::make_shared<PinholeRadtan>(kWidth, kHeight, PinholeRadtanIntrinsics{kF, kF, kCx, kCy});
+        std::make_shared<PinholeRadtan>(PinholeRadtanIntrinsics{{kWidth, kHeight, kF, kF, kCx, kCy}});
   if (extrinsic) camera.T_body_sensor = SE3();
   return description;
 }
