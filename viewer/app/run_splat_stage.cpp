@@ -6,8 +6,8 @@
 #include "export/exr_view.h"
 #include "export/splat_ply.h"
 #include "odometry/io/trajectory_file.h"
-#include "splat/distorted_view.h"
 #include "splat/splat_renderer.h"
+#include "splat/views/camera_view_renderer.h"
 #include "viewer/app/run_outputs.h"
 
 namespace uf::app {
@@ -102,24 +102,18 @@ Status RunViewsStage(RunState& state, StageContext& context) {
 
   // The camera's own model: a distorted one renders through a covering pinhole and is resampled.
   const CameraModel& camera = *state.splat->model;
-  const PinholeIntrinsics native = *splat::PinholeOf(camera);
-  std::optional<splat::DistortedViewResampler> resampler;
-  if (splat::IsDistorted(camera)) resampler.emplace(camera, native.fx, native.fy, native.cx, native.cy);
+  Expected<splat::CameraViewRenderer> camera_views = splat::CameraViewRenderer::Create(camera);
+  if (!camera_views) return camera_views.status();
   splat::RenderSettings settings;
   settings.background = state.splat_config.training.render.background;
   Trajectory poses;
   for (std::size_t i = 0; i < views.size(); ++i) {
     const SE3& T_world_camera = views[i].camera.T_world_camera;
-    splat::SplatCamera pinhole;
-    if (resampler) {
-      pinhole = resampler->Pinhole(T_world_camera);
-    } else {
-      pinhole.pinhole = native;
-      pinhole.T_world_camera = T_world_camera;
-    }
-    Expected<splat::RenderedView> view = (*renderer)->Render(pinhole, settings);
+    Expected<splat::RenderedView> view = camera_views->Render(
+        T_world_camera, settings, [&](const splat::SplatCamera& pinhole, const splat::RenderSettings& s) {
+          return (*renderer)->Render(pinhole, s);
+        });
     if (!view) return view.status();
-    if (resampler) *view = resampler->Resample(*view, settings.background);
     const std::string stem = std::to_string(views[i].stamp);
     if (Status s = exporting::WriteViewExr(*view, (folder / (stem + ".exr")).string()); !s.ok()) return s;
     if (Status s = WriteRgbPng(folder / (stem + ".png"), view->rgb, view->width, view->height); !s.ok())

@@ -1,4 +1,4 @@
-#include "splat/distorted_view.h"
+#include "splat/views/distorted_view.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,9 +6,10 @@
 
 namespace uf::splat {
 
-DistortedViewResampler::DistortedViewResampler(const CameraModel& model, double fx, double fy, double cx0,
-                                               double cy0, double max_scale)
+DistortedViewResampler::DistortedViewResampler(const CameraModel& model,
+                                               const PinholeIntrinsics& model_pinhole, double max_scale)
     : width_(model.width()), height_(model.height()) {
+  const double fx = model_pinhole.fx, fy = model_pinhole.fy, cx0 = model_pinhole.cx, cy0 = model_pinhole.cy;
   const std::size_t n = static_cast<std::size_t>(width_) * height_;
   u_.assign(n, std::numeric_limits<float>::quiet_NaN());
   v_.assign(n, std::numeric_limits<float>::quiet_NaN());
