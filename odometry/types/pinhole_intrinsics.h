@@ -14,6 +14,8 @@ namespace uf {
 struct PinholeIntrinsics {
   int width = 0, height = 0;              // px
   double fx = 0, fy = 0, cx = 0, cy = 0;  // px
+
+  bool operator==(const PinholeIntrinsics&) const = default;
 };
 
 }  // namespace uf

@@ -43,12 +43,7 @@ TEST(CameraViewRenderer, WithoutDistortionItIsTheReferenceViewOfTheModelsPinhole
   SplatCamera asked;
   Expected<RenderedView> view = renderer->Render(kPose, settings, ReferenceRender{&scene, &asked});
   ASSERT_TRUE(view.ok()) << view.error();
-  EXPECT_EQ(asked.pinhole.width, 48);
-  EXPECT_EQ(asked.pinhole.height, 32);
-  EXPECT_EQ(asked.pinhole.fx, 40);
-  EXPECT_EQ(asked.pinhole.fy, 41);
-  EXPECT_EQ(asked.pinhole.cx, 23.5);
-  EXPECT_EQ(asked.pinhole.cy, 15.25);
+  EXPECT_EQ(asked.pinhole, (PinholeIntrinsics{48, 32, 40, 41, 23.5, 15.25}));
   EXPECT_EQ(asked.T_world_camera.matrix(), kPose.matrix());
   const RenderedView reference = RenderReference(scene, asked, settings);
   EXPECT_EQ(view->rgb, reference.rgb);

@@ -92,27 +92,13 @@ TEST(TrainingImages, ThePinholeOfAModelIsItsSizeFocalLengthsAndPrincipalPoint) {
   PinholeRadtanIntrinsics radtan;
   radtan.pinhole = {.width = 640, .height = 480, .fx = 400, .fy = 410, .cx = 319.5, .cy = 239.25};
   radtan.k2 = 0.01;
-  const std::optional<PinholeIntrinsics> p = PinholeOf(PinholeRadtan(radtan));
-  ASSERT_TRUE(p.has_value());
-  EXPECT_EQ(p->width, 640);
-  EXPECT_EQ(p->height, 480);
-  EXPECT_EQ(p->fx, 400);
-  EXPECT_EQ(p->fy, 410);
-  EXPECT_EQ(p->cx, 319.5);
-  EXPECT_EQ(p->cy, 239.25);
+  EXPECT_EQ(PinholeOf(PinholeRadtan(radtan)), (PinholeIntrinsics{640, 480, 400, 410, 319.5, 239.25}));
   EXPECT_TRUE(IsDistorted(PinholeRadtan(radtan)));  // k2 alone is a distortion
 
   // A fisheye keeps its focal lengths and principal point, and is always distorted, even without
   // coefficients (its projection is not a pinhole's).
   const Equidistant fisheye(EquidistantIntrinsics{{1280, 1024, 350, 350.5, 640.1, 511.9}});
-  const std::optional<PinholeIntrinsics> f = PinholeOf(fisheye);
-  ASSERT_TRUE(f.has_value());
-  EXPECT_EQ(f->width, 1280);
-  EXPECT_EQ(f->height, 1024);
-  EXPECT_EQ(f->fx, 350);
-  EXPECT_EQ(f->fy, 350.5);
-  EXPECT_EQ(f->cx, 640.1);
-  EXPECT_EQ(f->cy, 511.9);
+  EXPECT_EQ(PinholeOf(fisheye), (PinholeIntrinsics{1280, 1024, 350, 350.5, 640.1, 511.9}));
   EXPECT_TRUE(IsDistorted(fisheye));
 
   EXPECT_FALSE(PinholeOf(Orthographic()).has_value());
