@@ -60,11 +60,12 @@ inline uf::splat::GaussianModel StreetScene(std::size_t n, std::uint64_t seed) {
 // by yaw (rad) about the world z axis; focal length 0.8 x width.
 inline uf::splat::SplatCamera StreetCamera(int width, int height, double y = 0, double yaw = 0) {
   uf::splat::SplatCamera camera;
-  camera.width = width;
-  camera.height = height;
-  camera.fx = camera.fy = 0.8 * width;
-  camera.cx = 0.5 * width;
-  camera.cy = 0.5 * height;
+  camera.pinhole = {.width = width,
+                    .height = height,
+                    .fx = 0.8 * width,
+                    .fy = 0.8 * width,
+                    .cx = 0.5 * width,
+                    .cy = 0.5 * height};
   Eigen::Matrix3d R_world_camera;
   R_world_camera << 1, 0, 0, 0, 0, 1, 0, -1, 0;
   const Eigen::Matrix3d turn = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();

@@ -6,6 +6,7 @@
 namespace uf::splat {
 
 Status SplatCamera::Validate() const {
+  const auto& [width, height, fx, fy, cx, cy] = pinhole;
   std::ostringstream message;
   if (width <= 0 || height <= 0 || width > 16384 || height > 16384)
     message << "image size must be in [1, 16384] px, got " << width << " x " << height;

@@ -27,15 +27,15 @@
 #include <limits>
 #include <vector>
 
+#include "odometry/types/pinhole_intrinsics.h"
 #include "odometry/types/se3.h"
 #include "odometry/types/status.h"
 
 namespace uf::splat {
 
 struct SplatCamera {
-  int width = 0, height = 0;  // px
-  double fx = 0, fy = 0, cx = 0, cy = 0;
-  SE3 T_world_camera;  // camera (OpenCV axes) -> world
+  PinholeIntrinsics pinhole;  // image size, fx, fy, cx, cy
+  SE3 T_world_camera;         // camera (OpenCV axes) -> world
 
   Status Validate() const;  // positive size (<= 16384) and focal lengths, finite values
 };

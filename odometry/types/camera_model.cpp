@@ -61,7 +61,8 @@ bool CameraModel::InImage(const Eigen::Vector2d& pixel) const {
   return pixel.x() >= -0.5 && pixel.x() <= width_ - 0.5 && pixel.y() >= -0.5 && pixel.y() <= height_ - 0.5;
 }
 
-Status CameraModel::ValidateFocalAndCentre(double fx, double fy, double cx, double cy) const {
+Status CameraModel::ValidateFocalAndCentre(const PinholeIntrinsics& pinhole) const {
+  const double fx = pinhole.fx, fy = pinhole.fy, cx = pinhole.cx, cy = pinhole.cy;
   if (!(std::isfinite(fx) && fx > 0.0)) return FieldError("fx", fx, "must be positive and finite");
   if (!(std::isfinite(fy) && fy > 0.0)) return FieldError("fy", fy, "must be positive and finite");
   if (!(cx >= -0.5 && cx <= width_ - 0.5)) return FieldError("cx", cx, "must lie inside the image width");
@@ -71,8 +72,8 @@ Status CameraModel::ValidateFocalAndCentre(double fx, double fy, double cx, doub
 
 // ---- PinholeRadtan ----
 
-PinholeRadtan::PinholeRadtan(int width, int height, const PinholeRadtanIntrinsics& intrinsics)
-    : CameraModel(width, height), k_(intrinsics) {
+PinholeRadtan::PinholeRadtan(const PinholeRadtanIntrinsics& intrinsics)
+    : CameraModel(intrinsics.pinhole.width, intrinsics.pinhole.height), k_(intrinsics) {
   // d/dr [r (1 + k1 r^2 + k2 r^4 + k3 r^6)] = 1 + 3 k1 s + 5 k2 s^2 + 7 k3 s^3 with s = r^2.
   const auto derivative = [this](double s) {
     return 1.0 + s * (3.0 * k_.k1 + s * (5.0 * k_.k2 + s * 7.0 * k_.k3));
@@ -99,6 +100,7 @@ Eigen::Vector2d PinholeRadtan::Distort(const Eigen::Vector2d& xy, Eigen::Matrix2
 
 std::optional<Eigen::Vector2d> PinholeRadtan::ProjectInFront(const Eigen::Vector3d& p_cam,
                                                              Eigen::Matrix<double, 2, 3>* jacobian) const {
+  const PinholeIntrinsics& p = k_.pinhole;
   const double inv_z = 1.0 / p_cam.z();
   const Eigen::Vector2d xy(p_cam.x() * inv_z, p_cam.y() * inv_z);
   if (!(xy.squaredNorm() <= max_r2_)) return std::nullopt;  // past the fold of the distortion
@@ -109,14 +111,15 @@ std::optional<Eigen::Vector2d> PinholeRadtan::ProjectInFront(const Eigen::Vector
     Eigen::Matrix<double, 2, 3> d_xy_d_p;
     d_xy_d_p << inv_z, 0.0, -xy.x() * inv_z,  //
         0.0, inv_z, -xy.y() * inv_z;
-    *jacobian = Eigen::Vector2d(k_.fx, k_.fy).asDiagonal() * d_distorted_d_xy * d_xy_d_p;
+    *jacobian = Eigen::Vector2d(p.fx, p.fy).asDiagonal() * d_distorted_d_xy * d_xy_d_p;
   }
-  return Eigen::Vector2d(k_.fx * distorted.x() + k_.cx, k_.fy * distorted.y() + k_.cy);
+  return Eigen::Vector2d(p.fx * distorted.x() + p.cx, p.fy * distorted.y() + p.cy);
 }
 
 Eigen::Vector3d PinholeRadtan::Unproject(const Eigen::Vector2d& pixel) const {
+  const PinholeIntrinsics& p = k_.pinhole;
   // Solve Distort(x, y) = target by Newton's method, starting from the distorted point itself.
-  const Eigen::Vector2d target((pixel.x() - k_.cx) / k_.fx, (pixel.y() - k_.cy) / k_.fy);
+  const Eigen::Vector2d target((pixel.x() - p.cx) / p.fx, (pixel.y() - p.cy) / p.fy);
   Eigen::Vector2d xy = target;
   for (int iteration = 0; iteration < 50; ++iteration) {
     Eigen::Matrix2d jacobian;
@@ -130,7 +133,7 @@ Eigen::Vector3d PinholeRadtan::Unproject(const Eigen::Vector2d& pixel) const {
 }
 
 Status PinholeRadtan::ValidateIntrinsics() const {
-  if (Status status = ValidateFocalAndCentre(k_.fx, k_.fy, k_.cx, k_.cy); !status.ok()) return status;
+  if (Status status = ValidateFocalAndCentre(k_.pinhole); !status.ok()) return status;
   for (const auto& [name, value] : {std::pair{"k1", k_.k1}, std::pair{"k2", k_.k2}, std::pair{"p1", k_.p1},
                                     std::pair{"p2", k_.p2}, std::pair{"k3", k_.k3}}) {
     if (!std::isfinite(value)) return FieldError(name, value, "must be finite");
@@ -157,14 +160,15 @@ DistortedAngle Distortion(const EquidistantIntrinsics& k, double theta) {
 
 }  // namespace
 
-Equidistant::Equidistant(int width, int height, const EquidistantIntrinsics& intrinsics)
-    : CameraModel(width, height), k_(intrinsics) {
+Equidistant::Equidistant(const EquidistantIntrinsics& intrinsics)
+    : CameraModel(intrinsics.pinhole.width, intrinsics.pinhole.height), k_(intrinsics) {
   const auto derivative = [this](double theta) { return Distortion(k_, theta).derivative; };
   max_theta_ = std::min(FirstNonIncreasing(derivative, 1e-3, std::numbers::pi / 2), std::numbers::pi / 2);
 }
 
 std::optional<Eigen::Vector2d> Equidistant::ProjectInFront(const Eigen::Vector3d& p_cam,
                                                            Eigen::Matrix<double, 2, 3>* jacobian) const {
+  const PinholeIntrinsics& p = k_.pinhole;
   const double X = p_cam.x(), Y = p_cam.y(), Z = p_cam.z();
   const double rho2 = X * X + Y * Y;
   const double rho = std::sqrt(rho2);
@@ -173,10 +177,10 @@ std::optional<Eigen::Vector2d> Equidistant::ProjectInFront(const Eigen::Vector3d
   if (rho < 1e-9 * Z) {
     // On the optical axis theta_d / rho -> 1 / Z: the pinhole limit (neglected terms are O((rho/Z)^2)).
     if (jacobian != nullptr) {
-      *jacobian << k_.fx / Z, 0.0, -k_.fx * X / (Z * Z),  //
-          0.0, k_.fy / Z, -k_.fy * Y / (Z * Z);
+      *jacobian << p.fx / Z, 0.0, -p.fx * X / (Z * Z),  //
+          0.0, p.fy / Z, -p.fy * Y / (Z * Z);
     }
-    return Eigen::Vector2d(k_.fx * X / Z + k_.cx, k_.fy * Y / Z + k_.cy);
+    return Eigen::Vector2d(p.fx * X / Z + p.cx, p.fy * Y / Z + p.cy);
   }
   const DistortedAngle d = Distortion(k_, theta);
   const double scale = d.theta_d / rho;  // pixel = diag(fx, fy) scale (X, Y) + (cx, cy)
@@ -187,16 +191,17 @@ std::optional<Eigen::Vector2d> Equidistant::ProjectInFront(const Eigen::Vector3d
     const double norm2 = rho2 + Z * Z;
     const double c = d.derivative * Z / (rho2 * norm2) - d.theta_d / (rho2 * rho);
     const double d_scale_d_z = -d.derivative / norm2;
-    *jacobian << k_.fx * (scale + X * X * c), k_.fx * X * Y * c, k_.fx * X * d_scale_d_z,  //
-        k_.fy * X * Y * c, k_.fy * (scale + Y * Y * c), k_.fy * Y * d_scale_d_z;
+    *jacobian << p.fx * (scale + X * X * c), p.fx * X * Y * c, p.fx * X * d_scale_d_z,  //
+        p.fy * X * Y * c, p.fy * (scale + Y * Y * c), p.fy * Y * d_scale_d_z;
   }
-  return Eigen::Vector2d(k_.fx * scale * X + k_.cx, k_.fy * scale * Y + k_.cy);
+  return Eigen::Vector2d(p.fx * scale * X + p.cx, p.fy * scale * Y + p.cy);
 }
 
 Eigen::Vector3d Equidistant::Unproject(const Eigen::Vector2d& pixel) const {
+  const PinholeIntrinsics& p = k_.pinhole;
   // The pixel gives theta_d and the direction in the image plane; theta solves theta_d(theta) = theta_d
   // by Newton's method, kept inside [0, max_theta] where theta_d is increasing.
-  const Eigen::Vector2d m((pixel.x() - k_.cx) / k_.fx, (pixel.y() - k_.cy) / k_.fy);
+  const Eigen::Vector2d m((pixel.x() - p.cx) / p.fx, (pixel.y() - p.cy) / p.fy);
   const double theta_d = m.norm();
   if (theta_d < 1e-12) return Eigen::Vector3d(m.x(), m.y(), 1.0).normalized();
   double theta = std::min(theta_d, max_theta_);
@@ -212,7 +217,7 @@ Eigen::Vector3d Equidistant::Unproject(const Eigen::Vector2d& pixel) const {
 }
 
 Status Equidistant::ValidateIntrinsics() const {
-  if (Status status = ValidateFocalAndCentre(k_.fx, k_.fy, k_.cx, k_.cy); !status.ok()) return status;
+  if (Status status = ValidateFocalAndCentre(k_.pinhole); !status.ok()) return status;
   for (const auto& [name, value] :
        {std::pair{"k1", k_.k1}, std::pair{"k2", k_.k2}, std::pair{"k3", k_.k3}, std::pair{"k4", k_.k4}}) {
     if (!std::isfinite(value)) return FieldError(name, value, "must be finite");

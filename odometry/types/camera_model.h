@@ -6,6 +6,7 @@
 #include <memory>
 #include <optional>
 
+#include "odometry/types/pinhole_intrinsics.h"
 #include "odometry/types/status.h"
 
 namespace uf {
@@ -44,7 +45,7 @@ class CameraModel {
                                                         Eigen::Matrix<double, 2, 3>* jacobian) const = 0;
   virtual Status ValidateIntrinsics() const = 0;
   // Checks shared by every model: fx, fy positive and finite, (cx, cy) inside the image.
-  Status ValidateFocalAndCentre(double fx, double fy, double cx, double cy) const;
+  Status ValidateFocalAndCentre(const PinholeIntrinsics& pinhole) const;
 
  private:
   int width_;
@@ -58,13 +59,13 @@ class CameraModel {
 // and the pixel is (fx xd + cx, fy yd + cy). Points beyond the radius where the radial distortion
 // r (1 + k1 r^2 + k2 r^4 + k3 r^6) stops increasing (it folds back) are not projected.
 struct PinholeRadtanIntrinsics {
-  double fx = 0, fy = 0, cx = 0, cy = 0;
+  PinholeIntrinsics pinhole;  // image size, fx, fy, cx, cy
   double k1 = 0, k2 = 0, p1 = 0, p2 = 0, k3 = 0;
 };
 
 class PinholeRadtan : public CameraModel {
  public:
-  PinholeRadtan(int width, int height, const PinholeRadtanIntrinsics& intrinsics);
+  explicit PinholeRadtan(const PinholeRadtanIntrinsics& intrinsics);
 
   const PinholeRadtanIntrinsics& intrinsics() const { return k_; }
   Eigen::Vector3d Unproject(const Eigen::Vector2d& pixel) const override;
@@ -88,13 +89,13 @@ class PinholeRadtan : public CameraModel {
 // pixel is (fx theta_d X / rho + cx, fy theta_d Y / rho + cy) with rho = sqrt(X^2 + Y^2). Points beyond
 // the angle where theta_d stops increasing are not projected.
 struct EquidistantIntrinsics {
-  double fx = 0, fy = 0, cx = 0, cy = 0;
+  PinholeIntrinsics pinhole;  // image size, fx, fy, cx, cy
   double k1 = 0, k2 = 0, k3 = 0, k4 = 0;
 };
 
 class Equidistant : public CameraModel {
  public:
-  Equidistant(int width, int height, const EquidistantIntrinsics& intrinsics);
+  explicit Equidistant(const EquidistantIntrinsics& intrinsics);
 
   const EquidistantIntrinsics& intrinsics() const { return k_; }
   Eigen::Vector3d Unproject(const Eigen::Vector2d& pixel) const override;

@@ -32,16 +32,17 @@ FloatCamera MakeFloatCamera(const SplatCamera& camera) {
   c.R_camera_world = T_camera_world.rotation().cast<float>();
   c.t_camera_world = T_camera_world.translation().cast<float>();
   c.centre_world = camera.T_world_camera.translation().cast<float>();
-  c.fx = static_cast<float>(camera.fx);
-  c.fy = static_cast<float>(camera.fy);
-  c.cx = static_cast<float>(camera.cx);
-  c.cy = static_cast<float>(camera.cy);
-  c.tan_half_fov_x = 0.5f * static_cast<float>(camera.width) / c.fx;
-  c.tan_half_fov_y = 0.5f * static_cast<float>(camera.height) / c.fy;
-  c.width = camera.width;
-  c.height = camera.height;
-  c.tiles_x = CeilDiv(camera.width, kTile);
-  c.tiles_y = CeilDiv(camera.height, kTile);
+  const PinholeIntrinsics& pinhole = camera.pinhole;
+  c.fx = static_cast<float>(pinhole.fx);
+  c.fy = static_cast<float>(pinhole.fy);
+  c.cx = static_cast<float>(pinhole.cx);
+  c.cy = static_cast<float>(pinhole.cy);
+  c.tan_half_fov_x = 0.5f * static_cast<float>(pinhole.width) / c.fx;
+  c.tan_half_fov_y = 0.5f * static_cast<float>(pinhole.height) / c.fy;
+  c.width = pinhole.width;
+  c.height = pinhole.height;
+  c.tiles_x = CeilDiv(pinhole.width, kTile);
+  c.tiles_y = CeilDiv(pinhole.height, kTile);
   return c;
 }
 
@@ -111,11 +112,11 @@ RenderedView RenderReference(const GaussianModel& model, const SplatCamera& came
   std::vector<ProjectedGaussian> projected(model.size());
   for (std::size_t i = 0; i < model.size(); ++i) projected[i] = ProjectGaussian(model, i, fc, settings);
 
-  RenderedView view = RenderedView::Sized(camera.width, camera.height);
+  RenderedView view = RenderedView::Sized(camera.pinhole.width, camera.pinhole.height);
 
   std::vector<std::size_t> list;
-  for (int y = 0; y < camera.height; ++y) {
-    for (int x = 0; x < camera.width; ++x) {
+  for (int y = 0; y < camera.pinhole.height; ++y) {
+    for (int x = 0; x < camera.pinhole.width; ++x) {
       // Gather the Gaussians whose tile rectangle holds this pixel's tile, sorted by (t_z, index).
       const int tile_x = x / kTile, tile_y = y / kTile;
       list.clear();
@@ -147,7 +148,7 @@ RenderedView RenderReference(const GaussianModel& model, const SplatCamera& came
         // Median depth: the first Gaussian after which the accumulated alpha 1 - T reaches 0.5.
         if (median == RenderedView::kNoDepth && T <= 0.5f) median = g.depth;
       }
-      const std::size_t p = static_cast<std::size_t>(y) * camera.width + x;
+      const std::size_t p = static_cast<std::size_t>(y) * camera.pinhole.width + x;
       const Eigen::Vector3f rgb = C + T * settings.background;
       for (int c = 0; c < 3; ++c) view.rgb[3 * p + c] = rgb[c];
       const float alpha = 1.0f - T;

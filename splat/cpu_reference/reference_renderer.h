@@ -13,7 +13,10 @@ namespace uf::splat {
 
 // The camera as the renderers use it, in float: T_camera_world = T_world_camera^-1 (computed in double,
 // then rounded), the camera centre in the world and the pinhole intrinsics. The Vulkan renderer uploads
-// exactly these values, so both renderers start from the same floats.
+// exactly these values (vk/frame_params.h, the shaders' FrameParams), so both renderers start from the same
+// floats. That is why it keeps its own float fx, fy, cx, cy, width, height rather than the double
+// PinholeIntrinsics of SplatCamera (odometry/types/pinhole_intrinsics.h): it is their rounding to the
+// shaders' precision.
 struct FloatCamera {
   Eigen::Matrix3f R_camera_world;
   Eigen::Vector3f t_camera_world;

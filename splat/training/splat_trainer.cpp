@@ -42,11 +42,12 @@ namespace {
 Status CheckView(const TrainingView& view) {
   if (Status s = view.camera.Validate(); !s.ok())
     return Status::Error("training view camera: " + s.message());
-  const std::size_t pixels = static_cast<std::size_t>(view.camera.width) * view.camera.height;
+  const PinholeIntrinsics& pinhole = view.camera.pinhole;
+  const std::size_t pixels = static_cast<std::size_t>(pinhole.width) * pinhole.height;
   if (view.rgb.size() != 3 * pixels)
     return Status::Error("training view: rgb has " + std::to_string(view.rgb.size()) + " values, expected " +
-                         std::to_string(3 * pixels) + " (3 x " + std::to_string(view.camera.width) + " x " +
-                         std::to_string(view.camera.height) + ")");
+                         std::to_string(3 * pixels) + " (3 x " + std::to_string(pinhole.width) + " x " +
+                         std::to_string(pinhole.height) + ")");
   if (!view.depth.empty() && view.depth.size() != pixels)
     return Status::Error("training view: depth has " + std::to_string(view.depth.size()) +
                          " values, expected " + std::to_string(pixels) + " (or none)");

@@ -36,19 +36,9 @@ AxisWeights BoxWeights(int n, int n_new) {
 
 }  // namespace
 
-std::optional<Pinhole> PinholeOf(const CameraModel& model) {
-  Pinhole p;
-  p.width = model.width(), p.height = model.height();
-  if (const auto* radtan = dynamic_cast<const PinholeRadtan*>(&model)) {
-    const PinholeRadtanIntrinsics& k = radtan->intrinsics();
-    p.fx = k.fx, p.fy = k.fy, p.cx = k.cx, p.cy = k.cy;
-    return p;
-  }
-  if (const auto* fisheye = dynamic_cast<const Equidistant*>(&model)) {
-    const EquidistantIntrinsics& k = fisheye->intrinsics();
-    p.fx = k.fx, p.fy = k.fy, p.cx = k.cx, p.cy = k.cy;
-    return p;
-  }
+std::optional<PinholeIntrinsics> PinholeOf(const CameraModel& model) {
+  if (const auto* radtan = dynamic_cast<const PinholeRadtan*>(&model)) return radtan->intrinsics().pinhole;
+  if (const auto* fisheye = dynamic_cast<const Equidistant*>(&model)) return fisheye->intrinsics().pinhole;
   return std::nullopt;
 }
 
@@ -68,7 +58,8 @@ std::vector<float> ToRgbFloat(const Image& image) {
   return rgb;
 }
 
-std::vector<float> Undistort(std::span<const float> rgb, const CameraModel& model, const Pinhole& pinhole) {
+std::vector<float> Undistort(std::span<const float> rgb, const CameraModel& model,
+                             const PinholeIntrinsics& pinhole) {
   const int w = model.width(), h = model.height();
   std::vector<float> out(3 * static_cast<std::size_t>(pinhole.width) * pinhole.height, 0.0f);
   for (int y = 0; y < pinhole.height; ++y) {
@@ -118,9 +109,9 @@ std::vector<float> ResizeArea(std::span<const float> image, int width, int heigh
   return out;
 }
 
-Pinhole ScalePinhole(const Pinhole& p, int width, int height) {
+PinholeIntrinsics ScalePinhole(const PinholeIntrinsics& p, int width, int height) {
   const double sx = static_cast<double>(width) / p.width, sy = static_cast<double>(height) / p.height;
-  Pinhole scaled;
+  PinholeIntrinsics scaled;
   scaled.width = width, scaled.height = height;
   scaled.fx = sx * p.fx, scaled.fy = sy * p.fy;
   scaled.cx = sx * (p.cx + 0.5) - 0.5, scaled.cy = sy * (p.cy + 0.5) - 0.5;
@@ -129,17 +120,18 @@ Pinhole ScalePinhole(const Pinhole& p, int width, int height) {
 
 std::vector<float> ProjectDepth(std::span<const Eigen::Vector3f> points, const SplatCamera& camera,
                                 float near) {
-  std::vector<float> depth(static_cast<std::size_t>(camera.width) * camera.height, 0.0f);
+  const PinholeIntrinsics& pinhole = camera.pinhole;
+  std::vector<float> depth(static_cast<std::size_t>(pinhole.width) * pinhole.height, 0.0f);
   const SE3 T_camera_world = camera.T_world_camera.inverse();
   const Eigen::Matrix3f R = T_camera_world.rotation().cast<float>();
   const Eigen::Vector3f t = T_camera_world.translation().cast<float>();
   for (const Eigen::Vector3f& p : points) {
     const Eigen::Vector3f c = R * p + t;
     if (!(c.z() > near)) continue;
-    const double u = camera.fx * c.x() / c.z() + camera.cx, v = camera.fy * c.y() / c.z() + camera.cy;
+    const double u = pinhole.fx * c.x() / c.z() + pinhole.cx, v = pinhole.fy * c.y() / c.z() + pinhole.cy;
     const long x = std::lround(u), y = std::lround(v);
-    if (x < 0 || y < 0 || x >= camera.width || y >= camera.height) continue;
-    float& d = depth[static_cast<std::size_t>(y) * camera.width + x];
+    if (x < 0 || y < 0 || x >= pinhole.width || y >= pinhole.height) continue;
+    float& d = depth[static_cast<std::size_t>(y) * pinhole.width + x];
     if (d == 0.0f || c.z() < d) d = c.z();
   }
   return depth;

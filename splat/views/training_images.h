@@ -19,14 +19,9 @@
 
 namespace uf::splat {
 
-struct Pinhole {
-  int width = 0, height = 0;
-  double fx = 0, fy = 0, cx = 0, cy = 0;
-};
-
 // The model's own size, focal lengths and principal point (its distortion dropped), and whether it has a
 // non-zero distortion coefficient. Models other than PinholeRadtan and Equidistant: none.
-std::optional<Pinhole> PinholeOf(const CameraModel& model);
+std::optional<PinholeIntrinsics> PinholeOf(const CameraModel& model);
 bool IsDistorted(const CameraModel& model);
 
 // width x height x 3 floats in [0, 1] (v / 255) of an 8-bit gray (replicated) or RGB image.
@@ -35,14 +30,15 @@ std::vector<float> ToRgbFloat(const Image& image);
 // The view through `pinhole` (same camera centre and axes) of an image taken through `model`: pixel p of
 // the result has the ray b = ((p_x - cx) / fx, (p_y - cy) / fy, 1), sampled bilinearly at model.Project(b)
 // (clamped to the image's edge pixels); rays the model cannot project or that land outside the image are 0.
-std::vector<float> Undistort(std::span<const float> rgb, const CameraModel& model, const Pinhole& pinhole);
+std::vector<float> Undistort(std::span<const float> rgb, const CameraModel& model,
+                             const PinholeIntrinsics& pinhole);
 
 // Area-weighted resize of a width x height x channels image (see the top of this file).
 std::vector<float> ResizeArea(std::span<const float> image, int width, int height, int channels,
                               int new_width, int new_height);
 
 // The pinhole for an image resized to width x height (see the top of this file).
-Pinhole ScalePinhole(const Pinhole& pinhole, int width, int height);
+PinholeIntrinsics ScalePinhole(const PinholeIntrinsics& pinhole, int width, int height);
 
 // LiDAR depth for a view: each point t = T_camera_world p in front of the camera (t_z > near) lands in the
 // pixel (round(fx t_x / t_z + cx), round(fy t_y / t_z + cy)); a pixel keeps the nearest t_z (a z-buffer).

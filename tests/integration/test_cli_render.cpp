@@ -61,7 +61,7 @@ TEST(CliRender, ExrViewsMatchTheCpuReference) {
     ASSERT_EQ(exr->channels.count(channel), 1u) << channel;
 
   splat::SplatCamera camera;
-  camera.width = 64, camera.height = 48, camera.fx = camera.fy = 60, camera.cx = 31.5, camera.cy = 23.5;
+  camera.pinhole = {.width = 64, .height = 48, .fx = 60, .fy = 60, .cx = 31.5, .cy = 23.5};
   camera.T_world_camera = SecondPose();
   const splat::RenderedView reference = splat::RenderReference(SmallScene(), camera, splat::RenderSettings{});
   // Float EXR of the same blend done in a different order on the device: rounding differences are ~1e-6;
@@ -121,8 +121,9 @@ TEST(CliRender, DistortedCameraPutsAGaussianWhereTheModelProjectsIt) {
   ASSERT_TRUE(exr.ok()) << exr.error();
   // Alpha-weighted centroid of the dot against the distortion model's projection of its centre.
   PinholeRadtanIntrinsics k;
-  k.fx = k.fy = 100, k.cx = 79.5, k.cy = 59.5, k.k1 = -0.3, k.k2 = 0.08;
-  const Eigen::Vector2d expected = *PinholeRadtan(160, 120, k).Project(point.cast<double>());
+  k.pinhole = {.width = 160, .height = 120, .fx = 100, .fy = 100, .cx = 79.5, .cy = 59.5};
+  k.k1 = -0.3, k.k2 = 0.08;
+  const Eigen::Vector2d expected = *PinholeRadtan(k).Project(point.cast<double>());
   Eigen::Vector2d centroid = Eigen::Vector2d::Zero();
   double mass = 0;
   for (int y = 0; y < 120; ++y)

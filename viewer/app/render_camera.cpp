@@ -74,10 +74,11 @@ Expected<RenderCamera> ParseRenderCamera(const std::string& path, const YAML::No
   Expected<int> width = Size(path, root, "width"), height = Size(path, root, "height");
   if (!width) return width.status();
   if (!height) return height.status();
-  camera.width = *width;
-  camera.height = *height;
   PinholeRadtanIntrinsics& k = camera.intrinsics;
-  for (auto [key, target] : {std::pair{"fx", &k.fx}, {"fy", &k.fy}, {"cx", &k.cx}, {"cy", &k.cy}}) {
+  k.pinhole.width = *width;
+  k.pinhole.height = *height;
+  PinholeIntrinsics& p = k.pinhole;
+  for (auto [key, target] : {std::pair{"fx", &p.fx}, {"fy", &p.fy}, {"cx", &p.cx}, {"cy", &p.cy}}) {
     Expected<double> value = Number(path, root, key);
     if (!value) return value.status();
     *target = *value;
@@ -85,7 +86,7 @@ Expected<RenderCamera> ParseRenderCamera(const std::string& path, const YAML::No
   if (root["distortion"])
     if (Status s = ParseDistortion(path, root["distortion"], k); !s.ok()) return s;
   camera.distorted = k.k1 != 0 || k.k2 != 0 || k.p1 != 0 || k.p2 != 0 || k.k3 != 0;
-  camera.model = std::make_shared<PinholeRadtan>(camera.width, camera.height, k);
+  camera.model = std::make_shared<PinholeRadtan>(k);
   if (Status s = camera.model->Validate(); !s.ok()) return Status::Error(path + ": " + s.message());
   return camera;
 }
@@ -104,16 +105,15 @@ Expected<RenderCamera> LoadRenderCamera(const std::string& path) {
 
 RenderCamera ResizeRenderCamera(const RenderCamera& camera, int width, int height) {
   RenderCamera resized = camera;
-  const double sx = static_cast<double>(width) / camera.width,
-               sy = static_cast<double>(height) / camera.height;
-  PinholeRadtanIntrinsics& k = resized.intrinsics;
-  k.fx *= sx;
-  k.fy *= sy;
-  k.cx = (k.cx + 0.5) * sx - 0.5;
-  k.cy = (k.cy + 0.5) * sy - 0.5;
-  resized.width = width;
-  resized.height = height;
-  resized.model = std::make_shared<PinholeRadtan>(width, height, k);
+  PinholeIntrinsics& p = resized.intrinsics.pinhole;
+  const double sx = static_cast<double>(width) / p.width, sy = static_cast<double>(height) / p.height;
+  p.fx *= sx;
+  p.fy *= sy;
+  p.cx = (p.cx + 0.5) * sx - 0.5;
+  p.cy = (p.cy + 0.5) * sy - 0.5;
+  p.width = width;
+  p.height = height;
+  resized.model = std::make_shared<PinholeRadtan>(resized.intrinsics);
   return resized;
 }
 

@@ -20,8 +20,7 @@
 namespace uf::app {
 
 struct RenderCamera {
-  PinholeRadtanIntrinsics intrinsics;
-  int width = 0, height = 0;
+  PinholeRadtanIntrinsics intrinsics;          // size, fx, fy, cx, cy and distortion
   bool distorted = false;                      // any distortion coefficient non-zero
   std::shared_ptr<const PinholeRadtan> model;  // the full model (always set)
 };

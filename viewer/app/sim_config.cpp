@@ -97,12 +97,12 @@ Field Lidar(sim::SimulatedLidarConfig& lidar) {
 Field Camera(sim::SimulatedCameraConfig& camera, const Stamp& start) {
   sim::CameraConfig& m = camera.model;
   return Section("camera", WithPlacement({Value("enabled", camera.enabled),
-                                          Value("width", m.width),
-                                          Value("height", m.height),
-                                          Value("fx", m.fx),
-                                          Value("fy", m.fy),
-                                          Value("cx", m.cx),
-                                          Value("cy", m.cy),
+                                          Value("width", m.pinhole.width),
+                                          Value("height", m.pinhole.height),
+                                          Value("fx", m.pinhole.fx),
+                                          Value("fy", m.pinhole.fy),
+                                          Value("cx", m.pinhole.cx),
+                                          Value("cy", m.pinhole.cy),
                                           Value("k1", m.k1),
                                           Value("k2", m.k2),
                                           Value("p1", m.p1),

@@ -180,12 +180,12 @@ std::string EmitSimConfig(const sim::SimulationConfig& config) {
   const sim::CameraConfig& camera = config.camera.model;
   w.Key(1, "camera", "");
   w.Key(2, "enabled", Bool(config.camera.enabled));
-  w.Key(2, "width", std::to_string(camera.width));
-  w.Key(2, "height", std::to_string(camera.height));
-  for (const auto& [key, value] : {std::pair{"fx", camera.fx},
-                                   {"fy", camera.fy},
-                                   {"cx", camera.cx},
-                                   {"cy", camera.cy},
+  w.Key(2, "width", std::to_string(camera.pinhole.width));
+  w.Key(2, "height", std::to_string(camera.pinhole.height));
+  for (const auto& [key, value] : {std::pair{"fx", camera.pinhole.fx},
+                                   {"fy", camera.pinhole.fy},
+                                   {"cx", camera.pinhole.cx},
+                                   {"cy", camera.pinhole.cy},
                                    {"k1", camera.k1},
                                    {"k2", camera.k2},
                                    {"p1", camera.p1},

@@ -24,6 +24,7 @@ Expected<std::shared_ptr<const CameraModel>> ParseCameraCalibration(const YAML::
     return Status::Error(where + ": intrinsics needs 4 values (fx, fy, cx, cy), found " + Count(k.size()));
   if (size.size() != 2)
     return Status::Error(where + ": resolution needs 2 values (width, height), found " + Count(size.size()));
+  const PinholeIntrinsics pinhole{size[0], size[1], k[0], k[1], k[2], k[3]};
   std::shared_ptr<const CameraModel> camera;
   if (model == "radial-tangential") {
     if (d.size() != 4 && d.size() != 5)
@@ -32,14 +33,12 @@ Expected<std::shared_ptr<const CameraModel>> ParseCameraCalibration(const YAML::
           ": radial-tangential distortion_coefficients needs 4 or 5 values (k1, k2, p1, p2[, k3]), found " +
           Count(d.size()));
     camera = std::make_shared<PinholeRadtan>(
-        size[0], size[1],
-        PinholeRadtanIntrinsics{k[0], k[1], k[2], k[3], d[0], d[1], d[2], d[3], d.size() == 5 ? d[4] : 0});
+        PinholeRadtanIntrinsics{pinhole, d[0], d[1], d[2], d[3], d.size() == 5 ? d[4] : 0});
   } else if (model == "equidistant") {
     if (d.size() != 4)
       return Status::Error(where + ": equidistant distortion_coefficients needs 4 values (k1..k4), found " +
                            Count(d.size()));
-    camera = std::make_shared<Equidistant>(
-        size[0], size[1], EquidistantIntrinsics{k[0], k[1], k[2], k[3], d[0], d[1], d[2], d[3]});
+    camera = std::make_shared<Equidistant>(EquidistantIntrinsics{pinhole, d[0], d[1], d[2], d[3]});
   } else {
     return Status::Error(where + ": distortion_model '" + model +
                          "' is not radial-tangential or equidistant");
@@ -58,12 +57,12 @@ void EmitCameraCalibration(YAML::Emitter& yaml, const CameraModel& model) {
   if (const auto* radtan = dynamic_cast<const PinholeRadtan*>(&model)) {
     const PinholeRadtanIntrinsics& k = radtan->intrinsics();
     yaml << YAML::Key << "distortion_model" << YAML::Value << "radial-tangential";
-    sequence("intrinsics", {k.fx, k.fy, k.cx, k.cy});
+    sequence("intrinsics", {k.pinhole.fx, k.pinhole.fy, k.pinhole.cx, k.pinhole.cy});
     sequence("distortion_coefficients", {k.k1, k.k2, k.p1, k.p2, k.k3});
   } else if (const auto* fisheye = dynamic_cast<const Equidistant*>(&model)) {
     const EquidistantIntrinsics& k = fisheye->intrinsics();
     yaml << YAML::Key << "distortion_model" << YAML::Value << "equidistant";
-    sequence("intrinsics", {k.fx, k.fy, k.cx, k.cy});
+    sequence("intrinsics", {k.pinhole.fx, k.pinhole.fy, k.pinhole.cx, k.pinhole.cy});
     sequence("distortion_coefficients", {k.k1, k.k2, k.k3, k.k4});
   }
   yaml << YAML::Key << "resolution" << YAML::Value << YAML::Flow << YAML::BeginSeq << model.width()

@@ -32,18 +32,19 @@ Status ValidateWindow(const std::string& field, const TimeWindow& window) {
 }  // namespace
 
 Status ValidateCameraConfig(const CameraConfig& c) {
-  if (c.width < 1 || c.width > kMaxImageSize) return FieldError("width", "must be in [1, 16384]", c.width);
-  if (c.height < 1 || c.height > kMaxImageSize) {
-    return FieldError("height", "must be in [1, 16384]", c.height);
+  const PinholeIntrinsics& p = c.pinhole;
+  if (p.width < 1 || p.width > kMaxImageSize) return FieldError("width", "must be in [1, 16384]", p.width);
+  if (p.height < 1 || p.height > kMaxImageSize) {
+    return FieldError("height", "must be in [1, 16384]", p.height);
   }
-  if (!PositiveFinite(c.fx)) return FieldError("fx", "must be positive and finite", c.fx);
-  if (!PositiveFinite(c.fy)) return FieldError("fy", "must be positive and finite", c.fy);
+  if (!PositiveFinite(p.fx)) return FieldError("fx", "must be positive and finite", p.fx);
+  if (!PositiveFinite(p.fy)) return FieldError("fy", "must be positive and finite", p.fy);
   // The principal point inside the image: [-0.5, width - 0.5] x [-0.5, height - 0.5] (pixel centres).
-  if (!(c.cx >= -0.5 && c.cx <= c.width - 0.5)) {
-    return FieldError("cx", "must be inside the image [-0.5, " + std::to_string(c.width) + " - 0.5]", c.cx);
+  if (!(p.cx >= -0.5 && p.cx <= p.width - 0.5)) {
+    return FieldError("cx", "must be inside the image [-0.5, " + std::to_string(p.width) + " - 0.5]", p.cx);
   }
-  if (!(c.cy >= -0.5 && c.cy <= c.height - 0.5)) {
-    return FieldError("cy", "must be inside the image [-0.5, " + std::to_string(c.height) + " - 0.5]", c.cy);
+  if (!(p.cy >= -0.5 && p.cy <= p.height - 0.5)) {
+    return FieldError("cy", "must be inside the image [-0.5, " + std::to_string(p.height) + " - 0.5]", p.cy);
   }
   for (const auto& [name, value] : {std::pair{"k1", c.k1}, std::pair{"k2", c.k2}, std::pair{"p1", c.p1},
                                     std::pair{"p2", c.p2}, std::pair{"k3", c.k3}}) {
@@ -82,8 +83,7 @@ Status ValidateCameraConfig(const CameraConfig& c) {
 }
 
 PinholeRadtan CameraModelOf(const CameraConfig& c) {
-  return PinholeRadtan(c.width, c.height,
-                       PinholeRadtanIntrinsics{c.fx, c.fy, c.cx, c.cy, c.k1, c.k2, c.p1, c.p2, c.k3});
+  return PinholeRadtan(PinholeRadtanIntrinsics{c.pinhole, c.k1, c.k2, c.p1, c.p2, c.k3});
 }
 
 }  // namespace uf::sim

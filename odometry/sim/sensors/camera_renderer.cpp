@@ -60,7 +60,7 @@ Expected<CameraRenderer> CameraRenderer::Create(const CameraConfig& config, cons
   // The distortion must be one-to-one over the image: every border sub-sample's bearing projects back onto
   // it (Project refuses points beyond the fold radius). Inside, the radial profile is then increasing too.
   const int n = config.supersampling;
-  const int sub_width = n * config.width, sub_height = n * config.height;
+  const int sub_width = n * config.pinhole.width, sub_height = n * config.pinhole.height;
   const auto sub_pixel = [n](int k) { return (k + 0.5) / n - 0.5; };
   const auto round_trips = [&](int kx, int ky) {
     const Eigen::Vector2d pixel(sub_pixel(kx), sub_pixel(ky));
@@ -98,7 +98,7 @@ void CameraRenderer::SubRowBearings(int sub_row, Eigen::Vector3f* out) const {
   // Sub-sample k of a sub-row sits at pixel coordinate (k + 0.5) / n - 0.5 (pixel centres are integers).
   const int n = config_.supersampling;
   const double y = (sub_row + 0.5) / n - 0.5;
-  for (int k = 0; k < n * config_.width; ++k) {
+  for (int k = 0; k < n * config_.pinhole.width; ++k) {
     out[k] = model_.Unproject(Eigen::Vector2d((k + 0.5) / n - 0.5, y)).cast<float>();
   }
 }
@@ -106,7 +106,7 @@ void CameraRenderer::SubRowBearings(int sub_row, Eigen::Vector3f* out) const {
 void CameraRenderer::FillRowRays(const SE3& T_world_camera, int row, std::vector<Eigen::Vector3f>& scratch,
                                  std::vector<Ray>& rays) const {
   const int n = config_.supersampling;
-  const std::size_t sub_width = static_cast<std::size_t>(n) * static_cast<std::size_t>(config_.width);
+  const std::size_t sub_width = static_cast<std::size_t>(n) * static_cast<std::size_t>(config_.pinhole.width);
   const Eigen::Matrix3f R_world_camera = T_world_camera.rotation().cast<float>();
   const Eigen::Vector3f origin = T_world_camera.translation().cast<float>();
   rays.resize(sub_width * static_cast<std::size_t>(n));
@@ -141,7 +141,7 @@ SE3 CameraRenderer::CameraPose(Stamp t) const {
 }
 
 Expected<std::vector<Ray>> CameraRenderer::RowRays(Stamp t, int row) const {
-  assert(row >= 0 && row < config_.height);
+  assert(row >= 0 && row < config_.pinhole.height);
   if (Status status = CheckTime(t); !status.ok()) return status;
   std::vector<Eigen::Vector3f> scratch;
   std::vector<Ray> rays;
@@ -153,7 +153,7 @@ Expected<CameraFrame> CameraRenderer::Render(Stamp t, int camera_index) const {
   if (Status status = CheckTime(t); !status.ok()) return status;
   const SE3 T_world_camera = CameraPose(t);
   const CameraConditions conditions = ConditionsAt(config_, t);
-  const int width = config_.width, n = config_.supersampling;
+  const int width = config_.pinhole.width, n = config_.supersampling;
   const std::vector<float> occluder = conditions.occluded
                                           ? OccluderTransmission(width, n, conditions.occluder_progress)
                                           : std::vector<float>();
@@ -163,9 +163,9 @@ Expected<CameraFrame> CameraRenderer::Render(Stamp t, int camera_index) const {
   frame.camera = camera_index;
   Image& image = frame.image;
   image.width = width;
-  image.height = config_.height;
+  image.height = config_.pinhole.height;
   image.channels = 3;
-  image.pixels.resize(static_cast<std::size_t>(width) * static_cast<std::size_t>(config_.height) * 3);
+  image.pixels.resize(static_cast<std::size_t>(width) * static_cast<std::size_t>(config_.pinhole.height) * 3);
 
   const auto ambient = static_cast<float>(config_.ambient);
   const float gain = static_cast<float>(conditions.gain) / static_cast<float>(n * n);  // and the box filter
@@ -175,7 +175,8 @@ Expected<CameraFrame> CameraRenderer::Render(Stamp t, int camera_index) const {
   const std::uint64_t frame_seed = SplitMix64(SplitMix64(seed_) ^ static_cast<std::uint64_t>(t));
 
   ParallelFor(
-      static_cast<std::size_t>(config_.height), config_.threads, [&](std::size_t begin, std::size_t end) {
+      static_cast<std::size_t>(config_.pinhole.height), config_.threads,
+      [&](std::size_t begin, std::size_t end) {
         std::vector<Eigen::Vector3f> scratch, radiance(static_cast<std::size_t>(width));
         std::vector<Ray> rays;
         std::vector<RayHit> hits;

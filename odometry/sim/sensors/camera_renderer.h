@@ -17,6 +17,7 @@
 #include "odometry/sim/trajectory_spline.h"
 #include "odometry/types/camera_model.h"
 #include "odometry/types/measurements.h"
+#include "odometry/types/pinhole_intrinsics.h"
 #include "odometry/types/se3.h"
 #include "odometry/types/stamp.h"
 #include "odometry/types/status.h"
@@ -24,10 +25,10 @@
 namespace uf::sim {
 
 struct CameraConfig {
-  int width = 640, height = 480;                      // pixels, in [1, 16384]
-  double fx = 400, fy = 400, cx = 319.5, cy = 239.5;  // pixels; (cx, cy) inside the image
-  double k1 = 0, k2 = 0, p1 = 0, p2 = 0, k3 = 0;      // radial-tangential distortion (rendered exactly)
-  double rate_hz = 10.0;                              // frames per second, in (0, 1000]
+  // Pixels: width and height in [1, 16384], (cx, cy) inside the image.
+  PinholeIntrinsics pinhole = {.width = 640, .height = 480, .fx = 400, .fy = 400, .cx = 319.5, .cy = 239.5};
+  double k1 = 0, k2 = 0, p1 = 0, p2 = 0, k3 = 0;  // radial-tangential distortion (rendered exactly)
+  double rate_hz = 10.0;                          // frames per second, in (0, 1000]
   double noise_std_dn = 1.0;  // Gaussian pixel noise, 8-bit digital numbers (after sRGB encoding), >= 0
   int supersampling = 1;      // n x n rays per pixel (box-filter anti-aliasing), in [1, 16]
   Eigen::Vector3d sun_direction_world = {0.4, 0.3, 0.85};  // towards the sun, normalised by the renderer

@@ -96,11 +96,13 @@ inline void ExpectSameConfig(const SimulationConfig& a, const SimulationConfig& 
 
   const sim::CameraConfig &ca = a.camera.model, &cb = b.camera.model;
   EXPECT_FIELD(camera.enabled);
-  EXPECT_EQ(ca.width, cb.width);
-  EXPECT_EQ(ca.height, cb.height);
+  EXPECT_EQ(ca.pinhole.width, cb.pinhole.width);
+  EXPECT_EQ(ca.pinhole.height, cb.pinhole.height);
   for (auto field :
-       {&sim::CameraConfig::fx, &sim::CameraConfig::fy, &sim::CameraConfig::cx, &sim::CameraConfig::cy,
-        &sim::CameraConfig::k1, &sim::CameraConfig::k2, &sim::CameraConfig::p1, &sim::CameraConfig::p2,
+       {&PinholeIntrinsics::fx, &PinholeIntrinsics::fy, &PinholeIntrinsics::cx, &PinholeIntrinsics::cy})
+    EXPECT_EQ(ca.pinhole.*field, cb.pinhole.*field);
+  for (auto field :
+       {&sim::CameraConfig::k1, &sim::CameraConfig::k2, &sim::CameraConfig::p1, &sim::CameraConfig::p2,
         &sim::CameraConfig::k3, &sim::CameraConfig::rate_hz, &sim::CameraConfig::noise_std_dn,
         &sim::CameraConfig::ambient, &sim::CameraConfig::exposure})
     EXPECT_EQ(ca.*field, cb.*field);

@@ -22,9 +22,9 @@ const char* kPinhole = "model: pinhole\nwidth: 640\nheight: 480\nfx: 525\nfy: 52
 TEST(RenderCamera, ReadsPinholeAndOptionalDistortion) {
   Expected<RenderCamera> camera = LoadRenderCamera(WriteCameraFile("plain", kPinhole));
   ASSERT_TRUE(camera.ok()) << camera.error();
-  EXPECT_EQ(camera->width, 640);
-  EXPECT_EQ(camera->height, 480);
-  EXPECT_DOUBLE_EQ(camera->intrinsics.fy, 520.5);
+  EXPECT_EQ(camera->intrinsics.pinhole.width, 640);
+  EXPECT_EQ(camera->intrinsics.pinhole.height, 480);
+  EXPECT_DOUBLE_EQ(camera->intrinsics.pinhole.fy, 520.5);
   EXPECT_FALSE(camera->distorted);
   // A point on the optical axis lands on the principal point.
   EXPECT_TRUE(camera->model->Project(Eigen::Vector3d(0, 0, 2))->isApprox(Eigen::Vector2d(319.5, 239.5)));
@@ -41,10 +41,10 @@ TEST(RenderCamera, ResizeScalesTheIntrinsicsAboutPixelCorners) {
   Expected<RenderCamera> camera = LoadRenderCamera(WriteCameraFile("resize", kPinhole));
   ASSERT_TRUE(camera.ok());
   const RenderCamera half = ResizeRenderCamera(*camera, 320, 240);
-  EXPECT_DOUBLE_EQ(half.intrinsics.fx, 262.5);
+  EXPECT_DOUBLE_EQ(half.intrinsics.pinhole.fx, 262.5);
   // The image centre stays the image centre: (319.5 + 0.5) / 2 - 0.5 = 159.5.
-  EXPECT_DOUBLE_EQ(half.intrinsics.cx, 159.5);
-  EXPECT_DOUBLE_EQ(half.intrinsics.cy, 119.5);
+  EXPECT_DOUBLE_EQ(half.intrinsics.pinhole.cx, 159.5);
+  EXPECT_DOUBLE_EQ(half.intrinsics.pinhole.cy, 119.5);
   EXPECT_EQ(half.model->width(), 320);
 }
 

@@ -61,8 +61,7 @@ SimulationConfig NonDefaultConfig() {
 
   sim::CameraConfig& m = c.camera.model;
   c.camera.enabled = false;
-  m.width = 1280, m.height = 720;
-  m.fx = 701.5, m.fy = 702.25, m.cx = 640.125, m.cy = 359.75;
+  m.pinhole = {.width = 1280, .height = 720, .fx = 701.5, .fy = 702.25, .cx = 640.125, .cy = 359.75};
   m.k1 = -0.28, m.k2 = 0.07, m.p1 = 1e-4, m.p2 = -2e-4, m.k3 = 0.001;
   m.rate_hz = 30.0, m.noise_std_dn = 2.5, m.supersampling = 3;
   m.sun_direction_world = {-0.5, 0.25, 1.0 / 7.0};

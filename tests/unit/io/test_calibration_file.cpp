@@ -20,8 +20,8 @@ Calibration TwoSensors() {
   camera.name = "cam0";
   camera.kind = SensorKind::kCamera;
   camera.T_body_sensor = SE3(SO3::Exp(Eigen::Vector3d(-1.2, 0.0, -1.5)), Eigen::Vector3d(0.5, 0.0, 1e-3));
-  PinholeRadtanIntrinsics k{400.5, 401.25, 319.5, 239.75, -0.1, 0.01, 1e-4, -2e-4, 0.0};
-  camera.camera_model = std::make_shared<PinholeRadtan>(640, 480, k);
+  PinholeRadtanIntrinsics k{{640, 480, 400.5, 401.25, 319.5, 239.75}, -0.1, 0.01, 1e-4, -2e-4, 0.0};
+  camera.camera_model = std::make_shared<PinholeRadtan>(k);
   calibration.sensors.push_back(camera);
   return calibration;
 }
@@ -45,7 +45,7 @@ TEST(CalibrationFile, RoundTripIsExact) {
   EXPECT_EQ(read->sensors[0].camera_model, nullptr);
   const auto* camera = dynamic_cast<const PinholeRadtan*>(read->sensors[1].camera_model.get());
   ASSERT_NE(camera, nullptr);
-  EXPECT_EQ(camera->intrinsics().fy, 401.25);
+  EXPECT_EQ(camera->intrinsics().pinhole.fy, 401.25);
   EXPECT_EQ(camera->intrinsics().p2, -2e-4);
   EXPECT_EQ(read->Find("cam0"), &read->sensors[1]);
   EXPECT_EQ(read->Find("nope"), nullptr);

@@ -16,7 +16,7 @@ namespace {
 constexpr int kWidth = 320, kHeight = 240;
 constexpr double kF = 300.0, kCx = 159.5, kCy = 119.5;
 
-PinholeRadtan TestCamera() { return PinholeRadtan(kWidth, kHeight, {kF, kF, kCx, kCy, 0, 0, 0, 0, 0}); }
+PinholeRadtan TestCamera() { return PinholeRadtan({{kWidth, kHeight, kF, kF, kCx, kCy}, 0, 0, 0, 0, 0}); }
 
 // An arbitrary camera pose, so that world and camera frames differ.
 SE3 TestPose() { return SE3(SO3::Exp(Eigen::Vector3d(0.3, -0.7, 1.1)), Eigen::Vector3d(4.0, -2.0, 1.5)); }

@@ -53,10 +53,10 @@ RealPair LoadRealPair(const std::string& folder) {
   const auto d = param["cam_dist"]["data"][0];
   const double crop_u = (pair.image.width - param["img_dist_w"].get<double>()) / 2;
   const double crop_v = (pair.image.height - param["img_dist_h"].get<double>()) / 2;
-  PinholeRadtanIntrinsics intrinsics{
-      K[0][0], K[1][1], K[0][2].get<double>() + crop_u, K[1][2].get<double>() + crop_v, d[0], d[1], d[2],
-      d[3],    0.0};
-  pair.camera = std::make_unique<PinholeRadtan>(pair.image.width, pair.image.height, intrinsics);
+  const double cx = K[0][2].get<double>() + crop_u, cy = K[1][2].get<double>() + crop_v;
+  const PinholeIntrinsics pinhole{pair.image.width, pair.image.height, K[0][0], K[1][1], cx, cy};
+  PinholeRadtanIntrinsics intrinsics{pinhole, d[0], d[1], d[2], d[3], 0.0};
+  pair.camera = std::make_unique<PinholeRadtan>(intrinsics);
 
   const auto T =
       ReadJson(folder + "/lidar_to_camera_extrinsic.json")["top_center_lidar-to-center_camera-extrinsic"]

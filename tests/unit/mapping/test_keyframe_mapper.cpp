@@ -33,6 +33,15 @@ CameraFrame PatternFrame(double seconds) {
   return frame;
 }
 
+// A frame whose bytes are no image.
+CameraFrame UndecodableFrame(double seconds) {
+  CameraFrame frame;
+  frame.stamp = FromSeconds(seconds);
+  frame.encoded.format = "png";
+  frame.encoded.bytes = {1, 2, 3};
+  return frame;
+}
+
 // A LiDAR stream and one camera whose frame is the body's (OpenCV axes: it looks along the body's z).
 DatasetDescription Description(bool intrinsics = true, bool extrinsic = true) {
   DatasetDescription description;
@@ -44,7 +53,7 @@ DatasetDescription Description(bool intrinsics = true, bool extrinsic = true) {
   camera.kind = SensorKind::kCamera;
   if (intrinsics)
     camera.camera_model =
-        std::make_shared<PinholeRadtan>(kWidth, kHeight, PinholeRadtanIntrinsics{kF, kF, kCx, kCy});
+        std::make_shared<PinholeRadtan>(PinholeRadtanIntrinsics{{kWidth, kHeight, kF, kF, kCx, kCy}});
   if (extrinsic) camera.T_body_sensor = SE3();
   return description;
 }
@@ -129,12 +138,8 @@ TEST(KeyframeMapper, FramesFartherThanTheMaximumDistanceAreNotUsed) {
   const Scene scene = MakeScene();
   // 0.4 s from both keyframes, beyond 0.3 s. The undecodable frame at 0.45 s is never decoded, so it gives
   // no warning either.
-  CameraFrame undecodable;
-  undecodable.stamp = FromSeconds(0.45);
-  undecodable.encoded.format = "png";
-  undecodable.encoded.bytes = {1, 2, 3};
   const KeyframeMapper mapper =
-      MapScene(scene, Options(0.3), Description(), {PatternFrame(0.4), std::move(undecodable)});
+      MapScene(scene, Options(0.3), Description(), {PatternFrame(0.4), UndecodableFrame(0.45)});
   EXPECT_TRUE(mapper.warnings().empty());
   EXPECT_EQ(mapper.colored_points(), 0u);
   EXPECT_EQ(mapper.map().size(), scene.pixels.size());
@@ -175,15 +180,11 @@ TEST(KeyframeMapper, CamerasWithoutIntrinsicsOrExtrinsicLeaveTheMapUncoloured) {
 
 TEST(KeyframeMapper, FramesThatFailToDecodeAreSkippedWithAWarning) {
   const Scene scene = MakeScene();
-  CameraFrame undecodable;
-  undecodable.stamp = FromSeconds(0.4);
-  undecodable.encoded.format = "png";
-  undecodable.encoded.bytes = {1, 2, 3};
   CameraFrame wrong_size;
   wrong_size.stamp = FromSeconds(0.3);
   wrong_size.image = Image{10, 10, 3, std::vector<std::uint8_t>(300)};
   const KeyframeMapper mapper =
-      MapScene(scene, Options(0.5), Description(), {std::move(wrong_size), std::move(undecodable)});
+      MapScene(scene, Options(0.5), Description(), {std::move(wrong_size), UndecodableFrame(0.4)});
   ASSERT_EQ(mapper.warnings().size(), 2u);
   EXPECT_EQ(mapper.warnings()[0].rfind("camera frame at 0.300000 s not used: ", 0), 0u)
       << mapper.warnings()[0];

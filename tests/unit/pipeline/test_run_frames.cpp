@@ -32,7 +32,7 @@ struct Rig {
     lidar.name = "lidar", lidar.kind = SensorKind::kLidar, lidar.T_body_sensor = T_body_lidar;
     camera.name = "cam0", camera.kind = SensorKind::kCamera, camera.T_body_sensor = T_body_camera;
     camera.camera_model =
-        std::make_shared<PinholeRadtan>(64, 48, PinholeRadtanIntrinsics{50, 50, 31.5, 23.5});
+        std::make_shared<PinholeRadtan>(PinholeRadtanIntrinsics{{64, 48, 50, 50, 31.5, 23.5}});
     description.streams = {imu, lidar, camera};
   }
 };

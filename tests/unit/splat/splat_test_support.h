@@ -17,11 +17,12 @@ namespace uf::splat::testing {
 
 inline SplatCamera Camera(int width, int height, const SE3& T_world_camera) {
   SplatCamera camera;
-  camera.width = width;
-  camera.height = height;
-  camera.fx = camera.fy = 0.9 * width;
-  camera.cx = 0.5 * width - 0.3;
-  camera.cy = 0.5 * height + 0.2;
+  camera.pinhole = {.width = width,
+                    .height = height,
+                    .fx = 0.9 * width,
+                    .fy = 0.9 * width,
+                    .cx = 0.5 * width - 0.3,
+                    .cy = 0.5 * height + 0.2};
   camera.T_world_camera = T_world_camera;
   return camera;
 }

@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "odometry/types/camera_model.h"
-#include "splat/distorted_view.h"
+#include "splat/views/distorted_view.h"
 
 namespace uf::splat {
 namespace {
@@ -33,11 +33,11 @@ RenderedView CoordinateView(int width, int height) {
 
 TEST(DistortedViewResampler, EveryPixelSamplesTheRayTheModelProjectsBackOntoIt) {
   PinholeRadtanIntrinsics k;
-  k.fx = 300, k.fy = 310, k.cx = 159.5, k.cy = 119.5;
+  k.pinhole = {.width = 320, .height = 240, .fx = 300, .fy = 310, .cx = 159.5, .cy = 119.5};
   k.k1 = -0.28, k.k2 = 0.07, k.p1 = 1e-3, k.p2 = -5e-4;  // barrel distortion as in a wide-angle lens
-  const PinholeRadtan model(320, 240, k);
-  const DistortedViewResampler resampler(model, k.fx, k.fy, k.cx, k.cy);
-  const SplatCamera pinhole = resampler.Pinhole(SE3());
+  const PinholeRadtan model(k);
+  const DistortedViewResampler resampler(model, k.pinhole);
+  const PinholeIntrinsics pinhole = resampler.Pinhole(SE3()).pinhole;
   // Barrel distortion shows more than the pinhole of the same focal length: the cover is larger.
   EXPECT_GT(pinhole.width, 320);
   EXPECT_GT(pinhole.height, 240);
@@ -65,11 +65,11 @@ TEST(DistortedViewResampler, EveryPixelSamplesTheRayTheModelProjectsBackOntoIt) 
 
 TEST(DistortedViewResampler, WithoutDistortionItIsAShiftOfThePinholeImage) {
   PinholeRadtanIntrinsics k;
-  k.fx = 200, k.fy = 200, k.cx = 31.5, k.cy = 23.5;
-  const PinholeRadtan model(64, 48, k);
-  const DistortedViewResampler resampler(model, k.fx, k.fy, k.cx, k.cy);
-  const SplatCamera pinhole = resampler.Pinhole(SE3());
-  const double shift_u = pinhole.cx - k.cx, shift_v = pinhole.cy - k.cy;
+  k.pinhole = {.width = 64, .height = 48, .fx = 200, .fy = 200, .cx = 31.5, .cy = 23.5};
+  const PinholeRadtan model(k);
+  const DistortedViewResampler resampler(model, k.pinhole);
+  const PinholeIntrinsics pinhole = resampler.Pinhole(SE3()).pinhole;
+  const double shift_u = pinhole.cx - k.pinhole.cx, shift_v = pinhole.cy - k.pinhole.cy;
   EXPECT_EQ(shift_u, std::round(shift_u));  // whole-pixel shift: no interpolation blur
   const RenderedView view =
       resampler.Resample(CoordinateView(pinhole.width, pinhole.height), Eigen::Vector3f::Zero());
@@ -83,11 +83,11 @@ TEST(DistortedViewResampler, WithoutDistortionItIsAShiftOfThePinholeImage) {
 
 TEST(DistortedViewResampler, RaysOutsideTheCappedPinholeImageAreBackground) {
   PinholeRadtanIntrinsics k;
-  k.fx = 40, k.fy = 40, k.cx = 31.5, k.cy = 23.5;  // ~77 degrees wide before distortion
+  k.pinhole = {.width = 64, .height = 48, .fx = 40, .fy = 40, .cx = 31.5, .cy = 23.5};  // ~77 degrees wide
   k.k1 = -0.45, k.k2 = 0.12;
-  const PinholeRadtan model(64, 48, k);
-  const DistortedViewResampler resampler(model, k.fx, k.fy, k.cx, k.cy, /*max_scale=*/1.1);
-  const SplatCamera pinhole = resampler.Pinhole(SE3());
+  const PinholeRadtan model(k);
+  const DistortedViewResampler resampler(model, k.pinhole, /*max_scale=*/1.1);
+  const PinholeIntrinsics pinhole = resampler.Pinhole(SE3()).pinhole;
   EXPECT_LE(pinhole.width, static_cast<int>(1.1 * 64) + 4);
   const RenderedView view =
       resampler.Resample(CoordinateView(pinhole.width, pinhole.height), Eigen::Vector3f(0.25f, 0.5f, 0.75f));

@@ -34,12 +34,7 @@ constexpr int kWidth = 24, kHeight = 16;
 
 SplatCamera TestCamera() {
   SplatCamera camera;
-  camera.width = kWidth;
-  camera.height = kHeight;
-  camera.fx = 20;
-  camera.fy = 21;
-  camera.cx = 11.3;
-  camera.cy = 7.6;
+  camera.pinhole = {.width = kWidth, .height = kHeight, .fx = 20, .fy = 21, .cx = 11.3, .cy = 7.6};
   camera.T_world_camera = SE3(SO3::Exp(Eigen::Vector3d(0.05, -0.1, 0.08)), Eigen::Vector3d(0.3, -0.2, 0.1));
   return camera;
 }

@@ -93,9 +93,7 @@ struct HeadOn {
   GaussianModel model;
   static constexpr float f = 20, z = 2, sx = 0.2f, sy = 0.15f, sz = 0.3f, red = 0.7f;
   HeadOn(float logit) {
-    camera.width = camera.height = 16;
-    camera.fx = camera.fy = f;
-    camera.cx = camera.cy = 8;
+    camera.pinhole = {.width = 16, .height = 16, .fx = f, .fy = f, .cx = 8, .cy = 8};
     model.AddConstantColor({0, 0, z}, {std::log(sx), std::log(sy), std::log(sz)},
                            Eigen::Quaternionf(2, 0, 0, 0), logit, {red, 0.4f, 0.1f});
   }

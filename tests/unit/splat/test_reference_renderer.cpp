@@ -17,11 +17,7 @@ namespace {
 // 96 x 64 px, fx = fy = 100, principal point (48, 32), camera frame = world frame unless a pose is given.
 SplatCamera TestCamera(const SE3& T_world_camera = SE3()) {
   SplatCamera camera;
-  camera.width = 96;
-  camera.height = 64;
-  camera.fx = camera.fy = 100;
-  camera.cx = 48;
-  camera.cy = 32;
+  camera.pinhole = {.width = 96, .height = 64, .fx = 100, .fy = 100, .cx = 48, .cy = 32};
   camera.T_world_camera = T_world_camera;
   return camera;
 }
@@ -62,7 +58,7 @@ TEST(ReferenceRenderer, PixelValuesOfOneGaussian) {
   RenderSettings settings;
   settings.background = {0.1f, 0.2f, 0.3f};
   const RenderedView view = RenderReference(OneGaussian(), camera, settings);
-  auto at = [&](int x, int y) { return static_cast<std::size_t>(y) * camera.width + x; };
+  auto at = [&](int x, int y) { return static_cast<std::size_t>(y) * camera.pinhole.width + x; };
   // Centre: alpha = 0.5, rgb = 0.5 colour + 0.5 background; median depth reached (T = 0.5).
   const std::size_t centre = at(48, 32);
   EXPECT_NEAR(view.alpha[centre], 0.5f, 1e-6f);
@@ -193,7 +189,8 @@ TEST(ReferenceRenderer, EwaCovarianceMatchesTheNumericJacobian) {
 
   auto project = [&](const Eigen::Vector3d& p_world) {
     const Eigen::Vector3d t = T_world_camera.inverse() * p_world;
-    return Eigen::Vector2d(camera.fx * t.x() / t.z() + camera.cx, camera.fy * t.y() / t.z() + camera.cy);
+    const PinholeIntrinsics& k = camera.pinhole;
+    return Eigen::Vector2d(k.fx * t.x() / t.z() + k.cx, k.fy * t.y() / t.z() + k.cy);
   };
   Eigen::Matrix<double, 2, 3> J;
   for (int a = 0; a < 3; ++a) {

@@ -34,8 +34,8 @@ TEST(TrainingImages, FractionalRatiosWeighPixelsByTheAreaTheyOverlap) {
 }
 
 TEST(TrainingImages, ScaledIntrinsicsKeepTheImageEdgesInPlace) {
-  const Pinhole camera{640, 480, 500, 510, 319.5, 239.5};
-  const Pinhole half = ScalePinhole(camera, 320, 240);
+  const PinholeIntrinsics camera{640, 480, 500, 510, 319.5, 239.5};
+  const PinholeIntrinsics half = ScalePinhole(camera, 320, 240);
   EXPECT_DOUBLE_EQ(half.fx, 250);
   EXPECT_DOUBLE_EQ(half.fy, 255);
   EXPECT_DOUBLE_EQ(half.cx, 159.5);  // the centre of the image stays the centre
@@ -47,15 +47,16 @@ TEST(TrainingImages, ScaledIntrinsicsKeepTheImageEdgesInPlace) {
 
 TEST(TrainingImages, UndistortionSamplesTheDistortedImageWhereTheModelProjectsEachRay) {
   PinholeRadtanIntrinsics k;
-  k.fx = k.fy = 40, k.cx = 19.5, k.cy = 14.5, k.k1 = -0.2, k.p1 = 0.01;
-  const PinholeRadtan model(40, 30, k);
+  k.pinhole = {.width = 40, .height = 30, .fx = 40, .fy = 40, .cx = 19.5, .cy = 14.5};
+  k.k1 = -0.2, k.p1 = 0.01;
+  const PinholeRadtan model(k);
   ASSERT_TRUE(IsDistorted(model));
   // A ramp linear in the distorted pixel's u: bilinear sampling reproduces it exactly inside the image.
   std::vector<float> rgb(3 * 40 * 30);
   for (int y = 0; y < 30; ++y)
     for (int x = 0; x < 40; ++x)
       for (int c = 0; c < 3; ++c) rgb[3 * (y * 40 + x) + c] = (c + 1) * x / 100.0f + y / 1000.0f;
-  const Pinhole pinhole = *PinholeOf(model);
+  const PinholeIntrinsics pinhole = *PinholeOf(model);
   const std::vector<float> out = Undistort(rgb, model, pinhole);
   int checked = 0;
   for (int y = 0; y < 30; y += 3)
@@ -68,7 +69,7 @@ TEST(TrainingImages, UndistortionSamplesTheDistortedImageWhereTheModelProjectsEa
       ++checked;
     }
   EXPECT_GT(checked, 80);
-  const PinholeRadtan plain(40, 30, PinholeRadtanIntrinsics{40, 40, 19.5, 14.5});
+  const PinholeRadtan plain(PinholeRadtanIntrinsics{{40, 30, 40, 40, 19.5, 14.5}});
   EXPECT_FALSE(IsDistorted(plain));
 }
 
@@ -89,28 +90,15 @@ class Orthographic : public CameraModel {
 
 TEST(TrainingImages, ThePinholeOfAModelIsItsSizeFocalLengthsAndPrincipalPoint) {
   PinholeRadtanIntrinsics radtan;
-  radtan.fx = 400, radtan.fy = 410, radtan.cx = 319.5, radtan.cy = 239.25, radtan.k2 = 0.01;
-  const std::optional<Pinhole> p = PinholeOf(PinholeRadtan(640, 480, radtan));
-  ASSERT_TRUE(p.has_value());
-  EXPECT_EQ(p->width, 640);
-  EXPECT_EQ(p->height, 480);
-  EXPECT_EQ(p->fx, 400);
-  EXPECT_EQ(p->fy, 410);
-  EXPECT_EQ(p->cx, 319.5);
-  EXPECT_EQ(p->cy, 239.25);
-  EXPECT_TRUE(IsDistorted(PinholeRadtan(640, 480, radtan)));  // k2 alone is a distortion
+  radtan.pinhole = {.width = 640, .height = 480, .fx = 400, .fy = 410, .cx = 319.5, .cy = 239.25};
+  radtan.k2 = 0.01;
+  EXPECT_EQ(PinholeOf(PinholeRadtan(radtan)), (PinholeIntrinsics{640, 480, 400, 410, 319.5, 239.25}));
+  EXPECT_TRUE(IsDistorted(PinholeRadtan(radtan)));  // k2 alone is a distortion
 
   // A fisheye keeps its focal lengths and principal point, and is always distorted, even without
   // coefficients (its projection is not a pinhole's).
-  const Equidistant fisheye(1280, 1024, EquidistantIntrinsics{350, 350.5, 640.1, 511.9});
-  const std::optional<Pinhole> f = PinholeOf(fisheye);
-  ASSERT_TRUE(f.has_value());
-  EXPECT_EQ(f->width, 1280);
-  EXPECT_EQ(f->height, 1024);
-  EXPECT_EQ(f->fx, 350);
-  EXPECT_EQ(f->fy, 350.5);
-  EXPECT_EQ(f->cx, 640.1);
-  EXPECT_EQ(f->cy, 511.9);
+  const Equidistant fisheye(EquidistantIntrinsics{{1280, 1024, 350, 350.5, 640.1, 511.9}});
+  EXPECT_EQ(PinholeOf(fisheye), (PinholeIntrinsics{1280, 1024, 350, 350.5, 640.1, 511.9}));
   EXPECT_TRUE(IsDistorted(fisheye));
 
   EXPECT_FALSE(PinholeOf(Orthographic()).has_value());
@@ -118,7 +106,7 @@ TEST(TrainingImages, ThePinholeOfAModelIsItsSizeFocalLengthsAndPrincipalPoint) {
 
 TEST(TrainingImages, LidarDepthKeepsTheNearestPointPerPixel) {
   SplatCamera camera;
-  camera.width = 8, camera.height = 6, camera.fx = camera.fy = 4, camera.cx = 3.5, camera.cy = 2.5;
+  camera.pinhole = {.width = 8, .height = 6, .fx = 4, .fy = 4, .cx = 3.5, .cy = 2.5};
   // The camera at (0, 0, -1), its axes the world's.
   camera.T_world_camera = SE3(SO3(), Eigen::Vector3d(0, 0, -1));
   const std::vector<Eigen::Vector3f> points = {

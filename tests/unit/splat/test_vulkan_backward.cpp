@@ -212,7 +212,7 @@ TEST(VulkanBackwardActiveSh, MatchesTheReferenceOfTheTruncatedModel) {
   ASSERT_TRUE(vk::UploadGaussians(**context, model, 100, gaussians).ok());  // 3 chunks
   RenderSettings settings;
   settings.background = {0.2f, 0.1f, 0.3f};
-  const ViewGradients dL_dview = RandomViewGradients(21, camera.width * camera.height);
+  const ViewGradients dL_dview = RandomViewGradients(21, camera.pinhole.width * camera.pinhole.height);
   const std::size_t stride = model.ShStride();
   for (int active : {3, 0, 2, 1}) {
     SCOPED_TRACE("active SH degree " + std::to_string(active));
@@ -223,7 +223,8 @@ TEST(VulkanBackwardActiveSh, MatchesTheReferenceOfTheTruncatedModel) {
       (*forward)->Record(**frame, gaussians);
       const vk::ForwardState state = (*forward)->State(gaussians);
       ASSERT_TRUE((*backward)->Prepare(state).ok());
-      (*backward)->UploadViewGradients(dL_dview, static_cast<std::size_t>(camera.width) * camera.height);
+      (*backward)->UploadViewGradients(
+          dL_dview, static_cast<std::size_t>(camera.pinhole.width) * camera.pinhole.height);
       (*backward)->Record(**frame, state);
       ASSERT_TRUE((*frame)->SubmitAndWait().ok());
       SplatFrameStats stats;

@@ -41,8 +41,8 @@ Scene RandomScene(std::uint64_t seed, int width, int height) {
     s.rendered.expected_depth[p] = alpha < 1e-4f ? RenderedView::kNoDepth : E;
     s.target.depth.push_back(uniform(rng) < 0.3f ? 0.0f : E + 4.0f * (uniform(rng) - 0.5f));
   }
-  s.target.camera.width = width;
-  s.target.camera.height = height;
+  s.target.camera.pinhole.width = width;
+  s.target.camera.pinhole.height = height;
   return s;
 }
 

@@ -160,7 +160,7 @@ TEST_F(VulkanRenderer, RejectsBadInput) {
   ASSERT_FALSE(upload.ok());
   EXPECT_NE(upload.message().find("Gaussian 3"), std::string::npos) << upload.message();
   SplatCamera camera = Camera(32, 32, SE3());
-  camera.fx = -1;
+  camera.pinhole.fx = -1;
   EXPECT_FALSE(renderer_->Render(camera, {}).ok());
   RenderSettings settings;
   settings.near = 0;

@@ -19,28 +19,22 @@ constexpr double kProjectionJacobianTolerance = 1e-5;  // px/m (see numeric_jaco
 
 // EuRoC MAV cam0 (radial-tangential) and TUM-VI cam0 (equidistant) calibrations.
 PinholeRadtan EurocCamera() {
-  return PinholeRadtan(752, 480,
-                       {.fx = 458.654,
-                        .fy = 457.296,
-                        .cx = 367.215,
-                        .cy = 248.375,
-                        .k1 = -0.28340811,
-                        .k2 = 0.07395907,
-                        .p1 = 0.00019359,
-                        .p2 = 1.76187114e-05,
-                        .k3 = 0.0});
+  return PinholeRadtan(
+      {.pinhole = {.width = 752, .height = 480, .fx = 458.654, .fy = 457.296, .cx = 367.215, .cy = 248.375},
+       .k1 = -0.28340811,
+       .k2 = 0.07395907,
+       .p1 = 0.00019359,
+       .p2 = 1.76187114e-05,
+       .k3 = 0.0});
 }
 
 Equidistant TumViCamera() {
-  return Equidistant(512, 512,
-                     {.fx = 190.978,
-                      .fy = 190.973,
-                      .cx = 254.932,
-                      .cy = 256.897,
-                      .k1 = 0.0034823894,
-                      .k2 = 0.000715035,
-                      .k3 = -0.0020532361,
-                      .k4 = 0.000202936});
+  return Equidistant(
+      {.pinhole = {.width = 512, .height = 512, .fx = 190.978, .fy = 190.973, .cx = 254.932, .cy = 256.897},
+       .k1 = 0.0034823894,
+       .k2 = 0.000715035,
+       .k3 = -0.0020532361,
+       .k4 = 0.000202936});
 }
 
 // Points in front of the camera: on the axis, near it, generic, and at wide angles (70 degrees for the
@@ -90,14 +84,16 @@ void ExpectUnprojectInvertsProject(const CameraModel& camera, double max_radius)
 }
 
 TEST(CameraModelTest, PinholeWithoutDistortionMatchesHandComputation) {
-  const PinholeRadtan camera(640, 480, {.fx = 500, .fy = 400, .cx = 320, .cy = 240});
+  const PinholeRadtan camera(
+      {.pinhole = {.width = 640, .height = 480, .fx = 500, .fy = 400, .cx = 320, .cy = 240}});
   // (500 * 1/4 + 320, 400 * 2/4 + 240)
   EXPECT_TRUE(camera.Project(Vector3d(1, 2, 4))->isApprox(Vector2d(445, 440)));
   EXPECT_TRUE(camera.Unproject(Vector2d(445, 440)).isApprox(Vector3d(1, 2, 4).normalized()));
 }
 
 TEST(CameraModelTest, EquidistantWithoutDistortionMatchesHandComputation) {
-  const Equidistant camera(640, 480, {.fx = 300, .fy = 300, .cx = 320, .cy = 240});
+  const Equidistant camera(
+      {.pinhole = {.width = 640, .height = 480, .fx = 300, .fy = 300, .cx = 320, .cy = 240}});
   // 45 degrees off axis along x: theta_d = pi/4, so u = cx + fx pi/4.
   EXPECT_TRUE(camera.Project(Vector3d(2, 0, 2))->isApprox(Vector2d(320 + 300 * std::numbers::pi / 4, 240)));
 }
@@ -105,24 +101,24 @@ TEST(CameraModelTest, EquidistantWithoutDistortionMatchesHandComputation) {
 TEST(CameraModelTest, PinholeRadtanProjectJacobianMatchesNumeric) {
   ExpectProjectJacobianMatchesNumeric(EurocCamera(), TestPoints(false));
   // Strong tangential and k3 terms exercise every entry of the distortion Jacobian.
-  const PinholeRadtan strong(640, 480,
-                             {.fx = 400,
-                              .fy = 420,
-                              .cx = 330,
-                              .cy = 230,
-                              .k1 = -0.2,
-                              .k2 = 0.05,
-                              .p1 = 0.01,
-                              .p2 = -0.02,
-                              .k3 = 0.01});
+  const PinholeRadtan strong(
+      {.pinhole = {.width = 640, .height = 480, .fx = 400, .fy = 420, .cx = 330, .cy = 230},
+       .k1 = -0.2,
+       .k2 = 0.05,
+       .p1 = 0.01,
+       .p2 = -0.02,
+       .k3 = 0.01});
   ExpectProjectJacobianMatchesNumeric(strong, TestPoints(false));
 }
 
 TEST(CameraModelTest, EquidistantProjectJacobianMatchesNumeric) {
   ExpectProjectJacobianMatchesNumeric(TumViCamera(), TestPoints(true));
   const Equidistant strong(
-      640, 480,
-      {.fx = 250, .fy = 260, .cx = 320, .cy = 240, .k1 = -0.05, .k2 = 0.01, .k3 = -0.002, .k4 = 0.0005});
+      {.pinhole = {.width = 640, .height = 480, .fx = 250, .fy = 260, .cx = 320, .cy = 240},
+       .k1 = -0.05,
+       .k2 = 0.01,
+       .k3 = -0.002,
+       .k4 = 0.0005});
   ExpectProjectJacobianMatchesNumeric(strong, TestPoints(true));
 }
 
@@ -157,11 +153,13 @@ TEST(CameraModelTest, PointsBehindTheCameraAreNotProjected) {
 
 TEST(CameraModelTest, PointsPastTheDistortionFoldAreNotProjected) {
   // r (1 - 0.5 r^2) increases only up to r^2 = 2/3 (r = 0.816).
-  const PinholeRadtan pinhole(640, 480, {.fx = 400, .fy = 400, .cx = 320, .cy = 240, .k1 = -0.5});
+  const PinholeRadtan pinhole(
+      {.pinhole = {.width = 640, .height = 480, .fx = 400, .fy = 400, .cx = 320, .cy = 240}, .k1 = -0.5});
   EXPECT_TRUE(pinhole.Project(Vector3d(0.8, 0.0, 1.0)).has_value());
   EXPECT_FALSE(pinhole.Project(Vector3d(0.82, 0.0, 1.0)).has_value());
   // theta (1 - 0.2 theta^2) increases only up to theta^2 = 1/0.6 (theta = 1.291 rad = 74 degrees).
-  const Equidistant fisheye(640, 480, {.fx = 200, .fy = 200, .cx = 320, .cy = 240, .k1 = -0.2});
+  const Equidistant fisheye(
+      {.pinhole = {.width = 640, .height = 480, .fx = 200, .fy = 200, .cx = 320, .cy = 240}, .k1 = -0.2});
   const auto at_angle = [](double degrees) {
     const double a = degrees * std::numbers::pi / 180.0;
     return Vector3d(0.0, std::sin(a), std::cos(a));
@@ -194,33 +192,44 @@ TEST(CameraModelTest, ValidateAcceptsRealCalibrations) {
 }
 
 TEST(CameraModelTest, ValidateNamesTheImpossibleField) {
-  const PinholeRadtanIntrinsics good{.fx = 400, .fy = 400, .cx = 320, .cy = 240};
-  ExpectInvalid(PinholeRadtan(0, 480, good), "width = 0");
-  ExpectInvalid(PinholeRadtan(640, -3, good), "height = -3");
+  const PinholeRadtanIntrinsics good{
+      .pinhole = {.width = 640, .height = 480, .fx = 400, .fy = 400, .cx = 320, .cy = 240}};
   PinholeRadtanIntrinsics k = good;
-  k.fx = -5;
-  ExpectInvalid(PinholeRadtan(640, 480, k), "fx = -5");
+  k.pinhole.width = 0;
+  ExpectInvalid(PinholeRadtan(k), "width = 0");
   k = good;
-  k.fy = std::nan("");
-  ExpectInvalid(PinholeRadtan(640, 480, k), "fy = nan");
+  k.pinhole.height = -3;
+  ExpectInvalid(PinholeRadtan(k), "height = -3");
   k = good;
-  k.fx = 0;
-  ExpectInvalid(PinholeRadtan(640, 480, k), "fx = 0");
+  k.pinhole.fx = -5;
+  ExpectInvalid(PinholeRadtan(k), "fx = -5");
   k = good;
-  k.cx = 700;
-  ExpectInvalid(PinholeRadtan(640, 480, k), "cx = 700");
+  k.pinhole.fy = std::nan("");
+  ExpectInvalid(PinholeRadtan(k), "fy = nan");
   k = good;
-  k.cy = -20;
-  ExpectInvalid(PinholeRadtan(640, 480, k), "cy = -20");
+  k.pinhole.fx = 0;
+  ExpectInvalid(PinholeRadtan(k), "fx = 0");
+  k = good;
+  k.pinhole.cx = 700;
+  ExpectInvalid(PinholeRadtan(k), "cx = 700");
+  k = good;
+  k.pinhole.cy = -20;
+  ExpectInvalid(PinholeRadtan(k), "cy = -20");
   k = good;
   k.p2 = std::numeric_limits<double>::infinity();
-  ExpectInvalid(PinholeRadtan(640, 480, k), "p2 = inf");
+  ExpectInvalid(PinholeRadtan(k), "p2 = inf");
 
+  ExpectInvalid(Equidistant({.pinhole = {.width = 640,
+                                         .height = 480,
+                                         .fx = 200,
+                                         .fy = std::numeric_limits<double>::infinity(),
+                                         .cx = 320,
+                                         .cy = 240}}),
+                "fy = inf");
   ExpectInvalid(
-      Equidistant(640, 480, {.fx = 200, .fy = std::numeric_limits<double>::infinity(), .cx = 320, .cy = 240}),
-      "fy = inf");
-  ExpectInvalid(Equidistant(640, 480, {.fx = 200, .fy = 200, .cx = 320, .cy = 240, .k4 = std::nan("")}),
-                "k4 = nan");
+      Equidistant({.pinhole = {.width = 640, .height = 480, .fx = 200, .fy = 200, .cx = 320, .cy = 240},
+                   .k4 = std::nan("")}),
+      "k4 = nan");
 }
 
 }  // namespace

@@ -12,9 +12,9 @@
 #include "export/splat_gltf.h"
 #include "export/splat_ply.h"
 #include "odometry/io/trajectory_file.h"
-#include "splat/distorted_view.h"
 #include "splat/splat_renderer.h"
 #include "viewer/app/cli/exit_codes.h"
+#include "splat/views/camera_view_renderer.h"
 #include "viewer/app/render_camera.h"
 #include "viewer/pipeline/progress_line.h"
 #include "viewer/pipeline/splat/splat_outputs.h"
@@ -70,10 +70,9 @@ int RunRender(const RenderArguments& a) {
 
   splat::RenderSettings settings;
   settings.background = Eigen::Vector3f(a.background[0], a.background[1], a.background[2]);
-  // Distorted cameras render through a covering pinhole and are resampled (splat/distorted_view.h).
-  const PinholeRadtanIntrinsics& k = camera->intrinsics;
-  std::optional<splat::DistortedViewResampler> resampler;
-  if (camera->distorted) resampler.emplace(*camera->model, k.fx, k.fy, k.cx, k.cy);
+  // Distorted cameras render through a covering pinhole, resampled (splat/views/camera_view_renderer.h).
+  Expected<splat::CameraViewRenderer> camera_views = splat::CameraViewRenderer::Create(*camera->model);
+  if (!camera_views) return ReportError(camera_views.status());
   std::error_code error;
   fs::create_directories(a.out, error);
   if (error) return ReportError(Status::Error(a.out + ": cannot create the folder: " + error.message()));
@@ -84,20 +83,14 @@ int RunRender(const RenderArguments& a) {
   {
     ProgressLine progress("render");
     for (std::size_t i = 0; i < poses->size(); ++i) {
-      splat::SplatCamera view_camera;
-      if (resampler) {
-        view_camera = resampler->Pinhole(poses->poses[i]);
-      } else {
-        view_camera.width = camera->width;
-        view_camera.height = camera->height;
-        view_camera.fx = k.fx, view_camera.fy = k.fy, view_camera.cx = k.cx, view_camera.cy = k.cy;
-        view_camera.T_world_camera = poses->poses[i];
-      }
-      const Clock::time_point start = Clock::now();
-      Expected<splat::RenderedView> view = (*renderer)->Render(view_camera, settings);
-      render_ms += std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+      Expected<splat::RenderedView> view = camera_views->Render(
+          poses->poses[i], settings, [&](const splat::SplatCamera& pinhole, const splat::RenderSettings& s) {
+            const Clock::time_point start = Clock::now();
+            Expected<splat::RenderedView> rendered = (*renderer)->Render(pinhole, s);
+            render_ms += std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+            return rendered;
+          });
       if (!view) return ReportError(view.status());
-      if (resampler) *view = resampler->Resample(*view, settings.background);
       // Files are named by the pose's stamp in nanoseconds, like the frames of a dataset.
       const std::string name = std::to_string(poses->stamps[i]);
       if (Status s = exporting::WriteViewExr(*view, (fs::path(a.out) / (name + ".exr")).string(), pixel_type);
@@ -113,8 +106,8 @@ int RunRender(const RenderArguments& a) {
     }
   }
   std::printf("render: %zu views of %d x %d px, %zu Gaussians on %s, %.1f ms/view\n", poses->size(),
-              camera->width, camera->height, model->size(), (*renderer)->device_name().c_str(),
-              render_ms / poses->size());
+              camera->intrinsics.pinhole.width, camera->intrinsics.pinhole.height, model->size(),
+              (*renderer)->device_name().c_str(), render_ms / poses->size());
   std::printf("  wrote %s: <stamp ns>.exr (R G B A, Z, %s)%s\n", a.out.c_str(),
               exporting::kExrExpectedDepthChannel, a.png ? " and <stamp ns>.png" : "");
   return kExitOk;

@@ -14,12 +14,12 @@ nlohmann::json CameraJson(const CameraModel& camera) {
   if (const auto* radtan = dynamic_cast<const PinholeRadtan*>(&camera)) {
     const PinholeRadtanIntrinsics& k = radtan->intrinsics();
     j["model"] = "radial-tangential";
-    j["intrinsics"] = {k.fx, k.fy, k.cx, k.cy};
+    j["intrinsics"] = {k.pinhole.fx, k.pinhole.fy, k.pinhole.cx, k.pinhole.cy};
     j["distortion"] = {k.k1, k.k2, k.p1, k.p2, k.k3};
   } else if (const auto* fisheye = dynamic_cast<const Equidistant*>(&camera)) {
     const EquidistantIntrinsics& k = fisheye->intrinsics();
     j["model"] = "equidistant";
-    j["intrinsics"] = {k.fx, k.fy, k.cx, k.cy};
+    j["intrinsics"] = {k.pinhole.fx, k.pinhole.fy, k.pinhole.cx, k.pinhole.cy};
     j["distortion"] = {k.k1, k.k2, k.k3, k.k4};
   }
   return j;

@@ -140,9 +140,10 @@ Expected<LoadedIntrinsics> IntrinsicsFromJson(const std::string& path) {
   if (d->size() != 4 && d->size() != 5)
     return Status::Error(where + ".cam_dist.data: expected 4 or 5 radial-tangential coefficients (k1 k2 p1 " +
                          "p2 [k3]), got " + std::to_string(d->size()));
-  const PinholeRadtanIntrinsics k{
-      (*K)[0], (*K)[4], (*K)[2], (*K)[5], (*d)[0], (*d)[1], (*d)[2], (*d)[3], d->size() == 5 ? (*d)[4] : 0.0};
-  auto camera = std::make_shared<PinholeRadtan>(int(*width), int(*height), k);
+  const PinholeIntrinsics pinhole{int(*width), int(*height), (*K)[0], (*K)[4], (*K)[2], (*K)[5]};
+  const PinholeRadtanIntrinsics k{pinhole, (*d)[0], (*d)[1],
+                                  (*d)[2], (*d)[3], d->size() == 5 ? (*d)[4] : 0.0};
+  auto camera = std::make_shared<PinholeRadtan>(k);
   if (Status s = camera->Validate(); !s.ok()) return Status::Error(where + ": " + s.message());
   return LoadedIntrinsics{camera, name + " of " + path};
 }
@@ -258,14 +259,16 @@ Expected<std::shared_ptr<const CameraModel>> FitCameraToImage(const CameraModel&
   std::shared_ptr<const CameraModel> fitted;
   if (const auto* radtan = dynamic_cast<const PinholeRadtan*>(&camera)) {
     PinholeRadtanIntrinsics k = radtan->intrinsics();
-    k.cx += offset.x();
-    k.cy += offset.y();
-    fitted = std::make_shared<PinholeRadtan>(width, height, k);
+    k.pinhole.width = width, k.pinhole.height = height;
+    k.pinhole.cx += offset.x();
+    k.pinhole.cy += offset.y();
+    fitted = std::make_shared<PinholeRadtan>(k);
   } else if (const auto* fisheye = dynamic_cast<const Equidistant*>(&camera)) {
     EquidistantIntrinsics k = fisheye->intrinsics();
-    k.cx += offset.x();
-    k.cy += offset.y();
-    fitted = std::make_shared<Equidistant>(width, height, k);
+    k.pinhole.width = width, k.pinhole.height = height;
+    k.pinhole.cx += offset.x();
+    k.pinhole.cy += offset.y();
+    fitted = std::make_shared<Equidistant>(k);
   } else {
     return Status::Error("the camera model cannot be fitted to a " + std::to_string(width) + "x" +
                          std::to_string(height) + " image");

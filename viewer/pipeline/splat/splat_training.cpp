@@ -88,7 +88,7 @@ Expected<SplatScores> ScoreViews(splat::SplatTrainer& trainer, const std::vector
     std::vector<float> rgb = rendered->rgb;
     for (float& v : rgb) v = std::clamp(v, 0.0f, 1.0f);
     const ViewScore score{view.stamp, splat::Psnr(rgb, real.rgb),
-                          splat::Ssim(rgb, real.rgb, view.camera.width, view.camera.height)};
+                          splat::Ssim(rgb, real.rgb, view.camera.pinhole.width, view.camera.pinhole.height)};
     scores.views.push_back(score);
     scores.psnr += score.psnr / static_cast<double>(views.size());
     scores.ssim += score.ssim / static_cast<double>(views.size());

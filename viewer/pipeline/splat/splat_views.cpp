@@ -11,18 +11,11 @@ namespace uf::pipeline {
 namespace {
 
 using app::DefaultSize;
-using splat::IsDistorted;
-using splat::PinholeOf;
-using splat::ProjectDepth;
-using splat::ResizeArea;
-using splat::ScalePinhole;
-using splat::ToRgbFloat;
-using splat::Undistort;
 
 // The view of one decoded image: undistorted to the model's pinhole when it has distortion, resized to the
 // training size, quantised to 8 bits (the source's precision) for storage.
-StoredView MakeView(const Image& image, const CameraModel& model, const splat::Pinhole& native,
-                    const splat::Pinhole& target, const SE3& T_world_camera, Stamp stamp,
+StoredView MakeView(const Image& image, const CameraModel& model, const PinholeIntrinsics& native,
+                    const PinholeIntrinsics& target, const SE3& T_world_camera, Stamp stamp,
                     std::span<const Eigen::Vector3f> depth_points) {
   std::vector<float> rgb = splat::ToRgbFloat(image);
   if (splat::IsDistorted(model)) rgb = splat::Undistort(rgb, model, native);
@@ -30,9 +23,7 @@ StoredView MakeView(const Image& image, const CameraModel& model, const splat::P
     rgb = splat::ResizeArea(rgb, native.width, native.height, 3, target.width, target.height);
   StoredView view;
   view.stamp = stamp;
-  view.camera.width = target.width, view.camera.height = target.height;
-  view.camera.fx = target.fx, view.camera.fy = target.fy, view.camera.cx = target.cx,
-  view.camera.cy = target.cy;
+  view.camera.pinhole = target;
   view.camera.T_world_camera = T_world_camera;
   view.rgb.resize(rgb.size());
   for (std::size_t i = 0; i < rgb.size(); ++i)
@@ -87,7 +78,7 @@ Expected<SplatViews> LoadSplatViews(MeasurementStream& stream, const SplatCamera
   SplatViews views;
   views.camera_name = camera.name;
   views.model = camera.model;
-  const splat::Pinhole native = *splat::PinholeOf(*camera.model);
+  const PinholeIntrinsics native = *splat::PinholeOf(*camera.model);
   int width = config.width, height = config.height;
   if (width == 0) DefaultSize(native.width, native.height, config.max_width, width, height);
   views.pinhole = splat::ScalePinhole(native, width, height);

@@ -27,7 +27,6 @@
 namespace uf::pipeline {
 
 using app::SplatConfig;
-using splat::Pinhole;
 
 // The camera images come from: the dataset's first camera stream, its model and T_F_C (its pose in the
 // trajectory's frame F).
@@ -66,7 +65,7 @@ splat::TrainingView ToTrainingView(const StoredView& view);
 
 struct SplatViews {
   std::vector<StoredView> train, test;
-  splat::Pinhole pinhole;                    // the training images' camera
+  PinholeIntrinsics pinhole;                 // the training images' camera
   std::string camera_name;                   // the stream
   std::shared_ptr<const CameraModel> model;  // the camera's own model (native size, distortion)
   std::int64_t images = 0;                   // frames of the camera stream

@@ -6,10 +6,10 @@
 #include "export/exr_view.h"
 #include "export/splat_ply.h"
 #include "odometry/io/trajectory_file.h"
-#include "splat/distorted_view.h"
 #include "splat/splat_renderer.h"
 #include "viewer/pipeline/run_files.h"
 #include "viewer/pipeline/splat/splat_views.h"
+#include "splat/views/camera_view_renderer.h"
 
 namespace uf::pipeline {
 namespace {
@@ -26,7 +26,8 @@ bool WriteCameraYaml(const fs::path& file, const CameraModel& model, Status& sta
   std::snprintf(text, sizeof(text),
                 "model: pinhole\nwidth: %d\nheight: %d\nfx: %.17g\nfy: %.17g\ncx: %.17g\ncy: %.17g\n"
                 "distortion: [%.17g, %.17g, %.17g, %.17g, %.17g]\n",
-                model.width(), model.height(), k.fx, k.fy, k.cx, k.cy, k.k1, k.k2, k.p1, k.p2, k.k3);
+                model.width(), model.height(), k.pinhole.fx, k.pinhole.fy, k.pinhole.cx, k.pinhole.cy, k.k1,
+                k.k2, k.p1, k.p2, k.k3);
   status = WriteTextFileAtomically(file, text);
   return true;
 }
@@ -80,25 +81,18 @@ Expected<std::string> RunViewsStage(const fs::path& out, const SplatJobResult& s
 
   // The camera's own model: a distorted one renders through a covering pinhole and is resampled.
   const CameraModel& camera = *splat.model;
-  const splat::Pinhole native = *splat::PinholeOf(camera);
-  std::optional<splat::DistortedViewResampler> resampler;
-  if (splat::IsDistorted(camera)) resampler.emplace(camera, native.fx, native.fy, native.cx, native.cy);
+  Expected<splat::CameraViewRenderer> camera_views = splat::CameraViewRenderer::Create(camera);
+  if (!camera_views) return camera_views.status();
   splat::RenderSettings settings;
   settings.background = background;
   Trajectory poses;
   for (std::size_t i = 0; i < views.size(); ++i) {
     const SE3& T_world_camera = views[i].camera.T_world_camera;
-    splat::SplatCamera pinhole;
-    if (resampler) {
-      pinhole = resampler->Pinhole(T_world_camera);
-    } else {
-      pinhole.width = native.width, pinhole.height = native.height;
-      pinhole.fx = native.fx, pinhole.fy = native.fy, pinhole.cx = native.cx, pinhole.cy = native.cy;
-      pinhole.T_world_camera = T_world_camera;
-    }
-    Expected<splat::RenderedView> view = (*renderer)->Render(pinhole, settings);
+    Expected<splat::RenderedView> view = camera_views->Render(
+        T_world_camera, settings, [&](const splat::SplatCamera& pinhole, const splat::RenderSettings& s) {
+          return (*renderer)->Render(pinhole, s);
+        });
     if (!view) return view.status();
-    if (resampler) *view = resampler->Resample(*view, settings.background);
     const std::string stem = std::to_string(views[i].stamp);
     if (Status s = exporting::WriteViewExr(*view, (folder / (stem + ".exr")).string()); !s.ok()) return s;
     if (Status s = WriteRgbPng(folder / (stem + ".png"), view->rgb, view->width, view->height); !s.ok())

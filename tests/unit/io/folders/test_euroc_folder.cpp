@@ -105,8 +105,8 @@ TEST(EurocFolder, DescribesStreamsWithCalibration) {
     ASSERT_NE(camera, nullptr);
     EXPECT_EQ(camera->width(), 752);
     EXPECT_EQ(camera->height(), 480);
-    EXPECT_EQ(camera->intrinsics().fx, 458.654);
-    EXPECT_EQ(camera->intrinsics().cy, 248.375);
+    EXPECT_EQ(camera->intrinsics().pinhole.fx, 458.654);
+    EXPECT_EQ(camera->intrinsics().pinhole.cy, 248.375);
     EXPECT_EQ(camera->intrinsics().k1, -0.28340811);
     EXPECT_EQ(camera->intrinsics().p2, 1.76187114e-05);
     EXPECT_EQ(camera->intrinsics().k3, 0);

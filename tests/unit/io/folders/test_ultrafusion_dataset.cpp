@@ -29,9 +29,9 @@ std::vector<StreamInfo> Streams() {
       SE3(SO3::Exp(Eigen::Vector3d(0.1, -0.2, 0.3)), Eigen::Vector3d(0.5, 1.0 / 3, -2));
   streams[5].camera = 3;
   streams[2].camera_model = std::make_shared<PinholeRadtan>(
-      640, 480, PinholeRadtanIntrinsics{400.5, 401.25, 319.5, 239.75, -0.28, 0.07, 1e-4, -2e-5, 0.01});
+      PinholeRadtanIntrinsics{{640, 480, 400.5, 401.25, 319.5, 239.75}, -0.28, 0.07, 1e-4, -2e-5, 0.01});
   streams[5].camera_model = std::make_shared<Equidistant>(
-      1280, 1024, EquidistantIntrinsics{350, 350.5, 640.1, 511.9, 0.1, -0.02, 3e-3, -1e-4});
+      EquidistantIntrinsics{{1280, 1024, 350, 350.5, 640.1, 511.9}, 0.1, -0.02, 3e-3, -1e-4});
   return streams;
 }
 
@@ -155,14 +155,15 @@ TEST(UltrafusionDataset, RoundTripsEveryMeasurementKindExactly) {
   const PinholeRadtanIntrinsics& k = radtan->intrinsics();
   const PinholeRadtanIntrinsics& k_written =
       dynamic_cast<const PinholeRadtan&>(*written[2].camera_model).intrinsics();
-  EXPECT_EQ(std::vector<double>({k.fx, k.fy, k.cx, k.cy, k.k1, k.k2, k.p1, k.p2, k.k3}),
-            std::vector<double>({k_written.fx, k_written.fy, k_written.cx, k_written.cy, k_written.k1,
+  const PinholeIntrinsics &p = k.pinhole, &p_written = k_written.pinhole;
+  EXPECT_EQ(std::vector<double>({p.fx, p.fy, p.cx, p.cy, k.k1, k.k2, k.p1, k.p2, k.k3}),
+            std::vector<double>({p_written.fx, p_written.fy, p_written.cx, p_written.cy, k_written.k1,
                                  k_written.k2, k_written.p1, k_written.p2, k_written.k3}));
   EXPECT_EQ(radtan->width(), 640);
   const auto* fisheye = dynamic_cast<const Equidistant*>(description.streams[5].camera_model.get());
   ASSERT_NE(fisheye, nullptr);
   EXPECT_EQ(fisheye->intrinsics().k4, -1e-4);
-  EXPECT_EQ(fisheye->intrinsics().cx, 640.1);
+  EXPECT_EQ(fisheye->intrinsics().pinhole.cx, 640.1);
   EXPECT_EQ(fisheye->height(), 1024);
   EXPECT_EQ(description.streams[0].camera_model, nullptr);
   ASSERT_TRUE(description.ground_truth);

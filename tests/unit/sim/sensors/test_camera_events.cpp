@@ -28,7 +28,7 @@ struct EventFixture {
   TrajectorySpline spline = StaticTrajectory(SE3(SO3(), Eigen::Vector3d(-12, -2, 0.5)));
   CameraConfig config = [] {
     CameraConfig c;
-    c.width = 160, c.height = 120, c.fx = c.fy = 100, c.cx = 79.5, c.cy = 59.5;
+    c.pinhole = {.width = 160, .height = 120, .fx = 100, .fy = 100, .cx = 79.5, .cy = 59.5};
     c.noise_std_dn = 0.0;
     return c;
   }();
@@ -105,7 +105,7 @@ TEST(CameraRenderer, OutputDependsOnlyOnSeedAndTimeNotOnThreads) {
   ASSERT_TRUE(caster.ok());
   const TrajectorySpline spline = uf::test::RandomSpline(5, 10, kSecond / 2);
   CameraConfig config;
-  config.width = 120, config.height = 90, config.fx = config.fy = 80, config.cx = 59.5, config.cy = 44.5;
+  config.pinhole = {.width = 120, .height = 90, .fx = 80, .fy = 80, .cx = 59.5, .cy = 44.5};
   config.supersampling = 2;
   config.noise_std_dn = 1.5;
   const Stamp t = spline.begin() + FromSeconds(1.7);
@@ -140,12 +140,13 @@ TEST(CameraRenderer, BadConfigsGiveErrorsNamingTheField) {
     const char* expected;
   };
   const Case cases[] = {
-      {[](CameraConfig& c) { c.width = 0; }, "camera.width: must be in [1, 16384], got 0"},
-      {[](CameraConfig& c) { c.height = 20000; }, "camera.height"},
-      {[](CameraConfig& c) { c.fx = 0; }, "camera.fx: must be positive and finite, got 0"},
-      {[](CameraConfig& c) { c.fy = std::nan(""); }, "camera.fy"},
-      {[](CameraConfig& c) { c.cx = 700; }, "camera.cx: must be inside the image [-0.5, 640 - 0.5], got 700"},
-      {[](CameraConfig& c) { c.cy = -1; }, "camera.cy"},
+      {[](CameraConfig& c) { c.pinhole.width = 0; }, "camera.width: must be in [1, 16384], got 0"},
+      {[](CameraConfig& c) { c.pinhole.height = 20000; }, "camera.height"},
+      {[](CameraConfig& c) { c.pinhole.fx = 0; }, "camera.fx: must be positive and finite, got 0"},
+      {[](CameraConfig& c) { c.pinhole.fy = std::nan(""); }, "camera.fy"},
+      {[](CameraConfig& c) { c.pinhole.cx = 700; },
+       "camera.cx: must be inside the image [-0.5, 640 - 0.5], got 700"},
+      {[](CameraConfig& c) { c.pinhole.cy = -1; }, "camera.cy"},
       {[](CameraConfig& c) { c.k2 = INFINITY; }, "camera.k2: must be finite, got inf"},
       {[](CameraConfig& c) { c.rate_hz = -5; }, "camera.rate_hz: must be in (0, 1000], got -5"},
       {[](CameraConfig& c) { c.noise_std_dn = -1; }, "camera.noise_std_dn"},
@@ -184,7 +185,7 @@ TEST(CameraRenderer, BadConfigsGiveErrorsNamingTheField) {
   // A distortion that folds over inside the image (r (1 + k1 r^2) peaks at r^2 = 1/(-3 k1) = 0.67 while the
   // image corners reach r^2 = 2.5), and a non-finite extrinsic.
   CameraConfig folded;
-  folded.fx = folded.fy = 200;
+  folded.pinhole.fx = folded.pinhole.fy = 200;
   folded.k1 = -0.5;
   auto renderer = CameraRenderer::Create(folded, *caster, spline, SE3(), 1);
   ASSERT_FALSE(renderer.ok());

@@ -31,8 +31,7 @@ TEST(CameraRenderer, RaysHitPointsThatProjectBackOntoTheirPixels) {
   const SE3 T_body_camera(SO3::Exp(Eigen::Vector3d(0.3, -1.2, 0.5)), Eigen::Vector3d(0.4, -0.1, 0.25));
   for (const bool distorted : {false, true}) {
     CameraConfig config;
-    config.width = 320, config.height = 240, config.fx = 210, config.fy = 200, config.cx = 161.3,
-    config.cy = 118.2;
+    config.pinhole = {.width = 320, .height = 240, .fx = 210, .fy = 200, .cx = 161.3, .cy = 118.2};
     config.supersampling = 3;
     if (distorted)
       config.k1 = -0.25, config.k2 = 0.08, config.p1 = 1e-3, config.p2 = -5e-4, config.k3 = -0.01;
@@ -48,14 +47,14 @@ TEST(CameraRenderer, RaysHitPointsThatProjectBackOntoTheirPixels) {
       for (int row : {0, 37, 119, 200, 239}) {
         auto rays = renderer.RowRays(t, row);
         ASSERT_TRUE(rays.ok());
-        ASSERT_EQ(rays->size(), static_cast<std::size_t>(9 * config.width));
+        ASSERT_EQ(rays->size(), static_cast<std::size_t>(9 * config.pinhole.width));
         for (int k = 0; k < 60; ++k) {
           const int sy = std::uniform_int_distribution<int>(0, 2)(engine);
           const int u = k == 0   ? 0
-                        : k == 1 ? config.width - 1
+                        : k == 1 ? config.pinhole.width - 1
                                  : std::uniform_int_distribution<int>(0, 319)(engine);
           const int sx = std::uniform_int_distribution<int>(0, 2)(engine);
-          const Ray& ray = (*rays)[static_cast<std::size_t>((sy * config.width + u) * 3 + sx)];
+          const Ray& ray = (*rays)[static_cast<std::size_t>((sy * config.pinhole.width + u) * 3 + sx)];
           const RayHit hit = caster->Cast(ray);
           ASSERT_TRUE(hit.hit());  // a closed room
           const Eigen::Vector3d X =
@@ -82,7 +81,7 @@ TEST(CameraRenderer, LargeImagesComputeTheSameRaysWithoutTheBearingCache) {
   ASSERT_TRUE(caster.ok());
   const TrajectorySpline spline = uf::test::RandomSpline(4, 8, kSecond / 2);
   CameraConfig config;
-  config.width = 1200, config.height = 1000, config.fx = config.fy = 700, config.cx = 600, config.cy = 499;
+  config.pinhole = {.width = 1200, .height = 1000, .fx = 700, .fy = 700, .cx = 600, .cy = 499};
   config.k1 = -0.1, config.p2 = 1e-3;
   config.supersampling = 2;  // 4.8 M sub-samples
   const SE3 T_body_camera(SO3::Exp(Eigen::Vector3d(-0.4, 0.2, 1.0)), Eigen::Vector3d(0.1, 0.2, 0.3));
@@ -184,8 +183,7 @@ TEST(CameraRenderer, CheckerboardCornersAreWhereTheModelProjectsThem) {
   const TrajectorySpline spline = StaticTrajectory(T_world_body);
   for (const bool distorted : {false, true}) {
     CameraConfig config;
-    config.width = 320, config.height = 240, config.fx = 300, config.fy = 290, config.cx = 158.7,
-    config.cy = 121.4;
+    config.pinhole = {.width = 320, .height = 240, .fx = 300, .fy = 290, .cx = 158.7, .cy = 121.4};
     config.supersampling = 4;
     config.noise_std_dn = 0.0;
     config.textured = false;  // plain colours: a texture's own edges would pull the corners
@@ -200,7 +198,7 @@ TEST(CameraRenderer, CheckerboardCornersAreWhereTheModelProjectsThem) {
 
     // A real check: the same image against a model with fx 1% off misses by more than the tolerance.
     CameraConfig wrong = config;
-    wrong.fx *= 1.01;
+    wrong.pinhole.fx *= 1.01;
     EXPECT_GT(WorstCornerError(image, board, CameraModelOf(wrong), T_world_camera), 0.3);
   }
 }
@@ -223,7 +221,7 @@ TEST(CameraRenderer, HitsAreLambertShadedSurfaceColoursAndMissesSeeTheSky) {
   const SE3 T_world_body(SO3::Exp(Eigen::Vector3d(0, 0, 0.35)), Eigen::Vector3d(0, -4, 0));
   const TrajectorySpline spline = StaticTrajectory(T_world_body);
   CameraConfig config;
-  config.width = 200, config.height = 150, config.fx = config.fy = 120, config.cx = 99.5, config.cy = 74.5;
+  config.pinhole = {.width = 200, .height = 150, .fx = 120, .fy = 120, .cx = 99.5, .cy = 74.5};
   config.noise_std_dn = 0.0;
   config.sun_direction_world = Eigen::Vector3d(1.0, -2.0, 2.0);  // not unit: the renderer normalises it
   config.ambient = 0.3;
@@ -232,13 +230,14 @@ TEST(CameraRenderer, HitsAreLambertShadedSurfaceColoursAndMissesSeeTheSky) {
   const Eigen::Vector3f sun = config.sun_direction_world.normalized().cast<float>();
   int hits = 0, misses = 0, lit_faces = 0;
   double worst = 0.0;
-  for (int row = 0; row < config.height; row += 3) {
+  for (int row = 0; row < config.pinhole.height; row += 3) {
     auto rays = renderer.RowRays(2 * kSecond, row);
     ASSERT_TRUE(rays.ok());
-    for (int u = 0; u < config.width; u += 3) {
+    for (int u = 0; u < config.pinhole.width; u += 3) {
       const Ray& ray = (*rays)[static_cast<std::size_t>(u)];
       const RayHit hit = caster->Cast(ray);
-      const std::uint8_t* pixel = &image.pixels[3 * (static_cast<std::size_t>(row) * config.width + u)];
+      const std::uint8_t* pixel =
+          &image.pixels[3 * (static_cast<std::size_t>(row) * config.pinhole.width + u)];
       if (!hit.hit()) {
         ++misses;
         EXPECT_GT(pixel[2], pixel[0]);  // blue sky
@@ -260,7 +259,7 @@ TEST(CameraRenderer, HitsAreLambertShadedSurfaceColoursAndMissesSeeTheSky) {
   EXPECT_LE(worst, 0.6);  // rounding (0.5 DN) and float/table error
   // The sky is brighter at the horizon than high up (top row of the image looks ~30 degrees up).
   const auto brightness = [&](int row, int u) {
-    const std::uint8_t* p = &image.pixels[3 * (static_cast<std::size_t>(row) * config.width + u)];
+    const std::uint8_t* p = &image.pixels[3 * (static_cast<std::size_t>(row) * config.pinhole.width + u)];
     return p[0] + p[1] + p[2];
   };
   EXPECT_GT(brightness(70, 5), brightness(0, 5));

@@ -33,11 +33,7 @@ SimulationConfig SmallConfig() {
       SE3(SO3::Exp(Eigen::Vector3d(0.02, -0.01, 0.3)), Eigen::Vector3d(0.1, -0.2, 0.3));
   config.lidar.placement.stamp_delay_s = kDelay;
   config.lidar.placement.rotation_error_deg = Eigen::Vector3d(0.0, 0.0, 2.0);
-  config.camera.model.width = 160;
-  config.camera.model.height = 120;
-  config.camera.model.fx = config.camera.model.fy = 100;
-  config.camera.model.cx = 79.5;
-  config.camera.model.cy = 59.5;
+  config.camera.model.pinhole = {.width = 160, .height = 120, .fx = 100, .fy = 100, .cx = 79.5, .cy = 59.5};
   return config;
 }
 

@@ -4,22 +4,23 @@
 // bearing b = Unproject(p) and pinhole position (fx b_x / b_z + cx', fy b_y / b_z + cy'). Colour and alpha
 // are interpolated bilinearly; the depth channels take the nearest pinhole pixel (interpolating across an
 // occlusion edge would invent surfaces). Both depths are along the optical axis, which the two cameras share.
+// Renderers use it through CameraViewRenderer (camera_view_renderer.h).
 #pragma once
 
 #include <vector>
 
 #include "odometry/types/camera_model.h"
+#include "odometry/types/pinhole_intrinsics.h"
 #include "splat/render_types.h"
 
 namespace uf::splat {
 
 class DistortedViewResampler {
  public:
-  // fx, fy, cx, cy: the model's focal lengths and principal point. The pinhole image spans at most max_scale
-  // times the distorted one per side around the principal point (strong wide-angle distortion would ask for
-  // a huge pinhole image; rays beyond stay background).
-  DistortedViewResampler(const CameraModel& model, double fx, double fy, double cx, double cy,
-                         double max_scale = 3.0);
+  // pinhole: the model's focal lengths and principal point (PinholeOf, training_images.h; its size is the
+  // model's). The pinhole image spans at most max_scale times the distorted one per side around the principal
+  // point (strong wide-angle distortion would ask for a huge pinhole image; rays beyond stay background).
+  DistortedViewResampler(const CameraModel& model, const PinholeIntrinsics& pinhole, double max_scale = 3.0);
 
   // The pinhole camera to render, at pose T_world_camera.
   SplatCamera Pinhole(const SE3& T_world_camera) const;

@@ -1,4 +1,4 @@
-#include "splat/distorted_view.h"
+#include "splat/views/distorted_view.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,9 +6,10 @@
 
 namespace uf::splat {
 
-DistortedViewResampler::DistortedViewResampler(const CameraModel& model, double fx, double fy, double cx0,
-                                               double cy0, double max_scale)
+DistortedViewResampler::DistortedViewResampler(const CameraModel& model,
+                                               const PinholeIntrinsics& model_pinhole, double max_scale)
     : width_(model.width()), height_(model.height()) {
+  const double fx = model_pinhole.fx, fy = model_pinhole.fy, cx0 = model_pinhole.cx, cy0 = model_pinhole.cy;
   const std::size_t n = static_cast<std::size_t>(width_) * height_;
   u_.assign(n, std::numeric_limits<float>::quiet_NaN());
   v_.assign(n, std::numeric_limits<float>::quiet_NaN());
@@ -35,16 +36,17 @@ DistortedViewResampler::DistortedViewResampler(const CameraModel& model, double 
   const double u_lo = std::max(fx * x_min, -half_w) + cx0, u_hi = std::min(fx * x_max, half_w) + cx0;
   const double v_lo = std::max(fy * y_min, -half_h) + cy0, v_hi = std::min(fy * y_max, half_h) + cy0;
   const double shift_u = std::ceil(-u_lo) + 1.0, shift_v = std::ceil(-v_lo) + 1.0;
-  pinhole_.fx = fx;
-  pinhole_.fy = fy;
-  pinhole_.cx = cx0 + shift_u;
-  pinhole_.cy = cy0 + shift_v;
-  pinhole_.width = static_cast<int>(std::floor(u_hi + shift_u)) + 2;
-  pinhole_.height = static_cast<int>(std::floor(v_hi + shift_v)) + 2;
+  PinholeIntrinsics& pinhole = pinhole_.pinhole;
+  pinhole.fx = fx;
+  pinhole.fy = fy;
+  pinhole.cx = cx0 + shift_u;
+  pinhole.cy = cy0 + shift_v;
+  pinhole.width = static_cast<int>(std::floor(u_hi + shift_u)) + 2;
+  pinhole.height = static_cast<int>(std::floor(v_hi + shift_v)) + 2;
   for (std::size_t i = 0; i < n; ++i) {
     if (std::isnan(xs[i])) continue;
-    const double u = fx * xs[i] + pinhole_.cx, v = fy * ys[i] + pinhole_.cy;
-    if (u < 0 || v < 0 || u > pinhole_.width - 1 || v > pinhole_.height - 1) continue;
+    const double u = fx * xs[i] + pinhole.cx, v = fy * ys[i] + pinhole.cy;
+    if (u < 0 || v < 0 || u > pinhole.width - 1 || v > pinhole.height - 1) continue;
     u_[i] = static_cast<float>(u);
     v_[i] = static_cast<float>(v);
   }
