@@ -2,7 +2,6 @@
 
 #include <cstdio>
 
-#include "export/gnss_alignment.h"
 #include "viewer/app/map_exports.h"
 
 namespace uf::app {
@@ -13,32 +12,6 @@ SE3 EstimatorFromBody(const DatasetDescription& description, int lidar_stream, i
   const std::optional<SE3>& T_body_sensor =
       description.streams[static_cast<std::size_t>(stream)].T_body_sensor;
   return T_body_sensor ? T_body_sensor->inverse() : SE3();
-}
-
-std::optional<mapping::MapGeoreference> GeoreferenceFromGnss(const DatasetDescription& description,
-                                                             int gnss_stream, const SE3& T_estimator_body,
-                                                             const Trajectory& trajectory,
-                                                             std::span<const GnssFix> fixes, bool lio,
-                                                             std::vector<std::string>& notes) {
-  if (gnss_stream < 0 || fixes.empty()) return std::nullopt;
-  exporting::GnssAlignmentOptions options;
-  const std::optional<SE3>& T_body_antenna =
-      description.streams[static_cast<std::size_t>(gnss_stream)].T_body_sensor;
-  options.T_body_antenna = T_estimator_body * T_body_antenna.value_or(SE3());
-  options.gravity_aligned = lio;
-  Expected<exporting::GnssAlignment> aligned = exporting::AlignToGnss(trajectory, fixes, options);
-  if (!aligned) {
-    notes.push_back("map not georeferenced: " + aligned.status().message());
-    return std::nullopt;
-  }
-  char text[200];
-  std::snprintf(text, sizeof(text),
-                "map georeferenced by %d GNSS fixes (residual RMS %.2f m): ENU at %.7f, %.7f, %.2f m",
-                aligned->fixes_used, aligned->rms_m, aligned->origin.latitude_deg,
-                aligned->origin.longitude_deg, aligned->origin.height_m);
-  notes.push_back(text);
-  return mapping::MapGeoreference{aligned->origin.latitude_deg, aligned->origin.longitude_deg,
-                                  aligned->origin.height_m, aligned->T_enu_world};
 }
 
 Expected<std::vector<std::string>> SaveRunMap(const std::filesystem::path& out, const KeyframeMapper& mapper,

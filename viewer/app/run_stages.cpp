@@ -2,6 +2,7 @@
 
 #include <sstream>
 
+#include "odometry/eval/gnss_georeference.h"
 #include "viewer/app/run_map_stage.h"
 #include "viewer/app/run_outputs.h"
 #include "viewer/app/stage_dataset.h"
@@ -149,8 +150,16 @@ Status RunMapStage(RunState& state, StageContext& context) {
   // The odometry stage inserted the keyframes as they left its window; the last ones wait for Finish.
   if (Status s = state.mapper->Finish(); !s.ok()) return s;
   context.Progress(state.keyframes_mapped, state.keyframes_mapped);
-  state.georef = GeoreferenceFromGnss(state.stream->description(), state.sensors.gnss, state.T_estimator_body,
-                                      state.estimated, state.fixes, state.lio, state.report.notes);
+  const int gnss = state.sensors.gnss;
+  const std::optional<SE3> T_body_gnss =
+      gnss < 0 ? std::nullopt
+               : state.stream->description().streams[static_cast<std::size_t>(gnss)].T_body_sensor;
+  const GnssGeoreference found =
+      GeoreferenceFromGnss(state.estimated, state.fixes, T_body_gnss, state.T_estimator_body, state.lio);
+  if (!found.note.empty()) state.report.notes.push_back(found.note);
+  state.georef = std::nullopt;
+  if (found.alignment)
+    state.georef = mapping::MapGeoreference{found.alignment->origin, found.alignment->T_enu_world};
   Expected<std::vector<std::string>> files = SaveRunMap(state.out, *state.mapper, state.georef, state.report);
   if (!files) return files.status();
   for (const std::string& file : *files) context.AddOutput(file);
