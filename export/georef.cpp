@@ -1,19 +1,13 @@
 #include "export/georef.h"
 
-#include <GeographicLib/LocalCartesian.hpp>
 #include <GeographicLib/TransverseMercator.hpp>
 #include <GeographicLib/UTMUPS.hpp>
 #include <cmath>
 #include <nlohmann/json.hpp>
-#include <sstream>
 
 #include "odometry/io/atomic_file.h"
 
 namespace uf::exporting {
-
-struct Georeference::Impl {
-  GeographicLib::LocalCartesian enu;  // ENU tangent frame at the origin on the WGS84 ellipsoid
-};
 
 const char* OutputCrsName(OutputCrs crs) {
   switch (crs) {
@@ -27,50 +21,21 @@ const char* OutputCrsName(OutputCrs crs) {
   return "?";
 }
 
-namespace {
-
-std::string Number(double value) {
-  std::ostringstream out;
-  out.precision(17);
-  out << value;
-  return out.str();
-}
-
-}  // namespace
-
-Expected<Georeference> Georeference::Create(const GeoOrigin& origin) {
-  if (!(origin.latitude_deg >= -90.0 && origin.latitude_deg <= 90.0))
-    return Status::Error("georef.latitude_deg: must be in [-90, 90], got " + Number(origin.latitude_deg));
-  if (!(origin.longitude_deg >= -180.0 && origin.longitude_deg <= 180.0))
-    return Status::Error("georef.longitude_deg: must be in [-180, 180], got " + Number(origin.longitude_deg));
-  if (!(origin.height_m >= -12e3 && origin.height_m <= 100e3))
-    return Status::Error("georef.height_m: must be in [-12000, 100000] m, got " + Number(origin.height_m));
+Expected<Georeference> Georeference::Create(const GeodeticOrigin& origin) {
+  Expected<EnuFrame> enu = EnuFrame::Create(origin);
+  if (!enu) return Status::Error("georef." + enu.error());
   // UTMUPS::UTM forces a UTM zone (the standard one, with the Norway/Svalbard exceptions) even where the
   // standard choice would be UPS.
   const int zone = GeographicLib::UTMUPS::StandardZone(origin.latitude_deg, origin.longitude_deg,
                                                        GeographicLib::UTMUPS::UTM);
-  auto impl = std::make_shared<Impl>(
-      Impl{GeographicLib::LocalCartesian(origin.latitude_deg, origin.longitude_deg, origin.height_m)});
-  return Georeference(origin, std::move(impl), zone, origin.latitude_deg >= 0.0);
+  return Georeference(std::move(*enu), zone, origin.latitude_deg >= 0.0);
 }
 
 int Georeference::epsg() const { return (north_ ? 32600 : 32700) + zone_; }
 
-Eigen::Vector3d Georeference::EnuToGeodetic(const Eigen::Vector3d& enu) const {
-  Eigen::Vector3d lat_lon_height;
-  impl_->enu.Reverse(enu.x(), enu.y(), enu.z(), lat_lon_height.x(), lat_lon_height.y(), lat_lon_height.z());
-  return lat_lon_height;
-}
-
-Eigen::Vector3d Georeference::GeodeticToEnu(const Eigen::Vector3d& lat_lon_height) const {
-  Eigen::Vector3d enu;
-  impl_->enu.Forward(lat_lon_height.x(), lat_lon_height.y(), lat_lon_height.z(), enu.x(), enu.y(), enu.z());
-  return enu;
-}
-
 Eigen::Vector3d Georeference::EnuToUtm(const Eigen::Vector3d& enu) const {
   constexpr double kFalseEasting = 500e3, kFalseNorthingSouth = 10000e3;  // m, UTM definition
-  const Eigen::Vector3d geodetic = EnuToGeodetic(enu);
+  const Eigen::Vector3d geodetic = enu_.GeodeticFromEnu(enu);
   double x_tm = 0, y_tm = 0;
   // Exact transverse Mercator with the UTM scale k0 = 0.9996 about the zone's central meridian; unlike
   // UTMUPS::Forward it never throws far outside the zone.
@@ -109,7 +74,7 @@ Status WriteGeorefJson(const std::filesystem::path& path, const std::optional<Ge
                  : crs == OutputCrs::kEnu ? "x east, y north, z up (ENU at origin)"
                                           : "x, y, z of the map frame (z up)";
   if (georef) {
-    const GeoOrigin origin = georef->origin();
+    const GeodeticOrigin& origin = georef->origin();
     json["origin"] = {{"latitude_deg", origin.latitude_deg},
                       {"longitude_deg", origin.longitude_deg},
                       {"height_m", origin.height_m},

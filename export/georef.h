@@ -1,7 +1,8 @@
 // Georeference of the map: the map frame is east-north-up (ENU, x east, y north, z up) at a WGS84 origin
-// (latitude, longitude, ellipsoidal height). Conversions go through GeographicLib: LocalCartesian for
-// ENU <-> geodetic, and the exact UTM transverse Mercator (TransverseMercator::UTM, the projection UTMUPS
-// uses) in the standard zone of the origin (UTMUPS::StandardZone, Norway/Svalbard exceptions included).
+// (latitude, longitude, ellipsoidal height). ENU <-> geodetic is odometry/types/geodetic.h's EnuFrame; the
+// UTM coordinates go through GeographicLib's exact transverse Mercator (TransverseMercator::UTM, the
+// projection UTMUPS uses) in the standard zone of the origin (UTMUPS::StandardZone, Norway/Svalbard
+// exceptions included).
 //
 // Conventions:
 //  - The UTM zone and hemisphere are those of the origin, for every point of the map, so a map that crosses
@@ -13,19 +14,14 @@
 
 #include <Eigen/Core>
 #include <filesystem>
-#include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 
+#include "odometry/types/geodetic.h"
 #include "odometry/types/status.h"
 
 namespace uf::exporting {
-
-struct GeoOrigin {
-  double latitude_deg = 0;   // WGS84, [-90, 90]
-  double longitude_deg = 0;  // WGS84, [-180, 180]
-  double height_m = 0;       // ellipsoidal height
-};
 
 // The frame coordinates are written in. kLocal: the map frame, no georeference claimed. kEnu: the map frame,
 // stated to be ENU at the georeference origin. kUtm: easting, northing (WGS 84 / UTM zone of the origin) and
@@ -36,19 +32,15 @@ const char* OutputCrsName(OutputCrs crs);  // "local" | "enu" | "utm"
 
 class Georeference {
  public:
-  // Fails (naming the field and value) unless latitude is in [-90, 90], longitude in [-180, 180] and the
-  // height finite and within [-12 km, 100 km].
-  static Expected<Georeference> Create(const GeoOrigin& origin);
+  // Fails for an invalid origin (ValidateGeodeticOrigin, the message prefixed "georef.").
+  static Expected<Georeference> Create(const GeodeticOrigin& origin);
 
-  GeoOrigin origin() const { return origin_; }
+  const GeodeticOrigin& origin() const { return enu_.origin(); }
   int utm_zone() const { return zone_; }  // 1..60
   bool north() const { return north_; }   // hemisphere of the origin
   int epsg() const;                       // 32600 + zone (north) or 32700 + zone (south)
   double central_meridian_deg() const { return 6.0 * zone_ - 183.0; }
 
-  // ENU (map frame, m) -> (latitude deg, longitude deg, ellipsoidal height m), and back.
-  Eigen::Vector3d EnuToGeodetic(const Eigen::Vector3d& enu) const;
-  Eigen::Vector3d GeodeticToEnu(const Eigen::Vector3d& lat_lon_height) const;
   // ENU -> (easting, northing, ellipsoidal height) in the origin's zone and hemisphere:
   //   E = 500000 + x_tm, N = y_tm (+ 10000000 in a southern-hemisphere map), (x_tm, y_tm) the transverse
   //   Mercator (scale 0.9996 on the central meridian) of the point's latitude and longitude.
@@ -58,12 +50,9 @@ class Georeference {
   std::string UtmWkt() const;
 
  private:
-  struct Impl;  // GeographicLib's LocalCartesian, kept out of this header
-  Georeference(const GeoOrigin& origin, std::shared_ptr<const Impl> impl, int zone, bool north)
-      : origin_(origin), impl_(std::move(impl)), zone_(zone), north_(north) {}
+  Georeference(EnuFrame enu, int zone, bool north) : enu_(std::move(enu)), zone_(zone), north_(north) {}
 
-  GeoOrigin origin_;
-  std::shared_ptr<const Impl> impl_;
+  EnuFrame enu_;  // ENU (map frame) <-> geodetic at the origin
   int zone_ = 0;
   bool north_ = true;
 };

@@ -215,7 +215,7 @@ Value AssetExtras(const OutputFrame& frame, std::size_t stride, std::size_t fini
   info["points_finite"] = Value(static_cast<double>(finite));
   info["points_written"] = Value(static_cast<double>(kept));
   if (const Georeference* g = frame.georef(); g && frame.crs() != OutputCrs::kLocal) {
-    const GeoOrigin o = g->origin();
+    const GeodeticOrigin& o = g->origin();
     info["origin_wgs84"] =
         Value(Value::Array{Value(o.latitude_deg), Value(o.longitude_deg), Value(o.height_m)});
     if (frame.crs() == OutputCrs::kUtm) info["epsg"] = Value(g->epsg());

@@ -117,9 +117,9 @@ void WriteMetadata(const GlobalMap::Impl& map, const std::optional<MapGeoreferen
   meta.insertMeta("latest_sensor_origin", openvdb::Vec3DMetadata(openvdb::Vec3d(o.x(), o.y(), o.z())));
   meta.insertMeta("has_georef", openvdb::BoolMetadata(georef.has_value()));
   const MapGeoreference g = georef.value_or(MapGeoreference{});
-  meta.insertMeta("georef_latitude_deg", openvdb::DoubleMetadata(g.latitude_deg));
-  meta.insertMeta("georef_longitude_deg", openvdb::DoubleMetadata(g.longitude_deg));
-  meta.insertMeta("georef_height_m", openvdb::DoubleMetadata(g.height_m));
+  meta.insertMeta("georef_latitude_deg", openvdb::DoubleMetadata(g.origin.latitude_deg));
+  meta.insertMeta("georef_longitude_deg", openvdb::DoubleMetadata(g.origin.longitude_deg));
+  meta.insertMeta("georef_height_m", openvdb::DoubleMetadata(g.origin.height_m));
   const Eigen::Vector3d& t = g.T_enu_map.translation();
   const Eigen::Quaterniond q = g.T_enu_map.so3().quaternion();
   meta.insertMeta("georef_T_enu_map_translation",
@@ -169,11 +169,11 @@ std::string ReadMetadata(const openvdb::MetaMap& meta, GlobalMapConfig& c, Globa
   bool has_georef = false;
   MapGeoreference g;
   if (!Read<openvdb::BoolMetadata>(meta, "has_georef", has_georef)) return "has_georef";
-  if (!Read<openvdb::DoubleMetadata>(meta, "georef_latitude_deg", g.latitude_deg))
+  if (!Read<openvdb::DoubleMetadata>(meta, "georef_latitude_deg", g.origin.latitude_deg))
     return "georef_latitude_deg";
-  if (!Read<openvdb::DoubleMetadata>(meta, "georef_longitude_deg", g.longitude_deg))
+  if (!Read<openvdb::DoubleMetadata>(meta, "georef_longitude_deg", g.origin.longitude_deg))
     return "georef_longitude_deg";
-  if (!Read<openvdb::DoubleMetadata>(meta, "georef_height_m", g.height_m)) return "georef_height_m";
+  if (!Read<openvdb::DoubleMetadata>(meta, "georef_height_m", g.origin.height_m)) return "georef_height_m";
   openvdb::Vec3d t;
   openvdb::Vec4d q;
   if (!Read<openvdb::Vec3DMetadata>(meta, "georef_T_enu_map_translation", t))

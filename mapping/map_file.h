@@ -26,6 +26,7 @@
 #include <optional>
 
 #include "mapping/global_map.h"
+#include "odometry/types/geodetic.h"
 #include "odometry/types/se3.h"
 #include "odometry/types/status.h"
 
@@ -37,9 +38,7 @@ inline constexpr const char* kMapFileName = "map.vdb";
 // it (p_enu = T_enu_map p_map; identity when the map was built in that ENU frame, otherwise the alignment of
 // the trajectory with GNSS that was found after mapping).
 struct MapGeoreference {
-  double latitude_deg = 0.0;
-  double longitude_deg = 0.0;
-  double height_m = 0.0;  // above the ellipsoid
+  GeodeticOrigin origin;  // of the ENU frame
   SE3 T_enu_map;
 };
 

@@ -2,7 +2,7 @@
 // T_body_antenna, with a quality (RTK fixed / RTK float / single point) that can change over time, outages
 // and multipath offsets.
 //
-// The world frame is ENU at a GeodeticOrigin (see geodetic.h). True antenna position:
+// The world frame is ENU at a GeodeticOrigin (odometry/types/geodetic.h). True antenna position:
 //   p_enu = T_world_body * r,  r = translation of T_body_antenna (the antenna's orientation does not matter)
 // Reported: GeodeticFromEnu(origin, p_enu + e(t) + m(t)), with m the multipath offset of the windows that
 // contain t and e the error of the current quality q:
@@ -20,9 +20,9 @@
 #include <utility>
 #include <vector>
 
-#include "odometry/sim/geodetic.h"
 #include "odometry/sim/time_window.h"
 #include "odometry/sim/trajectory_spline.h"
+#include "odometry/types/geodetic.h"
 #include "odometry/types/measurements.h"
 #include "odometry/types/se3.h"
 #include "odometry/types/stamp.h"

@@ -161,7 +161,7 @@ Status ReadSimSection(const KeyPath& at, const YAML::Node& node, sim::Simulation
     if (Status s = start_time.read(at / "start_time_s", node["start_time_s"]); !s.ok()) return s;
   }
   sim::TrajectorySource& trajectory = config.trajectory;
-  sim::GeodeticOrigin& origin = config.origin;
+  GeodeticOrigin& origin = config.origin;
   const Stamp& start = config.start_stamp;
   return yaml::ReadMap(
       at, node,
@@ -174,7 +174,7 @@ Status ReadSimSection(const KeyPath& at, const YAML::Node& node, sim::Simulation
        Value("ground_truth_rate_hz", config.ground_truth_rate_hz),
        Section("origin",
                {Value("latitude_deg", origin.latitude_deg), Value("longitude_deg", origin.longitude_deg),
-                Value("altitude_m", origin.altitude_m)}),
+                Value("altitude_m", origin.height_m)}),
        Value("threads", config.threads), Value("bag", config.write_bag), Imu(config.imu), Lidar(config.lidar),
        Camera(config.camera, start), Wheel(config.wheel, start), Gnss(config.gnss, start)});
 }

@@ -148,7 +148,7 @@ std::string EmitSimConfig(const sim::SimulationConfig& config) {
   w.Key(1, "ground_truth_rate_hz", N(config.ground_truth_rate_hz));
   w.Key(1, "origin",
         Cat({"{latitude_deg: ", N(config.origin.latitude_deg), ", longitude_deg: ",
-             N(config.origin.longitude_deg), ", altitude_m: ", N(config.origin.altitude_m), "}"}));
+             N(config.origin.longitude_deg), ", altitude_m: ", N(config.origin.height_m), "}"}));
   w.Key(1, "threads", std::to_string(config.threads));
   w.Key(1, "bag", Bool(config.write_bag));
 

@@ -34,8 +34,7 @@ Expected<MapExportResult> WriteMapExports(const std::filesystem::path& folder, c
   const auto start = std::chrono::steady_clock::now();
   std::optional<exporting::Georeference> georef;
   if (request.georef) {
-    Expected<exporting::Georeference> created = exporting::Georeference::Create(
-        {request.georef->latitude_deg, request.georef->longitude_deg, request.georef->height_m});
+    Expected<exporting::Georeference> created = exporting::Georeference::Create(request.georef->origin);
     if (!created) return created.status();
     georef = *created;
   }

@@ -9,6 +9,8 @@
 #include <string_view>
 #include <vector>
 
+#include "odometry/types/geodetic.h"
+
 namespace uf::sim {
 
 enum class Material : std::uint8_t {
@@ -57,11 +59,8 @@ struct TriangleMesh {
 struct Scene {
   std::string name;
   TriangleMesh mesh;
-  // Where the world origin is on the Earth (for GNSS): WGS84 latitude, longitude (degrees) and height
-  // above the ellipsoid (m). The world frame is east-north-up at this point.
-  double origin_latitude_deg = 0.0;
-  double origin_longitude_deg = 0.0;
-  double origin_altitude_m = 0.0;
+  // Where the world origin is on the Earth (for GNSS). The world frame is east-north-up at this point.
+  GeodeticOrigin origin;
 };
 
 }  // namespace uf::sim

@@ -57,21 +57,14 @@ Expected<Scene> BuildScene(const SceneOptions& options) {
     return Status::Error("scene.body_height_m: must be finite and >= 0, got " +
                          std::to_string(options.body_height_m));
   }
-  if (!(std::abs(options.origin_latitude_deg) <= 90.0)) {
-    return Status::Error("scene.origin_latitude_deg: must be in [-90, 90], got " +
-                         std::to_string(options.origin_latitude_deg));
-  }
-  if (!std::isfinite(options.origin_longitude_deg) || !std::isfinite(options.origin_altitude_m)) {
-    return Status::Error("scene.origin: longitude and altitude must be finite");
-  }
+  if (Status s = ValidateGeodeticOrigin(options.origin); !s.ok())
+    return Status::Error("scene." + s.message());
   Expected<ScenePath> path = ScenePath::FromTrajectory(trajectory, 1.0, options.body_height_m);
   if (!path.ok()) return path.status();
 
   Scene scene;
   scene.name = options.name;
-  scene.origin_latitude_deg = options.origin_latitude_deg;
-  scene.origin_longitude_deg = options.origin_longitude_deg;
-  scene.origin_altitude_m = options.origin_altitude_m;
+  scene.origin = options.origin;
   build(*path, SubSeed(options.seed, options.name), scene.mesh);
   return scene;
 }

@@ -20,14 +20,14 @@ struct SceneOptions {
   std::uint64_t seed = 1;      // same seed -> bit-identical mesh
   Trajectory trajectory;       // body trajectory T_world_body (z up), at least 2 stamped poses
   double body_height_m = 1.8;  // height of the body (IMU) frame above the ground along the trajectory, >= 0
-  double origin_latitude_deg = 49.0069, origin_longitude_deg = 8.4037, origin_altitude_m = 115.0;
+  GeodeticOrigin origin = {49.0069, 8.4037, 115.0};  // of the world frame (ENU) on the WGS84 ellipsoid
 };
 
 // {"urban", "wild", "warehouse", "corridor", "tunnel"}.
 std::span<const std::string_view> SceneNames();
 
 // Builds the scene. Errors: unknown name (the message lists the names), fewer than 2 poses, poses without
-// stamps, non-finite poses, body_height_m < 0 or non-finite, latitude outside [-90, 90].
+// stamps, non-finite poses, body_height_m < 0 or non-finite, an invalid origin (ValidateGeodeticOrigin).
 Expected<Scene> BuildScene(const SceneOptions& options);
 
 // The xy clearance (m) kept between the trajectory and every object of a scene other than its ground, road

@@ -91,13 +91,7 @@ Expected<SimulationSummary> GenerateSequence(const SimulationConfig& config, con
   auto motion = MakeSimulationTrajectory(config);
   if (!motion) return motion.status();
   report("scene", 0, 1);
-  SceneOptions scene_options{config.scene,
-                             config.seed,
-                             motion->poses,
-                             config.body_height_m,
-                             config.origin.latitude_deg,
-                             config.origin.longitude_deg,
-                             config.origin.altitude_m};
+  SceneOptions scene_options{config.scene, config.seed, motion->poses, config.body_height_m, config.origin};
   auto scene = BuildScene(scene_options);
   if (!scene) return scene.status();
   auto caster = RayCaster::Create(*scene);

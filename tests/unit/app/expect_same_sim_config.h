@@ -69,7 +69,7 @@ inline void ExpectSameConfig(const SimulationConfig& a, const SimulationConfig& 
   EXPECT_FIELD(ground_truth_rate_hz);
   EXPECT_FIELD(origin.latitude_deg);
   EXPECT_FIELD(origin.longitude_deg);
-  EXPECT_FIELD(origin.altitude_m);
+  EXPECT_FIELD(origin.height_m);
   EXPECT_FIELD(threads);
   EXPECT_FIELD(write_bag);
 

@@ -72,33 +72,6 @@ TEST(Georef, NorthAlongCentralMeridianScalesByK0) {
   EXPECT_NEAR(p.z(), 1000.0 * 1000.0 / (2 * 6.37e6), 0.003);
 }
 
-TEST(Georef, EnuMatchesHandComputedGeodeticOffsets) {
-  // Small offsets at height h: up changes only the height; east by x changes longitude by x / ((N + h)
-  // cos(lat)), north by y changes latitude by y / (M + h), with N = a / w, M = a (1 - e^2) / w^3, w = sqrt(1
-  // - e^2 sin^2(lat)) (radii of curvature of the prime vertical and the meridian).
-  const double a = 6378137.0, f = 1 / 298.257223563, e2 = f * (2 - f), lat = 48.0, deg = M_PI / 180;
-  const Georeference g = Make(lat, 11.0, 500.0);
-  const double w = std::sqrt(1 - e2 * std::pow(std::sin(lat * deg), 2));
-  const double n = a / w + 500.0, m = a * (1 - e2) / (w * w * w) + 500.0;
-  const Eigen::Vector3d up = g.EnuToGeodetic(Eigen::Vector3d(0, 0, 25));
-  EXPECT_NEAR(up.x(), lat, 1e-12);
-  EXPECT_NEAR(up.y(), 11.0, 1e-12);
-  EXPECT_NEAR(up.z(), 525.0, 1e-6);
-  const Eigen::Vector3d east = g.EnuToGeodetic(Eigen::Vector3d(10, 0, 0));
-  EXPECT_NEAR((east.y() - 11.0) * deg, 10 / (n * std::cos(lat * deg)), 1e-11);
-  const Eigen::Vector3d north = g.EnuToGeodetic(Eigen::Vector3d(0, 10, 0));
-  EXPECT_NEAR((north.x() - lat) * deg, 10 / m, 1e-11);
-}
-
-TEST(Georef, EnuGeodeticRoundTrip) {
-  const Georeference g = Make(-37.8, 144.96, 30.0);
-  for (const Eigen::Vector3d& enu : {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1234.5, -4321.25, 17.0),
-                                     Eigen::Vector3d(-20e3, 35e3, -100.0)}) {
-    const Eigen::Vector3d back = g.GeodeticToEnu(g.EnuToGeodetic(enu));
-    EXPECT_LT((back - enu).norm(), 1e-6) << enu.transpose();
-  }
-}
-
 TEST(Georef, HemisphereStaysThatOfTheOriginAcrossTheEquator) {
   // A northern-hemisphere map: a point 1 km south of an origin 100 m north of the equator has a negative
   // northing (EPSG:326zz extended), not one near 10000 km.
@@ -112,10 +85,10 @@ TEST(Georef, HemisphereStaysThatOfTheOriginAcrossTheEquator) {
 }
 
 TEST(Georef, RejectsInvalidOriginsNamingTheField) {
+  // The origin's validation (odometry/types/geodetic.h), its message prefixed with georef.
   Expected<Georeference> lat = Georeference::Create({91.0, 0.0, 0.0});
   ASSERT_FALSE(lat.ok());
-  EXPECT_NE(lat.error().find("latitude_deg"), std::string::npos);
-  EXPECT_NE(lat.error().find("91"), std::string::npos);
+  EXPECT_EQ(lat.error(), "georef.origin.latitude_deg: must be in [-90, 90], got 91");
   Expected<Georeference> lon = Georeference::Create({0.0, -181.0, 0.0});
   ASSERT_FALSE(lon.ok());
   EXPECT_NE(lon.error().find("longitude_deg"), std::string::npos);

@@ -76,8 +76,7 @@ TEST(GlobalMapSim, UrbanPointsLieOnTheTrueSurfaces) {
   auto motion = sim::MakeSimulationTrajectory(config);
   ASSERT_TRUE(motion.ok()) << motion.error();
   auto scene =
-      sim::BuildScene({config.scene, config.seed, motion->poses, config.body_height_m,
-                       config.origin.latitude_deg, config.origin.longitude_deg, config.origin.altitude_m});
+      sim::BuildScene({config.scene, config.seed, motion->poses, config.body_height_m, config.origin});
   ASSERT_TRUE(scene.ok()) << scene.error();
   auto caster = sim::RayCaster::Create(*scene);
   ASSERT_TRUE(caster.ok()) << caster.error();

@@ -74,7 +74,7 @@ TEST(MapFile, RoundTripGivesTheSameMap) {
   const GlobalMap map = RandomMap();
   const fs::path file = dir.path() / kMapFileName;
   const MapGeoreference georef{
-      49.0069, 8.4037, 115.25,
+      {49.0069, 8.4037, 115.25},
       SE3(SO3::Exp(Eigen::Vector3d(0.01, -0.02, 0.8)), Eigen::Vector3d(12.5, -3, 0.25))};
   ASSERT_TRUE(SaveMap(map, georef, file).ok());
   // map.vdb and map.voxels, no temporary file left
@@ -82,9 +82,9 @@ TEST(MapFile, RoundTripGivesTheSameMap) {
   auto loaded = LoadMap(file);
   ASSERT_TRUE(loaded.ok()) << loaded.error();
   ASSERT_TRUE(loaded->georef.has_value());
-  EXPECT_EQ(loaded->georef->latitude_deg, georef.latitude_deg);
-  EXPECT_EQ(loaded->georef->longitude_deg, georef.longitude_deg);
-  EXPECT_EQ(loaded->georef->height_m, georef.height_m);
+  EXPECT_EQ(loaded->georef->origin.latitude_deg, georef.origin.latitude_deg);
+  EXPECT_EQ(loaded->georef->origin.longitude_deg, georef.origin.longitude_deg);
+  EXPECT_EQ(loaded->georef->origin.height_m, georef.origin.height_m);
   EXPECT_LT((loaded->georef->T_enu_map.matrix() - georef.T_enu_map.matrix()).norm(), 1e-12);
   const GlobalMap& again = loaded->map;
   EXPECT_EQ(again.config().voxel_size_m, map.config().voxel_size_m);

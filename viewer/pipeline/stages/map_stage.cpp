@@ -2,7 +2,7 @@
 
 #include <cstdio>
 
-#include "export/gnss_alignment.h"
+#include "odometry/eval/gnss_georeference.h"
 
 namespace uf::pipeline {
 namespace {
@@ -30,40 +30,20 @@ Expected<MapSummary> SaveRunMap(const std::filesystem::path& out, const mapping:
 
 }  // namespace
 
-std::optional<mapping::MapGeoreference> GeoreferenceFromGnss(const DatasetDescription& description,
-                                                             int gnss_stream, const SE3& T_estimator_body,
-                                                             const Trajectory& trajectory,
-                                                             std::span<const GnssFix> fixes, bool lio,
-                                                             std::vector<std::string>& notes) {
-  if (gnss_stream < 0 || fixes.empty()) return std::nullopt;
-  exporting::GnssAlignmentOptions options;
-  const std::optional<SE3>& T_body_antenna =
-      description.streams[static_cast<std::size_t>(gnss_stream)].T_body_sensor;
-  options.T_body_antenna = T_estimator_body * T_body_antenna.value_or(SE3());
-  options.gravity_aligned = lio;
-  Expected<exporting::GnssAlignment> aligned = exporting::AlignToGnss(trajectory, fixes, options);
-  if (!aligned) {
-    notes.push_back("map not georeferenced: " + aligned.status().message());
-    return std::nullopt;
-  }
-  char text[200];
-  std::snprintf(text, sizeof(text),
-                "map georeferenced by %d GNSS fixes (residual RMS %.2f m): ENU at %.7f, %.7f, %.2f m",
-                aligned->fixes_used, aligned->rms_m, aligned->origin.latitude_deg,
-                aligned->origin.longitude_deg, aligned->origin.height_m);
-  notes.push_back(text);
-  return mapping::MapGeoreference{aligned->origin.latitude_deg, aligned->origin.longitude_deg,
-                                  aligned->origin.height_m, aligned->T_enu_world};
-}
-
 Expected<MapStageOutput> RunMapStage(const MapStageInput& in, StageContext& context) {
   context.SetUnit("keyframes");
   // The odometry stage inserted the keyframes as they left its window; the last ones wait for Finish.
   if (Status s = in.mapper->Finish(); !s.ok()) return s;
   context.Progress(in.keyframes_mapped, in.keyframes_mapped);
   MapStageOutput out;
-  out.georef = GeoreferenceFromGnss(*in.description, in.gnss_stream, in.frames.T_estimator_body,
-                                    *in.estimated, in.fixes, in.frames.mode == OdometryMode::kLio, out.notes);
+  const std::optional<SE3> T_body_gnss =
+      in.gnss_stream < 0 ? std::nullopt
+                         : in.description->streams[static_cast<std::size_t>(in.gnss_stream)].T_body_sensor;
+  const GnssGeoreference found = GeoreferenceFromGnss(
+      *in.estimated, in.fixes, T_body_gnss, in.frames.T_estimator_body, in.frames.mode == OdometryMode::kLio);
+  if (!found.note.empty()) out.notes.push_back(found.note);
+  if (found.alignment)
+    out.georef = mapping::MapGeoreference{found.alignment->origin, found.alignment->T_enu_world};
   Expected<MapSummary> map = SaveRunMap(in.out, *in.mapper, out.georef);
   if (!map) return map.status();
   out.map = std::move(*map);

@@ -1,6 +1,7 @@
 // The map stage of `ultrafusion run`: the keyframes the odometry handed to the KeyframeMapper are all in once
-// the last ones are finished; the georeference comes from the GNSS fixes (none without them); map.vdb and
-// its voxel attributes are saved. The exports of the map are the next stage's (exports_stage.h).
+// the last ones are finished; the georeference comes from the GNSS fixes (odometry/eval/gnss_georeference.h;
+// none without them); map.vdb and its voxel attributes are saved. The exports of the map are the next stage's
+// (exports_stage.h).
 #pragma once
 
 #include <filesystem>
@@ -43,14 +44,5 @@ struct MapStageOutput {
 };
 
 Expected<MapStageOutput> RunMapStage(const MapStageInput& input, StageContext& context);
-
-// The georeference of the run's map from the GNSS fixes (export/gnss_alignment.h), with the antenna placed
-// by the GNSS stream's T_body_sensor; none (and a note why) without fixes or when the alignment is not
-// admitted. `trajectory` is in the estimator's body frame; lio: its world is gravity-aligned.
-std::optional<mapping::MapGeoreference> GeoreferenceFromGnss(const DatasetDescription& description,
-                                                             int gnss_stream, const SE3& T_estimator_body,
-                                                             const Trajectory& trajectory,
-                                                             std::span<const GnssFix> fixes, bool lio,
-                                                             std::vector<std::string>& notes);
 
 }  // namespace uf::pipeline

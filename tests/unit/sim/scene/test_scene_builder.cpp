@@ -69,7 +69,7 @@ TEST_P(EveryScene, WellFormedSeededAndClearOfTheTrack) {
   ASSERT_TRUE(scene.ok()) << scene.error();
   const TriangleMesh& mesh = scene->mesh;
   EXPECT_EQ(scene->name, GetParam());
-  EXPECT_EQ(scene->origin_latitude_deg, options.origin_latitude_deg);
+  EXPECT_EQ(scene->origin.latitude_deg, options.origin.latitude_deg);
   ASSERT_GT(mesh.triangle_count(), 500u);
   ASSERT_EQ(mesh.materials.size(), mesh.triangle_count());
   for (const Eigen::Vector3f& v : mesh.vertices) ASSERT_TRUE(v.allFinite());

@@ -79,9 +79,7 @@ TEST(SequenceGenerator, LidarPointsLieOnTheSceneWithTheTrueCalibrationAndClock) 
   // The scene again, from the same config (deterministic), to cast against.
   auto motion = MakeSimulationTrajectory(config);
   ASSERT_TRUE(motion.ok());
-  auto scene =
-      BuildScene({config.scene, config.seed, motion->poses, config.body_height_m, config.origin.latitude_deg,
-                  config.origin.longitude_deg, config.origin.altitude_m});
+  auto scene = BuildScene({config.scene, config.seed, motion->poses, config.body_height_m, config.origin});
   ASSERT_TRUE(scene.ok());
   auto caster = RayCaster::Create(*scene);
   ASSERT_TRUE(caster.ok());

@@ -1,3 +1,5 @@
+// ENU <-> WGS84 geodetic at an origin, against textbook formulas and hand-computed values (never against
+// GeographicLib called directly), and the origin's validation.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -5,9 +7,9 @@
 #include <random>
 #include <vector>
 
-#include "odometry/sim/geodetic.h"
+#include "odometry/types/geodetic.h"
 
-namespace uf::sim {
+namespace uf {
 namespace {
 
 using Eigen::Vector3d;
@@ -50,12 +52,12 @@ Vector3d ReferenceEnu(const GeodeticOrigin& origin, const Vector3d& lat_lon_h) {
   R_ecef_enu.col(0) << -std::sin(lambda), std::cos(lambda), 0.0;
   R_ecef_enu.col(1) << -std::sin(phi) * std::cos(lambda), -std::sin(phi) * std::sin(lambda), std::cos(phi);
   R_ecef_enu.col(2) << std::cos(phi) * std::cos(lambda), std::cos(phi) * std::sin(lambda), std::sin(phi);
-  const Vector3d origin_ecef = Ecef(Vector3d(origin.latitude_deg, origin.longitude_deg, origin.altitude_m));
+  const Vector3d origin_ecef = Ecef(Vector3d(origin.latitude_deg, origin.longitude_deg, origin.height_m));
   return R_ecef_enu.transpose() * (Ecef(lat_lon_h) - origin_ecef);
 }
 
 Vector3d AsVector(const GeodeticOrigin& origin) {
-  return Vector3d(origin.latitude_deg, origin.longitude_deg, origin.altitude_m);
+  return Vector3d(origin.latitude_deg, origin.longitude_deg, origin.height_m);
 }
 
 TEST(GeodeticTest, OriginMapsToOrigin) {
@@ -63,7 +65,7 @@ TEST(GeodeticTest, OriginMapsToOrigin) {
     const Vector3d lat_lon_h = GeodeticFromEnu(origin, Vector3d::Zero());
     EXPECT_NEAR(lat_lon_h.x(), origin.latitude_deg, 1e-12);
     EXPECT_NEAR(lat_lon_h.y(), origin.longitude_deg, 1e-12);
-    EXPECT_NEAR(lat_lon_h.z(), origin.altitude_m, 1e-8);
+    EXPECT_NEAR(lat_lon_h.z(), origin.height_m, 1e-8);
     EXPECT_LT(EnuFromGeodetic(origin, AsVector(origin)).norm(), 1e-8);
   }
 }
@@ -114,10 +116,10 @@ TEST(GeodeticTest, OneKilometreNorthIsOneKilometreOfMeridianArc) {
     // curvature by d / (M + h), M at the mid latitude to second order; the tangent-plane chord of 1 km
     // differs from the arc by ~d^3 / (24 M^2) ~ 1e-6 m.
     const double mid = (origin.latitude_deg * kDeg) + 0.5 * dlat;
-    EXPECT_NEAR((MeridianRadius(mid) + origin.altitude_m) * dlat, d, 1e-4) << origin.latitude_deg;
+    EXPECT_NEAR((MeridianRadius(mid) + origin.height_m) * dlat, d, 1e-4) << origin.latitude_deg;
     // North stays in the meridian plane; the tangent plane rises above the ellipsoid by ~d^2 / (2 M).
     EXPECT_NEAR(std::remainder(lat_lon_h.y() - origin.longitude_deg, 360.0), 0.0, 1e-12);
-    EXPECT_NEAR(lat_lon_h.z() - origin.altitude_m, d * d / (2.0 * MeridianRadius(mid)), 1e-3);
+    EXPECT_NEAR(lat_lon_h.z() - origin.height_m, d * d / (2.0 * MeridianRadius(mid)), 1e-3);
   }
 }
 
@@ -127,7 +129,7 @@ TEST(GeodeticTest, OneKilometreEastTurnsTheLongitudeByTheParallelRadius) {
   const double d = 1000.0;
   for (const GeodeticOrigin& origin : kOrigins) {
     const double phi = origin.latitude_deg * kDeg;
-    const double parallel_radius = (PrimeVerticalRadius(phi) + origin.altitude_m) * std::cos(phi);
+    const double parallel_radius = (PrimeVerticalRadius(phi) + origin.height_m) * std::cos(phi);
     const Vector3d lat_lon_h = GeodeticFromEnu(origin, Vector3d(d, 0.0, 0.0));
     const double dlon = std::remainder(lat_lon_h.y() - origin.longitude_deg, 360.0) * kDeg;
     EXPECT_NEAR(dlon, std::atan2(d, parallel_radius), 1e-13) << origin.latitude_deg;
@@ -139,7 +141,7 @@ TEST(GeodeticTest, UpIsTheEllipsoidNormal) {
     const Vector3d lat_lon_h = GeodeticFromEnu(origin, Vector3d(0.0, 0.0, 100.0));
     EXPECT_NEAR(lat_lon_h.x(), origin.latitude_deg, 1e-12);
     EXPECT_NEAR(lat_lon_h.y(), origin.longitude_deg, 1e-12);
-    EXPECT_NEAR(lat_lon_h.z(), origin.altitude_m + 100.0, 1e-8);
+    EXPECT_NEAR(lat_lon_h.z(), origin.height_m + 100.0, 1e-8);
   }
 }
 
@@ -152,10 +154,66 @@ TEST(GeodeticTest, InvalidOriginsNameTheField) {
   const Status longitude = ValidateGeodeticOrigin({0.0, -180.5, 0.0});
   ASSERT_FALSE(longitude.ok());
   EXPECT_EQ(longitude.message(), "origin.longitude_deg: must be in [-180, 180], got -180.5");
-  const Status altitude = ValidateGeodeticOrigin({0.0, 0.0, std::nan("")});
-  ASSERT_FALSE(altitude.ok());
-  EXPECT_NE(altitude.message().find("origin.altitude_m"), std::string::npos);
+  const Status height = ValidateGeodeticOrigin({0.0, 0.0, std::nan("")});
+  ASSERT_FALSE(height.ok());
+  EXPECT_EQ(height.message(), "origin.height_m: must be in [-12000, 100000] m, got nan");
+  EXPECT_EQ(ValidateGeodeticOrigin({0.0, 0.0, 2e5}).message(),
+            "origin.height_m: must be in [-12000, 100000] m, got 200000");
+  // The value as it reads back, not rounded into the range.
+  EXPECT_EQ(ValidateGeodeticOrigin({std::nextafter(90.0, 91.0), 0.0, 0.0}).message(),
+            "origin.latitude_deg: must be in [-90, 90], got 90.00000000000001");
+  EXPECT_EQ(ValidateGeodeticOrigin({std::nan(""), 0.0, 0.0}).message(),
+            "origin.latitude_deg: must be in [-90, 90], got nan");
+  EXPECT_TRUE(ValidateGeodeticOrigin({0.0, 0.0, -12000.0}).ok());
+  EXPECT_TRUE(ValidateGeodeticOrigin({0.0, 0.0, 100000.0}).ok());
+  // An EnuFrame is only made at a valid origin, with the same message.
+  const Expected<EnuFrame> frame = EnuFrame::Create({0.0, 181.0, 0.0});
+  ASSERT_FALSE(frame.ok());
+  EXPECT_EQ(frame.error(), "origin.longitude_deg: must be in [-180, 180], got 181");
+}
+
+TEST(GeodeticTest, OneKilometreEastOnTheEquatorByHand) {
+  // At latitude 0, longitude 0, height 0 the ENU frame sits at ECEF (a, 0, 0) with east = +y_ecef, so ENU
+  // (1000, 0, 0) is ECEF (a, 1000, 0), in the equatorial plane: latitude 0, longitude atan(1000 / a) =
+  // 1.56785593004e-4 rad (1000 m / 6378137 m = 1.56785594289e-4 rad less a^-3 1000^3 / 3 = 1.3e-12 rad),
+  // height |(a, 1000)| - a = 1000^2 / (|(a, 1000)| + a) = 0.0783927967 m (~ 1000^2 / (2 a) = 0.0783927971 m),
+  // to the ~1e-9 m that a double resolves at 6378 km.
+  const EnuFrame frame = *EnuFrame::Create({0.0, 0.0, 0.0});
+  const Vector3d lat_lon_h = frame.GeodeticFromEnu(Vector3d(1000.0, 0.0, 0.0));
+  EXPECT_NEAR(lat_lon_h.x(), 0.0, 1e-12);
+  EXPECT_NEAR(lat_lon_h.y() * kDeg, 1000.0 / 6378137.0, 2e-12);
+  EXPECT_NEAR(lat_lon_h.y() * kDeg, 1.56785593004e-4, 1e-15);
+  EXPECT_NEAR(lat_lon_h.z(), 0.0783927967, 2e-9);
+  // And back.
+  EXPECT_LT((frame.EnuFromGeodetic(lat_lon_h) - Vector3d(1000.0, 0.0, 0.0)).norm(), 1e-9);
+}
+
+TEST(GeodeticTest, EnuMatchesHandComputedGeodeticOffsets) {
+  // Small offsets at height h: up changes only the height; east by x changes longitude by x / ((N + h)
+  // cos(lat)), north by y changes latitude by y / (M + h), with N = a / w, M = a (1 - e^2) / w^3, w = sqrt(1
+  // - e^2 sin^2(lat)) (radii of curvature of the prime vertical and the meridian).
+  const double lat = 48.0;
+  const EnuFrame frame = *EnuFrame::Create({lat, 11.0, 500.0});
+  const double w = std::sqrt(1 - kE2 * std::pow(std::sin(lat * kDeg), 2));
+  const double n = kA / w + 500.0, m = kA * (1 - kE2) / (w * w * w) + 500.0;
+  const Vector3d up = frame.GeodeticFromEnu(Vector3d(0, 0, 25));
+  EXPECT_NEAR(up.x(), lat, 1e-12);
+  EXPECT_NEAR(up.y(), 11.0, 1e-12);
+  EXPECT_NEAR(up.z(), 525.0, 1e-6);
+  const Vector3d east = frame.GeodeticFromEnu(Vector3d(10, 0, 0));
+  EXPECT_NEAR((east.y() - 11.0) * kDeg, 10 / (n * std::cos(lat * kDeg)), 1e-11);
+  const Vector3d north = frame.GeodeticFromEnu(Vector3d(0, 10, 0));
+  EXPECT_NEAR((north.x() - lat) * kDeg, 10 / m, 1e-11);
+}
+
+TEST(GeodeticTest, RoundTripOverThirtyFiveKilometres) {
+  const EnuFrame frame = *EnuFrame::Create({-37.8, 144.96, 30.0});
+  for (const Vector3d& enu :
+       {Vector3d(0, 0, 0), Vector3d(1234.5, -4321.25, 17.0), Vector3d(-20e3, 35e3, -100.0)}) {
+    const Vector3d back = frame.EnuFromGeodetic(frame.GeodeticFromEnu(enu));
+    EXPECT_LT((back - enu).norm(), 1e-6) << enu.transpose();
+  }
 }
 
 }  // namespace
-}  // namespace uf::sim
+}  // namespace uf

@@ -3,61 +3,28 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <random>
 
-#include "export/gnss_alignment.h"
+#include "gnss_test_support.h"
+#include "odometry/eval/gnss_alignment.h"
 
-namespace uf::exporting {
+namespace uf {
 namespace {
 
-constexpr Stamp kSecond = 1'000'000'000;
-const GeoOrigin kOrigin{48.137, 11.575, 520.0};  // the fixes' true ENU frame
-const Eigen::Vector3d kLever(0.1, 0.0, 0.4);     // antenna in the body frame
+using testing::Drive;
 
-// 30 s along an S-curve at ~4 m/s with some climb, in a world frame whose z is up.
-Trajectory Drive() {
-  Trajectory trajectory;
-  for (int k = 0; k <= 300; ++k) {
-    const double t = 0.1 * k, yaw = 0.4 * std::sin(0.2 * t);
-    trajectory.stamps.push_back(k * kSecond / 10);
-    trajectory.poses.emplace_back(SO3::Exp(Eigen::Vector3d(0, 0, yaw)),
-                                  Eigen::Vector3d(4 * t, 8 * std::sin(0.15 * t), 0.05 * t));
-  }
-  return trajectory;
-}
+const Eigen::Vector3d kLever(0.1, 0.0, 0.4);  // antenna in the body frame
 
 // Fixes at 5 Hz of the antenna placed by T_enu_world, with Gaussian noise of `sigma` per axis.
-std::vector<GnssFix> Fixes(const Trajectory& trajectory, const SE3& T_enu_world, double sigma,
-                           int every = 2) {
-  const Georeference truth = *Georeference::Create(kOrigin);
-  std::mt19937_64 rng(3);
-  std::normal_distribution<double> noise(0.0, sigma);
-  std::vector<GnssFix> fixes;
-  for (std::size_t k = 0; k < trajectory.size(); k += static_cast<std::size_t>(every)) {
-    const Eigen::Vector3d enu =
-        T_enu_world * (trajectory.poses[k] * kLever) + Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
-    const Eigen::Vector3d geodetic = truth.EnuToGeodetic(enu);
-    GnssFix fix;
-    fix.stamp = trajectory.stamps[k];
-    fix.latitude_deg = geodetic.x();
-    fix.longitude_deg = geodetic.y();
-    fix.altitude_m = geodetic.z();
-    fix.covariance_enu = Eigen::Matrix3d::Identity() * std::max(sigma * sigma, 1e-4);
-    fix.status = GnssFixStatus::kRtkFixed;
-    fixes.push_back(fix);
-  }
-  return fixes;
+std::vector<GnssFix> Fixes(const Trajectory& trajectory, const SE3& T_enu_world, double sigma) {
+  return testing::Fixes(trajectory, T_enu_world, kLever, [sigma](std::size_t) { return sigma; });
 }
 
 // Largest distance, over the trajectory, between where the alignment puts the body and where it truly is
 // (both taken to the true ENU frame through WGS84).
 double WorstError(const Trajectory& trajectory, const GnssAlignment& aligned, const SE3& T_enu_world) {
-  const Georeference truth = *Georeference::Create(kOrigin);
-  const Georeference found = *Georeference::Create(aligned.origin);
   double worst = 0;
   for (const SE3& pose : trajectory.poses) {
-    const Eigen::Vector3d estimated =
-        truth.GeodeticToEnu(found.EnuToGeodetic(aligned.T_enu_world * pose.translation()));
+    const Eigen::Vector3d estimated = testing::AlignedInTrueEnu(aligned, pose.translation());
     worst = std::max(worst, (estimated - T_enu_world * pose.translation()).norm());
   }
   return worst;
@@ -109,4 +76,4 @@ TEST(GnssAlignment, RefusesWhatCannotFixTheHeading) {
 }
 
 }  // namespace
-}  // namespace uf::exporting
+}  // namespace uf

@@ -1,4 +1,4 @@
-#include "export/gnss_alignment.h"
+#include "odometry/eval/gnss_alignment.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 
 #include "odometry/eval/alignment.h"
 
-namespace uf::exporting {
+namespace uf {
 namespace {
 
 bool HasPosition(const GnssFix& fix) {
@@ -22,8 +22,8 @@ Expected<GnssAlignment> AlignToGnss(const Trajectory& trajectory, std::span<cons
   if (first == fixes.end()) return Status::Error("GNSS alignment: no fix with a position");
   GnssAlignment result;
   result.origin = {first->latitude_deg, first->longitude_deg, first->altitude_m};
-  Expected<Georeference> georef = Georeference::Create(result.origin);
-  if (!georef) return georef.status();
+  Expected<EnuFrame> enu_frame = EnuFrame::Create(result.origin);
+  if (!enu_frame) return Status::Error("GNSS alignment: first fix: " + enu_frame.error());
 
   std::vector<Eigen::Vector3d> antenna, enu;
   std::vector<double> weight;
@@ -33,7 +33,7 @@ Expected<GnssAlignment> AlignToGnss(const Trajectory& trajectory, std::span<cons
     if (!pose) continue;
     antenna.push_back(*pose * options.T_body_antenna.translation());
     enu.push_back(
-        georef->GeodeticToEnu(Eigen::Vector3d(fix.latitude_deg, fix.longitude_deg, fix.altitude_m)));
+        enu_frame->EnuFromGeodetic(Eigen::Vector3d(fix.latitude_deg, fix.longitude_deg, fix.altitude_m)));
     weight.push_back(1.0 / std::max(fix.covariance_enu.trace() / 3.0, 1e-6));
   }
   result.fixes_used = static_cast<int>(antenna.size());
@@ -63,4 +63,4 @@ Expected<GnssAlignment> AlignToGnss(const Trajectory& trajectory, std::span<cons
   return result;
 }
 
-}  // namespace uf::exporting
+}  // namespace uf

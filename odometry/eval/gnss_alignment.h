@@ -1,6 +1,7 @@
 // Georeferencing a trajectory (and the map built along it) with GNSS fixes, until the estimator has its own
-// GNSS factor: the rigid transform T_enu_world that best maps the trajectory's antenna positions onto the
-// fixes, in an east-north-up frame at the first usable fix.
+// GNSS factor (docs/METHOD.md, "Not implemented yet"): the rigid transform T_enu_world that best maps the
+// trajectory's antenna positions onto the fixes, in an east-north-up frame (odometry/types/geodetic.h) at
+// the first usable fix.
 //
 // With fixes f_i (ENU, weight w_i = 1 / (mean variance of its covariance)) and the antenna positions
 // a_i = T_world_body(t_i) * p_body_antenna (trajectory interpolated at the fix time), minimise
@@ -14,11 +15,12 @@
 
 #include <span>
 
-#include "export/georef.h"
+#include "odometry/types/geodetic.h"
 #include "odometry/types/measurements.h"
+#include "odometry/types/status.h"
 #include "odometry/types/trajectory.h"
 
-namespace uf::exporting {
+namespace uf {
 
 struct GnssAlignmentOptions {
   SE3 T_body_antenna;           // antenna in the trajectory's body frame (lever arm)
@@ -29,14 +31,15 @@ struct GnssAlignmentOptions {
 };
 
 struct GnssAlignment {
-  GeoOrigin origin;  // of the ENU frame: the first usable fix
-  SE3 T_enu_world;   // p_enu = T_enu_world p_world
-  double rms_m = 0;  // residual RMS of the used fixes, m
+  GeodeticOrigin origin;  // of the ENU frame: the first usable fix
+  SE3 T_enu_world;        // p_enu = T_enu_world p_world
+  double rms_m = 0;       // residual RMS of the used fixes, m
   int fixes_used = 0;
 };
 
-// Errors say why no alignment was admitted (too few fixes, too little extent, RMS too large).
+// Errors say why no alignment was admitted (no fix with a position, an invalid first fix, too few fixes,
+// too little extent, RMS too large).
 Expected<GnssAlignment> AlignToGnss(const Trajectory& trajectory, std::span<const GnssFix> fixes,
                                     const GnssAlignmentOptions& options = {});
 
-}  // namespace uf::exporting
+}  // namespace uf
