@@ -4,7 +4,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "viewer/app/render_camera.h"
+#include "viewer/app/config/render_camera.h"
 
 namespace uf::app {
 namespace {

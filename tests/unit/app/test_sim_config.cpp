@@ -9,7 +9,7 @@
 #include "odometry/sim/sequence/simulation_config.h"
 #include "tests/support/temp_dir.h"
 #include "tests/unit/app/expect_same_sim_config.h"
-#include "viewer/app/sim_config.h"
+#include "viewer/app/config/sim_config.h"
 
 namespace uf::app {
 namespace {

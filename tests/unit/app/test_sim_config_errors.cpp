@@ -6,8 +6,8 @@
 #include <vector>
 
 #include "tests/support/temp_dir.h"
-#include "viewer/app/dataset_config.h"
-#include "viewer/app/sim_config.h"
+#include "viewer/app/config/dataset_config.h"
+#include "viewer/app/config/sim_config.h"
 
 namespace uf::app {
 namespace {

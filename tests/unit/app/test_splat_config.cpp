@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "tests/support/temp_dir.h"
-#include "viewer/app/splat_config.h"
+#include "viewer/app/config/splat_config.h"
 
 namespace uf::app {
 namespace {

@@ -8,7 +8,7 @@
 #include <memory>
 
 #include "odometry/io/dataset_reader.h"
-#include "viewer/app/dataset_config.h"
+#include "viewer/app/config/dataset_config.h"
 #include "viewer/app/cli/exit_codes.h"
 #include "viewer/app/report/info_report.h"
 #include "viewer/pipeline/stages/dataset_stage.h"

@@ -18,7 +18,7 @@
 #include "splat/splat_renderer.h"
 #include "viewer/app/cli/exit_codes.h"
 #include "viewer/pipeline/progress_line.h"
-#include "viewer/app/render_camera.h"
+#include "viewer/app/config/render_camera.h"
 
 namespace uf::app {
 

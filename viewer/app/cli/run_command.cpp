@@ -4,9 +4,9 @@
 #include <filesystem>
 
 #include "viewer/app/cli/exit_codes.h"
-#include "viewer/app/estimator_config.h"
+#include "viewer/app/config/estimator_config.h"
 #include "viewer/app/report/run_report.h"
-#include "viewer/app/splat_config.h"
+#include "viewer/app/config/splat_config.h"
 #include "viewer/pipeline/run/run_pipeline.h"
 
 namespace uf::app {

@@ -9,7 +9,7 @@
 #include "odometry/sim/sequence/sequence_generator.h"
 #include "viewer/app/cli/exit_codes.h"
 #include "viewer/pipeline/progress_line.h"
-#include "viewer/app/sim_config.h"
+#include "viewer/app/config/sim_config.h"
 
 namespace uf::app {
 

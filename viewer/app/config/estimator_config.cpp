@@ -1,4 +1,4 @@
-#include "viewer/app/estimator_config.h"
+#include "viewer/app/config/estimator_config.h"
 
 #include <cmath>
 #include <cstdio>
@@ -7,7 +7,7 @@
 #include <map>
 #include <optional>
 
-#include "viewer/app/yaml_fields.h"
+#include "viewer/app/config/yaml_fields.h"
 
 namespace uf::app {
 namespace {

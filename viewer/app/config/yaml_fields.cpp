@@ -1,4 +1,4 @@
-#include "viewer/app/yaml_fields.h"
+#include "viewer/app/config/yaml_fields.h"
 
 #include <cmath>
 #include <cstdio>

@@ -1,8 +1,8 @@
 // LoadSimConfig: the `sim:` section's keys mapped onto SimulationConfig (the schema is configs/sim.yaml).
-#include "viewer/app/sim_config.h"
+#include "viewer/app/config/sim_config.h"
 
-#include "viewer/app/config_sections.h"
-#include "viewer/app/sim_config_yaml.h"
+#include "viewer/app/config/config_sections.h"
+#include "viewer/app/config/sim_config_yaml.h"
 
 namespace uf::app {
 

@@ -1,4 +1,4 @@
-#include "viewer/app/splat_config.h"
+#include "viewer/app/config/splat_config.h"
 
 #include <cmath>
 #include <cstdio>
@@ -7,8 +7,8 @@
 #include <map>
 #include <optional>
 
-#include "viewer/app/config_sections.h"
-#include "viewer/app/yaml_fields.h"
+#include "viewer/app/config/config_sections.h"
+#include "viewer/app/config/yaml_fields.h"
 
 namespace uf::app {
 namespace {

@@ -1,4 +1,4 @@
-#include "viewer/app/render_camera.h"
+#include "viewer/app/config/render_camera.h"
 
 #include <yaml-cpp/yaml.h>
 

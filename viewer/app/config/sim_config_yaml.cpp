@@ -1,4 +1,4 @@
-#include "viewer/app/sim_config_yaml.h"
+#include "viewer/app/config/sim_config_yaml.h"
 
 #include <Eigen/LU>
 #include <charconv>

@@ -46,7 +46,7 @@
 #include <string>
 
 #include "odometry/estimator/config/lidar_odometry_config.h"
-#include "viewer/app/dataset_config.h"
+#include "viewer/app/config/dataset_config.h"
 
 namespace uf::app {
 

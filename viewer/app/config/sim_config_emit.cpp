@@ -8,7 +8,7 @@
 #include <string_view>
 
 #include "odometry/io/folders/ultrafusion_format.h"
-#include "viewer/app/sim_config.h"
+#include "viewer/app/config/sim_config.h"
 
 namespace uf::app {
 namespace {

@@ -1,8 +1,8 @@
-#include "viewer/app/dataset_config.h"
+#include "viewer/app/config/dataset_config.h"
 
 #include <yaml-cpp/yaml.h>
 
-#include "viewer/app/config_sections.h"
+#include "viewer/app/config/config_sections.h"
 
 namespace uf::app {
 namespace {
