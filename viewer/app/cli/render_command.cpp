@@ -150,7 +150,8 @@ Subcommand AddRenderCommand(CLI::App& app) {
       ->check(CLI::ExistingFile);
   command
       ->add_option("--camera", a->camera,
-                   "Camera YAML: model: pinhole, width, height, fx, fy, cx, cy[, distortion]")
+                   "Camera YAML: distortion_model: radial-tangential, intrinsics: [fx, fy, cx, cy], "
+                   "distortion_coefficients: [k1, k2, p1, p2], resolution: [width, height]")
       ->required()
       ->check(CLI::ExistingFile);
   command->add_option("--out", a->out, "Output folder (created; views are named by pose stamp)")->required();
