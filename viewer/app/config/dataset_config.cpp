@@ -1,130 +1,166 @@
+// The `dataset:` section: its schema (every key once) and the codecs of its lists, names and seconds.
 #include "viewer/app/config/dataset_config.h"
 
-#include <yaml-cpp/yaml.h>
-
-#include "viewer/app/config/config_sections.h"
+#include "viewer/app/config/section_schemas.h"
 
 namespace uf::app {
 namespace {
 
-// Errors read "FILE: dataset.KEY (line N): what ... 'value'".
-class Section {
- public:
-  Section(std::string file, std::string path) : file_(std::move(file)), path_(std::move(path)) {}
+using config::Codec;
+using config::KeyPath;
+using config::NamedCodec;
+using config::Schema;
+using config::ValueText;
 
-  Status Error(const YAML::Node& node, const std::string& key, const std::string& what) const {
-    std::string where = file_ + ": " + path_ + (key.empty() ? "" : "." + key);
-    if (node.IsDefined() && node.Mark().line >= 0)
-      where += " (line " + std::to_string(node.Mark().line + 1) + ")";
-    return Status::Error(where + ": " + what);
-  }
-  Section Child(const std::string& key) const { return Section(file_, path_ + "." + key); }
-
- private:
-  std::string file_, path_;
-};
-
-std::string Scalar(const YAML::Node& node) {
-  return node.IsScalar() ? node.Scalar() : std::string("<not a scalar>");
+Expected<SensorKind> ParseKind(const std::string& name) {
+  if (std::optional<SensorKind> kind = ParseSensorKind(name)) return *kind;
+  return Status::Error("unknown sensor kind '" + name + "' (imu, lidar, camera, wheel, gnss)");
 }
 
-Expected<Stamp> ParseSecondsNode(const Section& section, const YAML::Node& node, const std::string& key) {
-  std::optional<Stamp> value = node.IsScalar() ? ParseSeconds(node.Scalar()) : std::nullopt;
-  if (!value) return section.Error(node, key, "expected a number of seconds, got '" + Scalar(node) + "'");
-  return *value;
+const Schema<TopicSelection>& TopicSchema() {
+  static const Schema<TopicSelection> schema = [] {
+    Schema<TopicSelection> s;
+    s.Key("topic", &TopicSelection::topic, "", "the ROS topic");
+    s.Key(
+        "kind", &TopicSelection::kind,
+        NamedCodec<SensorKind>(ParseKind, [](SensorKind kind) { return std::string(SensorKindName(kind)); }),
+        "", "the sensor kind it is read as");
+    return s;
+  }();
+  return schema;
 }
 
-Status ParseTopics(const Section& section, const YAML::Node& node, DatasetOptions& options) {
-  if (!node.IsSequence()) return section.Error(node, "", "expected a list of {topic, kind}");
-  for (std::size_t i = 0; i < node.size(); ++i) {
-    const YAML::Node entry = node[i];
-    const Section at = section.Child(std::to_string(i));
-    if (!entry.IsMap()) return at.Error(entry, "", "expected {topic: NAME, kind: KIND}");
-    TopicSelection selection;
-    for (const auto& kv : entry) {
-      const std::string key = kv.first.as<std::string>();
-      if (key == "topic") {
-        selection.topic = Scalar(kv.second);
-      } else if (key == "kind") {
-        const std::optional<SensorKind> kind = ParseSensorKind(Scalar(kv.second));
-        if (!kind) {
-          return at.Error(
-              kv.second, key,
-              "unknown sensor kind '" + Scalar(kv.second) + "' (imu, lidar, camera, wheel, gnss)");
-        }
-        selection.kind = *kind;
-      } else {
-        return at.Error(kv.first, key, "unknown key (expected topic, kind)");
-      }
-    }
-    if (selection.topic.empty()) return at.Error(entry, "topic", "missing");
-    if (!entry["kind"]) return at.Error(entry, "kind", "missing");
-    options.topics.push_back(selection);
-  }
+// [{topic: NAME, kind: KIND}, ...], both keys required; written one per line, left out when empty.
+Codec<std::vector<TopicSelection>> TopicsCodec() {
+  return {[](const KeyPath& at, const YAML::Node& node, std::vector<TopicSelection>& topics) -> Status {
+            if (!node.IsSequence())
+              return at.Error(node, "expected a list of {topic, kind}, got '" + config::Text(node) + "'");
+            std::vector<TopicSelection> read(node.size());
+            for (std::size_t i = 0; i < node.size(); ++i) {
+              if (!node[i].IsMap() || !node[i]["topic"] || !node[i]["kind"])
+                return at[i].Error(node[i],
+                                   "expected {topic: NAME, kind: KIND}, got '" + config::Text(node[i]) + "'");
+              if (Status s = config::ReadMap(TopicSchema(), at[i], node[i], read[i]); !s.ok()) return s;
+              if (read[i].topic.empty()) return (at[i] / "topic").Error(node[i]["topic"], "missing");
+            }
+            topics = std::move(read);
+            return {};
+          },
+          [](const std::vector<TopicSelection>& topics) {
+            ValueText value{"[]"};
+            value.omitted = topics.empty();
+            for (const TopicSelection& topic : topics)
+              value.lines.push_back("- " + config::EmitFlow(TopicSchema(), topic));
+            return value;
+          }};
+}
+
+// {stream name or sensor kind: seconds, ...}; written one per line, left out when empty. A map given
+// replaces the base's.
+Codec<std::map<std::string, Stamp>> TimeOffsetsCodec() {
+  return {[](const KeyPath& at, const YAML::Node& node, std::map<std::string, Stamp>& offsets) -> Status {
+            if (!node.IsMap())
+              return at.Error(
+                  node, "expected a map of stream name or kind to seconds, got '" + config::Text(node) + "'");
+            std::map<std::string, Stamp> read;
+            for (const auto& kv : node) {
+              const std::string name = config::Text(kv.first);
+              if (Status s = config::ReadSeconds(at / name, kv.second, read[name]); !s.ok()) return s;
+            }
+            offsets = std::move(read);
+            return {};
+          },
+          [](const std::map<std::string, Stamp>& offsets) {
+            ValueText value{"{}"};
+            value.omitted = offsets.empty();
+            for (const auto& [name, offset] : offsets)
+              value.lines.push_back(config::Format(name) + ": " + FormatSeconds(offset));
+            return value;
+          }};
+}
+
+// Seconds read exactly to the nanosecond; `positive`: > 0, else >= 0.
+Status ReadDuration(const KeyPath& at, const YAML::Node& node, bool positive, Stamp& duration) {
+  Stamp read = 0;
+  if (Status s = config::ReadSeconds(at, node, read); !s.ok()) return s;
+  if (positive && read <= 0) return at.Error(node, "must be positive, got '" + config::Text(node) + "'");
+  if (read < 0) return at.Error(node, "must not be negative, got '" + config::Text(node) + "'");
+  duration = read;
   return {};
 }
 
-Status ParseDatasetSection(const Section& section, const YAML::Node& node, DatasetConfig& config) {
-  if (!node.IsMap()) return section.Error(node, "", "expected a map of settings");
-  for (const auto& kv : node) {
-    const std::string key = kv.first.as<std::string>();
-    const YAML::Node& value = kv.second;
-    if (key == "format") {
-      Expected<DatasetFormat> format = ParseDatasetFormat(Scalar(value));
-      if (!format) return section.Error(value, key, format.error());
-      config.reader.format = *format;
-    } else if (key == "topics") {
-      if (Status s = ParseTopics(section.Child(key), value, config.reader); !s.ok()) return s;
-    } else if (key == "imu_accel_unit") {
-      const std::string unit = Scalar(value);
-      if (unit == "auto")
-        config.reader.imu_accel_unit = ImuAccelUnit::kAuto;
-      else if (unit == "m/s^2")
-        config.reader.imu_accel_unit = ImuAccelUnit::kMetersPerSecond2;
-      else if (unit == "g")
-        config.reader.imu_accel_unit = ImuAccelUnit::kStandardGravity;
-      else
-        return section.Error(value, key, "expected auto, m/s^2 or g, got '" + unit + "'");
-    } else if (key == "derive_point_times_from_azimuth") {
-      const std::string flag = Scalar(value);
-      if (flag != "true" && flag != "false")
-        return section.Error(value, key, "expected true or false, got '" + flag + "'");
-      config.reader.derive_point_times_from_azimuth = flag == "true";
-    } else if (key == "lidar_sweep_period_s") {
-      Expected<Stamp> period = ParseSecondsNode(section, value, key);
-      if (!period) return period.status();
-      if (*period <= 0) return section.Error(value, key, "must be positive, got '" + Scalar(value) + "'");
-      config.reader.lidar_sweep_period_s = ToSeconds(*period);
-    } else if (key == "folder_scan_stamp") {
-      const std::string position = Scalar(value);
-      if (position == "sweep_middle")
-        config.reader.folder_scan_stamp = ScanStampPosition::kSweepMiddle;
-      else if (position == "sweep_start")
-        config.reader.folder_scan_stamp = ScanStampPosition::kSweepStart;
-      else
-        return section.Error(value, key, "expected sweep_middle or sweep_start, got '" + position + "'");
-    } else if (key == "time_offsets_s") {
-      if (!value.IsMap())
-        return section.Error(value, key, "expected a map of stream name or kind to seconds");
-      for (const auto& offset : value) {
-        const std::string name = offset.first.as<std::string>();
-        Expected<Stamp> seconds = ParseSecondsNode(section.Child(key), offset.second, name);
-        if (!seconds) return seconds.status();
-        config.stream.time_offsets[name] = *seconds;
-      }
-    } else if (key == "reorder_window_s") {
-      Expected<Stamp> window = ParseSecondsNode(section, value, key);
-      if (!window) return window.status();
-      if (*window < 0) return section.Error(value, key, "must not be negative, got '" + Scalar(value) + "'");
-      config.stream.reorder_window = *window;
-    } else {
-      return section.Error(
-          kv.first, key,
-          "unknown key (expected format, topics, imu_accel_unit, derive_point_times_from_azimuth, "
-          "lidar_sweep_period_s, folder_scan_stamp, time_offsets_s, reorder_window_s)");
-    }
-  }
-  return {};
+Codec<double> SweepPeriodCodec() {
+  return {[](const KeyPath& at, const YAML::Node& node, double& seconds) -> Status {
+            Stamp period = 0;
+            if (Status s = ReadDuration(at, node, true, period); !s.ok()) return s;
+            seconds = ToSeconds(period);
+            return {};
+          },
+          [](const double& seconds) { return ValueText{config::FormatNumber(seconds)}; }};
+}
+
+Codec<Stamp> ReorderWindowCodec() {
+  return {[](const KeyPath& at, const YAML::Node& node, Stamp& window) {
+            return ReadDuration(at, node, false, window);
+          },
+          [](const Stamp& window) { return ValueText{FormatSeconds(window)}; }};
+}
+
+std::string AccelUnitName(ImuAccelUnit unit) {
+  return unit == ImuAccelUnit::kAuto ? "auto" : unit == ImuAccelUnit::kMetersPerSecond2 ? "m/s^2" : "g";
+}
+
+Expected<ImuAccelUnit> ParseAccelUnit(const std::string& name) {
+  for (ImuAccelUnit unit :
+       {ImuAccelUnit::kAuto, ImuAccelUnit::kMetersPerSecond2, ImuAccelUnit::kStandardGravity})
+    if (AccelUnitName(unit) == name) return unit;
+  return Status::Error("expected auto, m/s^2 or g, got '" + name + "'");
+}
+
+std::string StampPositionName(ScanStampPosition position) {
+  return position == ScanStampPosition::kSweepMiddle ? "sweep_middle" : "sweep_start";
+}
+
+Expected<ScanStampPosition> ParseStampPosition(const std::string& name) {
+  for (ScanStampPosition position : {ScanStampPosition::kSweepMiddle, ScanStampPosition::kSweepStart})
+    if (StampPositionName(position) == name) return position;
+  return Status::Error("expected sweep_middle or sweep_start, got '" + name + "'");
+}
+
+Schema<DatasetConfig> MakeDatasetSchema() {
+  Schema<DatasetOptions> reader;
+  reader.Key(
+      "format", &DatasetOptions::format,
+      NamedCodec<DatasetFormat>(ParseDatasetFormat,
+                                [](DatasetFormat format) { return std::string(DatasetFormatName(format)); }),
+      "", "auto | rosbag | kitti | euroc | ultrafusion; auto: detected from the path");
+  reader.Key("topics", &DatasetOptions::topics, TopicsCodec(), "",
+             "ROS bags: read exactly these topics, [{topic: /imu/data, kind: imu}, ...] (kind: imu | lidar | "
+             "camera | wheel | gnss); empty: every topic of a known message type");
+  reader.Key("imu_accel_unit", &DatasetOptions::imu_accel_unit,
+             NamedCodec<ImuAccelUnit>(ParseAccelUnit, AccelUnitName), "",
+             "unit of sensor_msgs/Imu linear_acceleration: auto | m/s^2 | g (auto: from the first second's "
+             "median norm)");
+  reader.Key("derive_point_times_from_azimuth", &DatasetOptions::derive_point_times_from_azimuth, "",
+             "spinning LiDARs without per-point times: derive them from the azimuth (false: no point times)");
+  reader.Key("lidar_sweep_period_s", &DatasetOptions::lidar_sweep_period_s, SweepPeriodCodec(), "s",
+             "sweep period of LiDARs whose scans do not say when they end (KITTI-style folders), > 0");
+  reader.Key("folder_scan_stamp", &DatasetOptions::folder_scan_stamp,
+             NamedCodec<ScanStampPosition>(ParseStampPosition, StampPositionName), "",
+             "KITTI-style folders: times.txt stamps the sweep's middle (KITTI) or its start: sweep_middle | "
+             "sweep_start");
+  Schema<MeasurementStreamOptions> stream;
+  stream.Key(
+      "time_offsets_s", &MeasurementStreamOptions::time_offsets, TimeOffsetsCodec(), "s",
+      "added to the stamps, by stream name or sensor kind ({lidar: -0.012, /fix: 0.2}); a stream's name "
+      "wins over its kind");
+  stream.Key("reorder_window_s", &MeasurementStreamOptions::reorder_window, ReorderWindowCodec(), "s",
+             "how far (stamp time) a quiet stream may lag before the others are released without it, >= 0");
+
+  Schema<DatasetConfig> s("dataset");
+  s.Nest("", &DatasetConfig::reader, reader);
+  s.Nest("", &DatasetConfig::stream, stream);
+  return s;
 }
 
 }  // namespace
@@ -137,33 +173,13 @@ Expected<DatasetFormat> ParseDatasetFormat(const std::string& name) {
   return Status::Error("unknown dataset format '" + name + "' (auto, rosbag, kitti, euroc, ultrafusion)");
 }
 
-Expected<DatasetConfig> LoadDatasetConfig(const std::filesystem::path& file) {
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(file.string());
-  } catch (const YAML::BadFile&) {
-    return Status::Error(file.string() + ": cannot open the configuration file");
-  } catch (const YAML::Exception& e) {
-    return Status::Error(file.string() + ": " + e.what());
-  }
-  DatasetConfig config;
-  if (root.IsNull()) return config;
-  if (!root.IsMap()) return Status::Error(file.string() + ": expected a map of sections at the top level");
-  try {
-    for (const auto& kv : root) {
-      const std::string key = kv.first.as<std::string>();
-      if (key != "dataset") {
-        if (IsKnownConfigSection(key)) continue;  // another reader's section
-        return Status::Error(file.string() + ": unknown top-level key '" + key + "' (expected " +
-                             KnownConfigSectionsList() + ")");
-      }
-      if (Status s = ParseDatasetSection(Section(file.string(), "dataset"), kv.second, config); !s.ok())
-        return s;
-    }
-  } catch (const YAML::Exception& e) {
-    return Status::Error(file.string() + ": " + e.what());
-  }
-  return config;
+std::string EmitDatasetConfig(const DatasetConfig& config) {
+  return config::EmitSection(config::DatasetSchema(), config);
 }
 
+namespace config {
+
+const Schema<DatasetConfig>& DatasetSchema() { return BuiltOnce<MakeDatasetSchema>(); }
+
+}  // namespace config
 }  // namespace uf::app

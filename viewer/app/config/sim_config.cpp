@@ -1,182 +1,278 @@
-// LoadSimConfig: the `sim:` section's keys mapped onto SimulationConfig (the schema is configs/sim.yaml).
+// The `sim:` section: its schema (every key once, with its unit and meaning) and the text of
+// sim_config.yaml.
 #include "viewer/app/config/sim_config.h"
 
-#include "viewer/app/config/config_sections.h"
-#include "viewer/app/config/sim_config_yaml.h"
+#include "viewer/app/config/section_schemas.h"
+#include "viewer/app/config/sim_config_values.h"
 
 namespace uf::app {
-
-// A GNSS quality by name, for yaml::Value (declared before its use in the templates below).
-namespace yaml {
-Status Read(const KeyPath& at, const YAML::Node& node, sim::GnssQuality& value) {
-  Expected<sim::GnssQuality> quality = ParseGnssQuality(Text(node));
-  if (!quality) return at.Error(node, quality.error());
-  value = *quality;
-  return {};
-}
-}  // namespace yaml
-
 namespace {
 
+using config::Codec;
+using config::KeyPath;
+using config::Schema;
+using config::ValueText;
+using sim::SimulationConfig;
 using sim::TimeWindow;
-using yaml::Field;
-using yaml::KeyPath;
-using yaml::List;
-using yaml::Value;
 
-// A field holding a map of settings.
-Field Section(std::string key, std::vector<Field> fields) {
-  return {std::move(key), [fields = std::move(fields)](const KeyPath& at, const YAML::Node& node) {
-            return yaml::ReadMap(at, node, fields);
-          }};
+Codec<sim::GnssQuality> QualityCodec() {
+  return config::NamedCodec<sim::GnssQuality>(
+      [](const std::string& name) { return ParseGnssQuality(name); },
+      [](sim::GnssQuality quality) { return std::string(GnssQualityName(quality)); });
 }
 
-// `windows: [[b, e], ...]`, relative to *start (read when the field is, after start_time_s).
-Field Windows(std::string key, std::vector<TimeWindow>& target, const Stamp& start) {
-  return List<TimeWindow>(std::move(key), target,
-                          [&start](const KeyPath& at, const YAML::Node& node, TimeWindow& window) {
-                            return yaml::ReadWindow(at, node, start, window);
-                          });
+// Windows of the part `access` gives, relative to the root's start_time_s.
+template <typename Access>
+void Windows(Schema<SimulationConfig>& s, std::string path, Access access, std::string doc) {
+  s.Custom(
+      std::move(path),
+      [access](const KeyPath& at, const YAML::Node& node, SimulationConfig& c) {
+        return config::ReadWindows(at, node, c.start_stamp, std::invoke(access, c));
+      },
+      [access](const SimulationConfig& c) {
+        return ValueText{config::FormatWindows(std::invoke(access, c), c.start_stamp)};
+      },
+      "s from the start", std::move(doc));
 }
 
-// `events: [{window: [b, e], VALUE_KEY: value}, ...]`: both keys required.
-template <typename T>
-Field Events(std::string key, std::vector<std::pair<TimeWindow, T>>& target, const Stamp& start,
-             std::string value_key) {
-  using Event = std::pair<TimeWindow, T>;
-  return List<Event>(
-      std::move(key), target, [&start, value_key](const KeyPath& at, const YAML::Node& node, Event& event) {
-        if (!node.IsMap() || !node["window"] || !node[value_key]) {
-          return at.Error(node, "expected {window: [begin_s, end_s], " + value_key + ": ...}, got '" +
-                                    yaml::Text(node) + "'");
-        }
-        return yaml::ReadMap(
-            at, node,
-            {{"window", [&](const KeyPath& w,
-                            const YAML::Node& n) { return yaml::ReadWindow(w, n, start, event.first); }},
-             Value(value_key, event.second)});
-      });
+// Events {window, KEY: value} of the part `access` gives, windows relative to the root's start_time_s.
+template <typename T, typename Access>
+void Events(Schema<SimulationConfig>& s, std::string path, Access access, std::string key, Codec<T> codec,
+            std::string doc) {
+  s.Custom(
+      std::move(path),
+      [access, key, codec](const KeyPath& at, const YAML::Node& node, SimulationConfig& c) {
+        return config::ReadEvents(at, node, c.start_stamp, key, codec, std::invoke(access, c));
+      },
+      [access, key, codec](const SimulationConfig& c) {
+        return ValueText{config::FormatEvents(std::invoke(access, c), c.start_stamp, key, codec)};
+      },
+      "s from the start", std::move(doc));
 }
 
 // The placement keys every sensor but the imu has.
-std::vector<Field> WithPlacement(std::vector<Field> fields, sim::SensorPlacement& placement) {
-  fields.push_back({"extrinsic", [&placement](const KeyPath& at, const YAML::Node& node) {
-                      return yaml::ReadExtrinsic(at, node, placement.T_body_sensor);
-                    }});
-  fields.push_back(Value("stamp_delay_s", placement.stamp_delay_s));
-  fields.push_back(Section("extrinsic_error", {Value("rotation_deg", placement.rotation_error_deg),
-                                               Value("translation_m", placement.translation_error_m)}));
-  return fields;
+Schema<sim::SensorPlacement> PlacementSchema() {
+  using P = sim::SensorPlacement;
+  Schema<P> s;
+  s.Key("extrinsic", &P::T_body_sensor, config::ExtrinsicCodec(), "m, deg",
+        "T_body_sensor (p_body = T_body_sensor * p_sensor): {translation_m: [x, y, z], rotation_rpy_deg: "
+        "[roll, "
+        "pitch, yaw]} with R = Rz(yaw) Ry(pitch) Rx(roll), either part optional, or {matrix: [16 numbers, "
+        "row-major 4x4]}");
+  s.Key(
+      "stamp_delay_s", &P::stamp_delay_s, "s",
+      "the sensor stamps its data this late (stamp = true time + delay), within +-10; calibration_true.yaml "
+      "states time_offset_s = -delay, calibration.yaml 0");
+  s.Key("extrinsic_error.rotation_deg", &P::rotation_error_deg, "deg",
+        "error of the extrinsic the user is given, T_given = T_body_sensor * Exp([t; r]): rotation vector, "
+        "sensor frame, norm < 180");
+  s.Key("extrinsic_error.translation_m", &P::translation_error_m, "m", "... and translation, sensor frame");
+  s.Flow("extrinsic_error");
+  return s;
 }
 
-Field Imu(sim::SimulatedImuConfig& imu) {
-  ImuNoise& noise = imu.noise;
-  return Section("imu", {Value("enabled", imu.enabled), Value("rate_hz", imu.rate_hz),
-                         Value("accel_noise_density", noise.accel_noise_density),
-                         Value("gyro_noise_density", noise.gyro_noise_density),
-                         Value("accel_bias_random_walk", noise.accel_bias_random_walk),
-                         Value("gyro_bias_random_walk", noise.gyro_bias_random_walk),
-                         Value("initial_accel_bias", noise.initial_accel_bias),
-                         Value("initial_gyro_bias", noise.initial_gyro_bias),
-                         Value("accel_saturation", noise.accel_saturation),
-                         Value("gyro_saturation", noise.gyro_saturation)});
+Schema<sim::GnssNoise> NoiseSchema(const std::string& quality) {
+  using N = sim::GnssNoise;
+  Schema<N> s;
+  s.Key("horizontal_std_m", &N::horizontal_std_m, "m", quality + ": 1 sigma per horizontal axis");
+  s.Key("vertical_std_m", &N::vertical_std_m, "m", quality + ": 1 sigma, up");
+  s.Key("correlation_time_s", &N::correlation_time_s, "s",
+        quality + ": first-order Gauss-Markov correlation time (0: white)");
+  return s;
 }
 
-Field Lidar(sim::SimulatedLidarConfig& lidar) {
-  sim::LidarConfig& model = lidar.model;
-  return Section("lidar", WithPlacement({Value("enabled", lidar.enabled), Value("model", model.model),
-                                         Value("rate_hz", model.rate_hz),
-                                         Value("horizontal_resolution_deg", model.horizontal_resolution_deg),
-                                         Value("min_range_m", model.min_range_m),
-                                         Value("max_range_m", model.max_range_m),
-                                         Value("range_noise_std_m", model.range_noise_std_m),
-                                         Value("dropout_probability", model.dropout_probability)},
-                                        lidar.placement));
+// A sensor's keys under `name`: `enabled`, then its model's.
+template <typename Sensor, typename Model>
+void AddSensor(Schema<SimulationConfig>& s, const std::string& name, Sensor SimulationConfig::*sensor,
+               const std::string& enabled_doc, const Schema<Model>& model) {
+  Schema<Sensor> keys;
+  keys.Key("enabled", &Sensor::enabled, "", enabled_doc);
+  keys.Nest("", &Sensor::model, model);
+  s.Nest(name, sensor, keys);
 }
 
-Field Camera(sim::SimulatedCameraConfig& camera, const Stamp& start) {
-  sim::CameraConfig& m = camera.model;
-  return Section("camera", WithPlacement({Value("enabled", camera.enabled),
-                                          Value("width", m.width),
-                                          Value("height", m.height),
-                                          Value("fx", m.fx),
-                                          Value("fy", m.fy),
-                                          Value("cx", m.cx),
-                                          Value("cy", m.cy),
-                                          Value("k1", m.k1),
-                                          Value("k2", m.k2),
-                                          Value("p1", m.p1),
-                                          Value("p2", m.p2),
-                                          Value("k3", m.k3),
-                                          Value("rate_hz", m.rate_hz),
-                                          Value("noise_std_dn", m.noise_std_dn),
-                                          Value("supersampling", m.supersampling),
-                                          Value("sun_direction", m.sun_direction_world),
-                                          Value("ambient", m.ambient),
-                                          Value("exposure", m.exposure),
-                                          Value("textured", m.textured),
-                                          Windows("darkness", m.darkness, start),
-                                          Events("exposure_changes", m.exposure_changes, start, "gain"),
-                                          Windows("occlusions", m.occlusions, start)},
-                                         camera.placement));
+// The sensor's placement keys under `name` (after its model's event windows).
+template <typename Sensor>
+void AddPlacement(Schema<SimulationConfig>& s, const std::string& name, Sensor SimulationConfig::*sensor) {
+  s.Nest(
+      name, [sensor](auto& c) -> auto& { return (c.*sensor).placement; }, PlacementSchema());
 }
 
-Field Wheel(sim::SimulatedWheelConfig& wheel, const Stamp& start) {
-  sim::WheelConfig& m = wheel.model;
-  return Section(
-      "wheel",
-      WithPlacement({Value("enabled", wheel.enabled), Value("rate_hz", m.rate_hz),
-                     Value("wheel_radius_m", m.wheel_radius_m), Value("baseline_m", m.baseline_m),
-                     Value("radius_error", m.radius_error), Value("baseline_error", m.baseline_error),
-                     Value("encoder_resolution_ticks", m.encoder_resolution_ticks),
-                     Value("wheel_speed_noise_std", m.wheel_speed_noise_std),
-                     Events("slips", m.slips, start, "ratio"), Windows("floats", m.floats, start)},
-                    wheel.placement));
+void AddTopLevel(Schema<SimulationConfig>& s) {
+  using C = SimulationConfig;
+  s.Key("scene", &C::scene, "", "urban | wild | warehouse | corridor | tunnel");
+  s.Key("seed", &C::seed, "", "integer in [0, 2^64); the same seed gives bit-identical data");
+  s.Key("duration_s", &C::duration_s, "s",
+        "in (0, 3600]; with a trajectory file: at most this much of it (<= 0: all)");
+  s.Key("start_time_s", &C::start_stamp,
+        Codec<Stamp>{config::ReadSeconds,
+                     [](const Stamp& t) { return ValueText{config::FormatExactSeconds(t)}; }},
+        "s since the epoch",
+        "the sequence start, exact to the ns, >= 0 (a trajectory file's own stamps win); event windows are "
+        "relative to it");
+  s.ReadFirst("start_time_s");
+
+  using T = sim::TrajectorySource;
+  Schema<T> trajectory;
+  trajectory.Key("file", &T::file, "", "TUM, KITTI or EuRoC pose file; \"\": the scene's default trajectory");
+  trajectory.Key("format", &T::format, "", "auto | tum | kitti | euroc");
+  trajectory.Key("kitti_rate_hz", &T::kitti_rate_hz, "Hz",
+                 "in (0, 1000]: KITTI poses have no stamps and are this far apart");
+  trajectory.Key("knot_spacing_s", &T::knot_spacing_s, "s",
+                 "in (0.001, 10]: spline fitted to the file (continuous acceleration)");
+  s.Nest("trajectory", &C::trajectory, trajectory);
+  s.Flow("trajectory");
+
+  s.Key("body_height_m", &C::body_height_m, "m", "in [0, 100]: body (imu) frame above the ground");
+  s.Key("ground_truth_rate_hz", &C::ground_truth_rate_hz, "Hz", "in (0, 10000]: rate of groundtruth.tum");
+  using G = sim::GeodeticOrigin;
+  Schema<G> origin;
+  origin.Key("latitude_deg", &G::latitude_deg, "deg", "world origin (WGS84), in [-90, 90], north positive");
+  origin.Key("longitude_deg", &G::longitude_deg, "deg", "in [-180, 180], east positive");
+  origin.Key("altitude_m", &G::altitude_m, "m", "above the ellipsoid");
+  s.Nest("origin", &C::origin, origin);
+  s.Flow("origin");
+  s.Key("threads", &C::threads, "",
+        "ray-casting threads, >= 0; 0: all cores (the output does not depend on it)");
+  s.Key("bag", &C::write_bag, "", "also write a ROS1 bag of the sequence");
 }
 
-Field Noise(std::string key, sim::GnssNoise& noise) {
-  return Section(std::move(key), {Value("horizontal_std_m", noise.horizontal_std_m),
-                                  Value("vertical_std_m", noise.vertical_std_m),
-                                  Value("correlation_time_s", noise.correlation_time_s)});
+void AddImu(Schema<SimulationConfig>& s) {
+  Schema<ImuNoise> noise;
+  noise.Key("accel_noise_density", &ImuNoise::accel_noise_density, "m/s^2/sqrt(Hz)",
+            ">= 0: white noise, per-sample std = density * sqrt(rate)");
+  noise.Key("gyro_noise_density", &ImuNoise::gyro_noise_density, "rad/s/sqrt(Hz)", ">= 0");
+  noise.Key("accel_bias_random_walk", &ImuNoise::accel_bias_random_walk, "m/s^3/sqrt(Hz)",
+            ">= 0: the bias std grows as density * sqrt(t)");
+  noise.Key("gyro_bias_random_walk", &ImuNoise::gyro_bias_random_walk, "rad/s^2/sqrt(Hz)", ">= 0");
+  noise.Key("initial_accel_bias", &ImuNoise::initial_accel_bias, "m/s^2", "imu frame, at the first sample");
+  noise.Key("initial_gyro_bias", &ImuNoise::initial_gyro_bias, "rad/s", "imu frame, at the first sample");
+  noise.Key("accel_saturation", &ImuNoise::accel_saturation, "m/s^2", "per axis, >= 0; 0: no saturation");
+  noise.Key("gyro_saturation", &ImuNoise::gyro_saturation, "rad/s", "per axis, >= 0; 0: no saturation");
+  using I = sim::SimulatedImuConfig;
+  Schema<I> imu;
+  imu.Key("enabled", &I::enabled, "", "the imu is the body frame itself: it has no placement keys");
+  imu.Key("rate_hz", &I::rate_hz, "Hz", "in (0, 10000]");
+  imu.Nest("", &I::noise, noise);
+  s.Nest("imu", &SimulationConfig::imu, imu);
 }
 
-Field Gnss(sim::SimulatedGnssConfig& gnss, const Stamp& start) {
-  sim::GnssConfig& m = gnss.model;
-  return Section(
-      "gnss", WithPlacement(
-                  {Value("enabled", gnss.enabled), Value("rate_hz", m.rate_hz), Value("quality", m.quality),
-                   Events("quality_changes", m.quality_changes, start, "quality"),
-                   Windows("outages", m.outages, start), Events("multipath", m.multipath, start, "offset_m"),
-                   Section("noise", {Noise("rtk_fixed", m.rtk_fixed), Noise("rtk_float", m.rtk_float),
-                                     Noise("single", m.single)})},
-                  gnss.placement));
+void AddLidar(Schema<SimulationConfig>& s) {
+  using M = sim::LidarConfig;
+  Schema<M> model;
+  model.Key("model", &M::model, "", "spinning16 | spinning32 | spinning64 | spinning128 | livox_avia");
+  model.Key("rate_hz", &M::rate_hz, "Hz", "sweeps (Livox: frames) per second, in [0.5, 100]");
+  model.Key("horizontal_resolution_deg", &M::horizontal_resolution_deg, "deg",
+            "spinning only: azimuth step between firings, in (0, 10]");
+  model.Key("min_range_m", &M::min_range_m, "m", ">= 0: nearer surfaces block the beam and give no point");
+  model.Key("max_range_m", &M::max_range_m, "m",
+            "in (min_range_m, 10000]: nothing hit within it gives no point");
+  model.Key("range_noise_std_m", &M::range_noise_std_m, "m", ">= 0: Gaussian, along the beam");
+  model.Key("dropout_probability", &M::dropout_probability, "", "in [0, 1]: each return lost independently");
+  AddSensor(s, "lidar", &SimulationConfig::lidar, "simulate the LiDAR", model);
+  AddPlacement(s, "lidar", &SimulationConfig::lidar);
 }
 
-Status ReadSimSection(const KeyPath& at, const YAML::Node& node, sim::SimulationConfig& config) {
-  Field start_time = {"start_time_s", [&config](const KeyPath& key, const YAML::Node& value) {
-                        return yaml::ReadSeconds(key, value, config.start_stamp);
-                      }};
-  // Windows are relative to the start: read start_time_s first, wherever it stands in the section.
-  if (node.IsMap() && node["start_time_s"]) {
-    if (Status s = start_time.read(at / "start_time_s", node["start_time_s"]); !s.ok()) return s;
+void AddCamera(Schema<SimulationConfig>& s) {
+  using M = sim::CameraConfig;
+  Schema<M> model;
+  model.Key("width", &M::width, "px", "in [1, 16384]");
+  model.Key("height", &M::height, "px", "in [1, 16384]");
+  model.Key("fx", &M::fx, "px", "focal length, > 0 (pinhole, OpenCV axes: x right, y down, z forward)");
+  model.Key("fy", &M::fy, "px", "focal length, > 0");
+  model.Key("cx", &M::cx, "px", "principal point, inside the image");
+  model.Key("cy", &M::cy, "px", "principal point, inside the image");
+  model.Key("k1", &M::k1, "", "radial-tangential distortion (rendered exactly)");
+  model.Key("k2", &M::k2, "", "radial-tangential distortion");
+  model.Key("p1", &M::p1, "", "radial-tangential distortion");
+  model.Key("p2", &M::p2, "", "radial-tangential distortion");
+  model.Key("k3", &M::k3, "", "radial-tangential distortion");
+  model.Key("rate_hz", &M::rate_hz, "Hz", "frames per second, in (0, 1000]; global shutter");
+  model.Key("noise_std_dn", &M::noise_std_dn, "DN", "Gaussian pixel noise in 8-bit digital numbers, >= 0");
+  model.Key("supersampling", &M::supersampling, "", "n x n rays per pixel (anti-aliasing), in [1, 16]");
+  model.Key("sun_direction", &M::sun_direction_world, "", "world frame, towards the sun (normalised)");
+  model.Key("ambient", &M::ambient, "", "in [0, 1]: colour * (ambient + (1 - ambient) max(0, n.l))");
+  model.Key("exposure", &M::exposure, "", "brightness gain on the linear colour, > 0");
+  model.Key("textured", &M::textured, "",
+            "false: each material's plain base colour (e.g. calibration targets)");
+  AddSensor(s, "camera", &SimulationConfig::camera, "simulate the camera", model);
+  Windows(
+      s, "camera.darkness", [](auto& c) -> auto& { return c.camera.model.darkness; },
+      "[[begin_s, end_s], ...]: illumination x 0.1, noise x 3 inside");
+  Events(
+      s, "camera.exposure_changes", [](auto& c) -> auto& { return c.camera.model.exposure_changes; }, "gain",
+      config::PlainCodec<double>(),
+      "[{window: [begin_s, end_s], gain: 2.0}, ...]: gain (> 0) x exposure inside");
+  Windows(
+      s, "camera.occlusions", [](auto& c) -> auto& { return c.camera.model.occlusions; },
+      "[[begin_s, end_s], ...]: a dark band sliding across the lens");
+  AddPlacement(s, "camera", &SimulationConfig::camera);
+}
+
+void AddWheel(Schema<SimulationConfig>& s) {
+  using M = sim::WheelConfig;
+  Schema<M> model;
+  model.Key("rate_hz", &M::rate_hz, "Hz", "in (0, 10000]; differential drive: forward speed and yaw rate");
+  model.Key("wheel_radius_m", &M::wheel_radius_m, "m", "true wheel radius, > 0");
+  model.Key("baseline_m", &M::baseline_m, "m", "true distance between the wheels, > 0");
+  model.Key("radius_error", &M::radius_error, "",
+            "relative, > -1: the odometry uses radius * (1 + radius_error)");
+  model.Key("baseline_error", &M::baseline_error, "",
+            "relative, > -1: the odometry uses baseline * (1 + baseline_error)");
+  model.Key("encoder_resolution_ticks", &M::encoder_resolution_ticks, "ticks",
+            "per wheel revolution, >= 0; 0: continuous");
+  model.Key("wheel_speed_noise_std", &M::wheel_speed_noise_std, "rad/s", "per wheel and sample, >= 0");
+  AddSensor(s, "wheel", &SimulationConfig::wheel, "simulate the wheel odometry", model);
+  Events(
+      s, "wheel.slips", [](auto& c) -> auto& { return c.wheel.model.slips; }, "ratio",
+      config::PlainCodec<double>(),
+      "[{window: [begin_s, end_s], ratio: 0.3}, ...]: wheels turn (1 + ratio) times faster than the ground "
+      "(ratio >= -1; -1: locked)");
+  Windows(
+      s, "wheel.floats", [](auto& c) -> auto& { return c.wheel.model.floats; },
+      "[[begin_s, end_s], ...]: wheels off the ground, rates frozen");
+  AddPlacement(s, "wheel", &SimulationConfig::wheel);
+}
+
+void AddGnss(Schema<SimulationConfig>& s) {
+  using M = sim::GnssConfig;
+  Schema<M> model;
+  model.Key("rate_hz", &M::rate_hz, "Hz", "fixes per second, in (0, 1000]");
+  model.Key("quality", &M::quality, QualityCodec(), "",
+            "single | rtk_float | rtk_fixed, outside the quality_changes");
+  AddSensor(s, "gnss", &SimulationConfig::gnss,
+            "simulate the GNSS receiver (an antenna: its orientation does not matter)", model);
+  Events(
+      s, "gnss.quality_changes", [](auto& c) -> auto& { return c.gnss.model.quality_changes; }, "quality",
+      QualityCodec(), "[{window: [begin_s, end_s], quality: rtk_fixed}, ...]; the last wins");
+  Windows(
+      s, "gnss.outages", [](auto& c) -> auto& { return c.gnss.model.outages; },
+      "[[begin_s, end_s], ...]: no fixes inside");
+  Events(
+      s, "gnss.multipath", [](auto& c) -> auto& { return c.gnss.model.multipath; }, "offset_m",
+      config::PlainCodec<Eigen::Vector3d>(),
+      "[{window: [begin_s, end_s], offset_m: [east, north, up]}, ...]: added to the fixes");
+  for (const auto& quality :
+       {std::pair{"rtk_fixed", &sim::GnssConfig::rtk_fixed},
+        std::pair{"rtk_float", &sim::GnssConfig::rtk_float}, std::pair{"single", &sim::GnssConfig::single}}) {
+    const std::string group = std::string("gnss.noise.") + quality.first;
+    const auto noise = quality.second;
+    s.Nest(
+        group, [noise](auto& c) -> auto& { return c.gnss.model.*noise; }, NoiseSchema(quality.first));
+    s.Flow(group);
   }
-  sim::TrajectorySource& trajectory = config.trajectory;
-  sim::GeodeticOrigin& origin = config.origin;
-  const Stamp& start = config.start_stamp;
-  return yaml::ReadMap(
-      at, node,
-      {Value("scene", config.scene), Value("seed", config.seed), Value("duration_s", config.duration_s),
-       start_time,
-       Section("trajectory", {Value("file", trajectory.file), Value("format", trajectory.format),
-                              Value("kitti_rate_hz", trajectory.kitti_rate_hz),
-                              Value("knot_spacing_s", trajectory.knot_spacing_s)}),
-       Value("body_height_m", config.body_height_m),
-       Value("ground_truth_rate_hz", config.ground_truth_rate_hz),
-       Section("origin",
-               {Value("latitude_deg", origin.latitude_deg), Value("longitude_deg", origin.longitude_deg),
-                Value("altitude_m", origin.altitude_m)}),
-       Value("threads", config.threads), Value("bag", config.write_bag), Imu(config.imu), Lidar(config.lidar),
-       Camera(config.camera, start), Wheel(config.wheel, start), Gnss(config.gnss, start)});
+  AddPlacement(s, "gnss", &SimulationConfig::gnss);
+}
+
+Schema<SimulationConfig> MakeSimSchema() {
+  Schema<SimulationConfig> s("sim");
+  AddTopLevel(s);
+  AddImu(s);
+  AddLidar(s);
+  AddCamera(s);
+  AddWheel(s);
+  AddGnss(s);
+  return s;
 }
 
 }  // namespace
@@ -201,34 +297,16 @@ Expected<sim::GnssQuality> ParseGnssQuality(std::string_view name) {
   return Status::Error("unknown GNSS quality '" + std::string(name) + "' (single, rtk_float, rtk_fixed)");
 }
 
-Expected<sim::SimulationConfig> LoadSimConfig(const std::filesystem::path& file, sim::SimulationConfig base) {
-  const std::string name = file.string();
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(name);
-  } catch (const YAML::BadFile&) {
-    return Status::Error(name + ": cannot open the configuration file");
-  } catch (const YAML::Exception& e) {
-    return Status::Error(name + " (line " + std::to_string(e.mark.line + 1) +
-                         "): YAML syntax error: " + e.msg);
-  }
-  if (root.IsNull()) return base;
-  if (!root.IsMap()) return Status::Error(name + ": expected a map of sections at the top level");
-  try {
-    for (const auto& kv : root) {
-      const std::string key = yaml::Text(kv.first);
-      if (key == "sim") {
-        if (Status s = ReadSimSection(KeyPath(name, "sim"), kv.second, base); !s.ok()) return s;
-      } else if (!IsKnownConfigSection(key)) {
-        return Status::Error(name + " (line " + std::to_string(kv.first.Mark().line + 1) +
-                             "): unknown top-level key '" + key + "' (expected " + KnownConfigSectionsList() +
-                             ")");
-      }
-    }
-  } catch (const YAML::Exception& e) {  // not expected: the readers check types before converting
-    return Status::Error(name + ": " + e.what());
-  }
-  return base;
+std::string EmitSimConfig(const SimulationConfig& config) {
+  return "# ultrafusion simulation config: `ultrafusion sim --config FILE` reads it back exactly.\n"
+         "# Keys are documented in docs/CONFIG.md. Event windows are [begin_s, end_s] in seconds from\n"
+         "# start_time_s; extrinsics are T_body_sensor (body = imu frame) as row-major 4x4 matrices.\n" +
+         config::EmitSection(config::SimSchema(), config);
 }
 
+namespace config {
+
+const Schema<SimulationConfig>& SimSchema() { return BuiltOnce<MakeSimSchema>(); }
+
+}  // namespace config
 }  // namespace uf::app

@@ -1,100 +1,110 @@
+// The `splat:` section: its schema (every key once, with its unit and meaning) and its checks.
 #include "viewer/app/config/splat_config.h"
 
-#include <cmath>
-#include <cstdio>
-#include <cstdlib>
-#include <functional>
-#include <map>
-#include <optional>
-
-#include "viewer/app/config/config_sections.h"
-#include "viewer/app/config/yaml_fields.h"
+#include "viewer/app/config/section_schemas.h"
 
 namespace uf::app {
 namespace {
 
-using yaml::FormatNumber;
-using yaml::Number;
-using yaml::Setter;
-using yaml::Whole;
+using config::KeyPath;
+using config::Schema;
+using config::ValueText;
+using splat::TrainingOptions;
 
-// [W, H] (two whole numbers).
-Setter Size(int& width, int& height) {
-  return [&width, &height](const YAML::Node& node) -> std::optional<std::string> {
-    int w = 0, h = 0;
-    if (!node.IsSequence() || node.size() != 2 || !YAML::convert<int>::decode(node[0], w) ||
-        !YAML::convert<int>::decode(node[1], h))
-      return "expected [width, height] in px";
-    width = w, height = h;
-    return std::nullopt;
-  };
+// resolution: [W, H], two whole numbers.
+Status ReadResolution(const KeyPath& at, const YAML::Node& node, SplatConfig& config) {
+  int size[2] = {0, 0};
+  if (!node.IsSequence() || node.size() != 2)
+    return at.Error(node, "expected [width, height] in px, got '" + config::Text(node) + "'");
+  for (int i = 0; i < 2; ++i)
+    if (Status s = config::Read(at[i], node[i], size[i]); !s.ok()) return s;
+  config.width = size[0], config.height = size[1];
+  return {};
 }
 
-// [r, g, b].
-Setter Colour(Eigen::Vector3f& field) {
-  return [&field](const YAML::Node& node) -> std::optional<std::string> {
-    Eigen::Vector3f value;
-    for (int c = 0; c < 3; ++c) {
-      float v = 0;
-      if (!node.IsSequence() || node.size() != 3 || !YAML::convert<float>::decode(node[c], v) ||
-          !std::isfinite(v))
-        return "expected [r, g, b] in [0, 1]";
-      value[c] = v;
-    }
-    field = value;
-    return std::nullopt;
-  };
+ValueText WriteResolution(const SplatConfig& config) {
+  return config::Cat({"[", std::to_string(config.width), ", ", std::to_string(config.height), "]"});
 }
 
-std::map<std::string, Setter> Setters(SplatConfig& c) {
-  splat::TrainingOptions& t = c.training;
-  return {{"iterations", Whole(t.iterations)},
-          {"time_budget_s", Number(c.time_budget_s)},
-          {"resolution", Size(c.width, c.height)},
-          {"max_width", Whole(c.max_width)},
-          {"keyframe_distance_m", Number(c.keyframe_distance_m)},
-          {"keyframe_angle_deg", Number(c.keyframe_angle_deg)},
-          {"holdout_stride", Whole(c.holdout_stride)},
-          {"comparisons", Whole(c.comparisons)},
-          {"seed_points", Whole(c.seed_points)},
-          {"sky_gaussians", Whole(c.sky_gaussians)},
-          {"sh_degree", Whole(t.sh_degree)},
-          {"sh_degree_interval", Whole(t.sh_degree_interval)},
-          {"lr_position_initial", Number(t.lr_position_initial)},
-          {"lr_position_final", Number(t.lr_position_final)},
-          {"lr_log_scale", Number(t.lr_log_scale)},
-          {"lr_rotation", Number(t.lr_rotation)},
-          {"lr_opacity", Number(t.lr_opacity)},
-          {"lr_sh_dc", Number(t.lr_sh_dc)},
-          {"lr_sh_rest", Number(t.lr_sh_rest)},
-          {"adam_beta1", Number(t.adam_beta1)},
-          {"adam_beta2", Number(t.adam_beta2)},
-          {"adam_epsilon", Number(t.adam_epsilon)},
-          {"ssim_weight", Number(t.ssim_weight)},
-          {"depth_weight", Number(t.depth_weight)},
-          {"densify_from", Whole(t.densify_from)},
-          {"densify_until", Whole(t.densify_until)},
-          {"densify_interval", Whole(t.densify_interval)},
-          {"densify_gradient_threshold", Number(t.densify_gradient_threshold)},
-          {"dense_fraction", Number(t.dense_fraction)},
-          {"prune_opacity", Number(t.prune_opacity)},
-          {"prune_world_fraction", Number(t.prune_world_fraction)},
-          {"opacity_reset_interval", Whole(t.opacity_reset_interval)},
-          {"max_gaussians", Whole(t.max_gaussians)},
-          {"background", Colour(t.render.background)},
-          {"seed", Whole(t.seed)}};
-}
+Schema<SplatConfig> MakeSplatSchema() {
+  Schema<TrainingOptions> head;  // the optimizer's steps, ahead of what the command decides
+  head.Key("iterations", &TrainingOptions::iterations, "steps",
+           "optimizer steps; each takes one training image (a shuffled pass at a time)");
 
-Status ParseSplatSection(const std::string& file, const YAML::Node& node, SplatConfig& config) {
-  if (node.IsNull()) return {};
-  return yaml::ParseMap(file, "splat", node, Setters(config));
+  Schema<TrainingOptions> t;
+  t.Key("sh_degree", &TrainingOptions::sh_degree, "",
+        "final spherical-harmonics degree, 0..3; the active degree starts at 0");
+  t.Key("sh_degree_interval", &TrainingOptions::sh_degree_interval, "steps",
+        "the active degree rises by one every this many iterations");
+  t.Key("lr_position_initial", &TrainingOptions::lr_position_initial, "x scene extent",
+        "Adam learning rate of the positions, times the scene extent (radius of the training cameras), "
+        "decaying log-linearly to lr_position_final");
+  t.Key("lr_position_final", &TrainingOptions::lr_position_final, "x scene extent",
+        "the positions' learning rate at the last iteration");
+  t.Key("lr_log_scale", &TrainingOptions::lr_log_scale, "", "learning rate of the log scales");
+  t.Key("lr_rotation", &TrainingOptions::lr_rotation, "", "learning rate of the rotations");
+  t.Key("lr_opacity", &TrainingOptions::lr_opacity, "", "learning rate of the opacities");
+  t.Key("lr_sh_dc", &TrainingOptions::lr_sh_dc, "", "learning rate of the base colours (SH degree 0)");
+  t.Key("lr_sh_rest", &TrainingOptions::lr_sh_rest, "", "learning rate of the higher SH coefficients");
+  t.Key("adam_beta1", &TrainingOptions::adam_beta1, "", "Adam's first-moment decay");
+  t.Key("adam_beta2", &TrainingOptions::adam_beta2, "", "Adam's second-moment decay");
+  t.Key("adam_epsilon", &TrainingOptions::adam_epsilon, "", "Adam's epsilon");
+  t.Key("ssim_weight", &TrainingOptions::ssim_weight, "", "loss = (1 - w) L1 + w (1 - SSIM)");
+  t.Key("depth_weight", &TrainingOptions::depth_weight, "",
+        "+ this times the mean |expected depth - LiDAR depth| (0: no depth loss; > 0 projects the map points "
+        "into every image as its LiDAR depth)");
+  t.Key("densify_from", &TrainingOptions::densify_from, "steps",
+        "densification (clone / split by screen-space gradient, then pruning) every densify_interval "
+        "iterations in [densify_from, densify_until)");
+  t.Key("densify_until", &TrainingOptions::densify_until, "steps", "the end of densification");
+  t.Key("densify_interval", &TrainingOptions::densify_interval, "steps", "iterations between densifications");
+  t.Key("densify_gradient_threshold", &TrainingOptions::densify_gradient_threshold, "NDC",
+        "mean screen-space gradient above which a Gaussian densifies");
+  t.Key("dense_fraction", &TrainingOptions::dense_fraction, "x scene extent",
+        "cloned when its largest scale is at most this, else split");
+  t.Key("prune_opacity", &TrainingOptions::prune_opacity, "", "pruned below this opacity");
+  t.Key("prune_world_fraction", &TrainingOptions::prune_world_fraction, "x scene extent",
+        "... or when larger than this");
+  t.Key("opacity_reset_interval", &TrainingOptions::opacity_reset_interval, "steps",
+        "opacities clamped to 0.01 every this many iterations (0: never)");
+  t.Key("max_gaussians", &TrainingOptions::max_gaussians, "Gaussians",
+        "densification stops growing the model here");
+  t.Key(
+      "background", [](auto& o) -> auto& { return o.render.background; }, "rgb in [0, 1]",
+      "behind the splats in the training renders");
+  t.Key("seed", &TrainingOptions::seed, "", "the shuffling of the images (same seed, same order)");
+
+  using C = SplatConfig;
+  Schema<C> s("splat");
+  s.Nest("", &C::training, head);
+  s.Key("time_budget_s", &C::time_budget_s, "s",
+        "stop training after this long, whatever the iteration (0: no limit)");
+  s.Custom("resolution", ReadResolution, WriteResolution, "px",
+           "training images W x H; [0, 0]: the camera's size halved until the width is <= max_width "
+           "(640 x 480 -> 320 x 240); the intrinsics follow the resize");
+  s.Key("max_width", &C::max_width, "px", "the bound of the default resolution");
+  s.Key("keyframe_distance_m", &C::keyframe_distance_m, "m",
+        "an image is used when the camera moved this far since the last one used");
+  s.Key("keyframe_angle_deg", &C::keyframe_angle_deg, "deg", "... or turned this much");
+  s.Key("holdout_stride", &C::holdout_stride, "images",
+        "every n-th image used (index % n == 0, as 3DGS) is held out: never trained on, PSNR / SSIM reported "
+        "on them; >= 2");
+  s.Key("comparisons", &C::comparisons, "views",
+        "held-out views written to comparisons/ (render, real, side by side, EXR)");
+  s.Key("seed_points", &C::seed_points, "points",
+        "at most this many map points seed Gaussians (more are thinned evenly)");
+  s.Key("sky_gaussians", &C::sky_gaussians, "Gaussians",
+        "on a sphere beyond the map (radius: 1.2 x the 95th percentile distance of the map from the cameras) "
+        "that learn the sky and far background (0: none)");
+  s.Nest("", &C::training, t);
+  return s;
 }
 
 }  // namespace
 
 Status SplatConfig::Validate() const {
   auto error = [](const std::string& field, const std::string& what, double value) {
-    return Status::Error(field + ": " + what + ", got " + FormatNumber(value));
+    return Status::Error(field + ": " + what + ", got " + config::FormatNumber(value));
   };
   if (!(time_budget_s >= 0)) return error("time_budget_s", "must be >= 0", time_budget_s);
   if ((width > 0) != (height > 0) || width < 0 || height < 0 || width > 16384 || height > 16384)
@@ -111,77 +121,8 @@ Status SplatConfig::Validate() const {
   return {};
 }
 
-Expected<SplatConfig> LoadSplatConfig(const std::filesystem::path& file, SplatConfig defaults) {
-  const std::string name = file.string();
-  SplatConfig config = std::move(defaults);
-  try {
-    const YAML::Node root = YAML::LoadFile(name);
-    if (!root.IsNull() && !root.IsMap())
-      return Status::Error(name + ": expected a map of sections at the top level");
-    if (root.IsMap()) {
-      for (const auto& kv : root) {
-        const std::string key = kv.first.as<std::string>();
-        if (key == "splat") {
-          if (Status s = ParseSplatSection(name, kv.second, config); !s.ok()) return s;
-        } else if (!IsKnownConfigSection(key)) {
-          return Status::Error(name + ": unknown top-level key '" + key + "' (expected " +
-                               KnownConfigSectionsList() + ")");
-        }
-      }
-    }
-  } catch (const YAML::BadFile&) {
-    return Status::Error(name + ": cannot open the configuration file");
-  } catch (const YAML::Exception& e) {
-    return Status::Error(name + ": " + e.what());
-  }
-  if (Status s = config.Validate(); !s.ok()) return Status::Error(name + ": splat." + s.message());
-  return config;
-}
-
-std::string EmitSplatConfig(const SplatConfig& c) {
-  const splat::TrainingOptions& t = c.training;
-  std::string text = "splat:\n";
-  auto line = [&text](const char* key, const std::string& value) {
-    text += std::string("  ") + key + ": " + value + "\n";
-  };
-  line("iterations", std::to_string(t.iterations));
-  line("time_budget_s", FormatNumber(c.time_budget_s));
-  line("resolution", std::string("[") + std::to_string(c.width) + ", " + std::to_string(c.height) + "]");
-  line("max_width", std::to_string(c.max_width));
-  line("keyframe_distance_m", FormatNumber(c.keyframe_distance_m));
-  line("keyframe_angle_deg", FormatNumber(c.keyframe_angle_deg));
-  line("holdout_stride", std::to_string(c.holdout_stride));
-  line("comparisons", std::to_string(c.comparisons));
-  line("seed_points", std::to_string(c.seed_points));
-  line("sky_gaussians", std::to_string(c.sky_gaussians));
-  line("sh_degree", std::to_string(t.sh_degree));
-  line("sh_degree_interval", std::to_string(t.sh_degree_interval));
-  line("lr_position_initial", FormatNumber(t.lr_position_initial));
-  line("lr_position_final", FormatNumber(t.lr_position_final));
-  line("lr_log_scale", FormatNumber(t.lr_log_scale));
-  line("lr_rotation", FormatNumber(t.lr_rotation));
-  line("lr_opacity", FormatNumber(t.lr_opacity));
-  line("lr_sh_dc", FormatNumber(t.lr_sh_dc));
-  line("lr_sh_rest", FormatNumber(t.lr_sh_rest));
-  line("adam_beta1", FormatNumber(t.adam_beta1));
-  line("adam_beta2", FormatNumber(t.adam_beta2));
-  line("adam_epsilon", FormatNumber(t.adam_epsilon));
-  line("ssim_weight", FormatNumber(t.ssim_weight));
-  line("depth_weight", FormatNumber(t.depth_weight));
-  line("densify_from", std::to_string(t.densify_from));
-  line("densify_until", std::to_string(t.densify_until));
-  line("densify_interval", std::to_string(t.densify_interval));
-  line("densify_gradient_threshold", FormatNumber(t.densify_gradient_threshold));
-  line("dense_fraction", FormatNumber(t.dense_fraction));
-  line("prune_opacity", FormatNumber(t.prune_opacity));
-  line("prune_world_fraction", FormatNumber(t.prune_world_fraction));
-  line("opacity_reset_interval", std::to_string(t.opacity_reset_interval));
-  line("max_gaussians", std::to_string(t.max_gaussians));
-  const Eigen::Vector3f& b = t.render.background;
-  line("background", std::string("[") + FormatNumber(b.x()) + ", " + FormatNumber(b.y()) + ", " +
-                         FormatNumber(b.z()) + "]");
-  line("seed", std::to_string(t.seed));
-  return text;
+std::string EmitSplatConfig(const SplatConfig& config) {
+  return config::EmitSection(config::SplatSchema(), config);
 }
 
 void DefaultSize(int camera_width, int camera_height, int max_width, int& width, int& height) {
@@ -189,4 +130,9 @@ void DefaultSize(int camera_width, int camera_height, int max_width, int& width,
   while (width > max_width && width >= 2 && height >= 2) width /= 2, height /= 2;
 }
 
+namespace config {
+
+const Schema<SplatConfig>& SplatSchema() { return BuiltOnce<MakeSplatSchema>(); }
+
+}  // namespace config
 }  // namespace uf::app

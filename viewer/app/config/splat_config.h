@@ -1,24 +1,9 @@
 // The `splat:` section of a configuration file (`ultrafusion splat --config`, and `ultrafusion run --config`,
 // which may carry it): every field of splat::TrainingOptions under its own name, plus what the command
-// decides around the trainer (resolution, keyframe spacing, held-out stride, time budget). Every key is
-// optional; unknown keys are an error naming the file, the key and its line. configs/splat.yaml lists every
-// key with its default.
-//
-//   splat:
-//     iterations: 3000              # optimizer steps, one training view each
-//     time_budget_s: 0              # stop training after this many seconds (0: no limit)
-//     resolution: [0, 0]            # training images W x H, px; [0, 0]: the camera's size halved until
-//                                   #   the width is <= max_width
-//     max_width: 320                # px, the default resolution's bound
-//     keyframe_distance_m: 0.3      # an image is used when the camera moved this far since the last one
-//     keyframe_angle_deg: 5         #   ... or turned this much
-//     holdout_stride: 8             # every 8th selected image (index % 8 == 0) is held out for testing
-//     comparisons: 4                # held-out views written to comparisons/
-//     sh_degree: 3, sh_degree_interval: 500, lr_position_initial: 1.6e-4, ... (training_options.h)
-//     background: [0, 0, 0]         # RenderSettings::background of the training renders
+// decides around the trainer (resolution, keyframe spacing, held-out stride, time budget). Its keys,
+// defaults and units are in docs/CONFIG.md; the file is read by LoadConfigFile (config_file.h).
 #pragma once
 
-#include <filesystem>
 #include <string>
 
 #include "odometry/types/status.h"
@@ -41,11 +26,7 @@ struct SplatConfig {
   Status Validate() const;
 };
 
-// Reads the `splat:` section of `file` onto `defaults` and validates the result; other known sections are
-// skipped, unknown top-level keys are errors. A file without the section gives the defaults.
-Expected<SplatConfig> LoadSplatConfig(const std::filesystem::path& file, SplatConfig defaults = {});
-
-// "splat:\n  iterations: 3000\n..." with every key, readable by LoadSplatConfig.
+// "splat:\n  iterations: 3000\n..." with every key.
 std::string EmitSplatConfig(const SplatConfig& config);
 
 // The default training size for a camera of width x height: halved (integer division keeps the aspect
