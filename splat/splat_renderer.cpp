@@ -34,22 +34,6 @@ Expected<std::vector<std::string>> ListSplatDevices() {
   return lines;
 }
 
-Status ValidateRenderSettings(const RenderSettings& s) {
-  auto error = [](const std::string& field, const std::string& rule, float value) {
-    return Status::Error("render settings: " + field + " must be " + rule + ", got " + std::to_string(value));
-  };
-  if (!(std::isfinite(s.near) && s.near > 0)) return error("near", "positive and finite", s.near);
-  if (!(s.low_pass >= 0 && std::isfinite(s.low_pass)))
-    return error("low_pass", ">= 0 and finite", s.low_pass);
-  if (!(s.max_alpha > 0 && s.max_alpha <= 1)) return error("max_alpha", "in (0, 1]", s.max_alpha);
-  if (!(s.min_alpha >= 0 && s.min_alpha < s.max_alpha))
-    return error("min_alpha", "in [0, max_alpha)", s.min_alpha);
-  if (!(s.transmittance_cutoff >= 0 && s.transmittance_cutoff < 1))
-    return error("transmittance_cutoff", "in [0, 1)", s.transmittance_cutoff);
-  if (!s.background.allFinite()) return error("background", "finite", s.background.norm());
-  return Status();
-}
-
 Expected<std::unique_ptr<SplatRenderer>> SplatRenderer::Create(const SplatRendererOptions& options) {
   auto impl = std::make_unique<Impl>();
   Expected<std::unique_ptr<vk::Context>> context = vk::Context::Create({options.device});

@@ -69,8 +69,4 @@ class SplatRenderer {
   std::unique_ptr<Impl> impl_;
 };
 
-// Checks the settings (near > 0, 0 <= min_alpha < max_alpha <= 1, cutoff in [0, 1), low_pass >= 0, finite
-// background); the message names the field and value.
-Status ValidateRenderSettings(const RenderSettings& settings);
-
 }  // namespace uf::splat

@@ -2,11 +2,13 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
+#include <iterator>
 #include <set>
 #include <sstream>
 
 #include "odometry/io/atomic_file.h"
-#include "odometry/io/folders/camera_calibration.h"
+#include "odometry/io/camera_calibration.h"
 #include "odometry/io/folders/folder_common.h"
 #include "odometry/io/folders/ultrafusion_format.h"
 #include "odometry/io/folders/yaml_keys.h"
@@ -86,6 +88,46 @@ Expected<Calibration> ParseCalibration(const YAML::Node& root, const std::string
   return calibration;
 }
 
+// Writes `yaml` after `header` as '#' comment lines, atomically.
+Status WriteYaml(const std::filesystem::path& path, const YAML::Emitter& yaml, const std::string& header) {
+  AtomicFileWriter file(path.string());
+  if (Status s = file.status(); !s.ok()) return s;
+  std::istringstream lines(header);
+  for (std::string line; std::getline(lines, line);) file.stream() << "# " << line << '\n';
+  file.stream() << yaml.c_str() << '\n';
+  return file.Commit();
+}
+
+// A camera intrinsics file: the keys of camera_calibration.h at the top level, and no others.
+Expected<std::shared_ptr<const CameraModel>> ParseCameraIntrinsics(const YAML::Node& root,
+                                                                   const std::string& file) {
+  if (!root.IsMap()) return Status::Error(file + ": expected a map of camera intrinsics");
+  for (const auto& kv : root) {
+    const std::string key = kv.first.IsScalar() ? kv.first.Scalar() : std::string("<not a scalar>");
+    if (std::find_if(std::begin(kCameraCalibrationKeys), std::end(kCameraCalibrationKeys),
+                     [&key](const char* known) { return key == known; }) == std::end(kCameraCalibrationKeys))
+      return Status::Error(file + ": " + key + " (line " + std::to_string(kv.first.Mark().line + 1) +
+                           "): unknown key (expected camera_model, distortion_model, intrinsics, "
+                           "distortion_coefficients, resolution)");
+  }
+  return ParseCameraCalibration(root, file);
+}
+
+// `parse` (root node, file name) on the YAML file at `path`; errors name the file (and a syntax error's
+// line).
+template <typename Parse>
+auto ParseYamlFile(const std::filesystem::path& path, const char* cannot_open, Parse parse)
+    -> decltype(parse(YAML::Node(), std::string())) {
+  const std::string file = path.string();
+  try {
+    return parse(YAML::LoadFile(file), file);
+  } catch (const YAML::BadFile&) {
+    return Status::Error(file + ": " + cannot_open);
+  } catch (const YAML::Exception& e) {
+    return Status::Error(file + " (line " + std::to_string(e.mark.line + 1) + "): " + e.msg);
+  }
+}
+
 }  // namespace
 
 const SensorCalibration* Calibration::Find(const std::string& name) const {
@@ -102,24 +144,24 @@ Status WriteCalibrationFile(const std::filesystem::path& path, const Calibration
   yaml << YAML::Key << "sensors" << YAML::Value << YAML::BeginSeq;
   for (const SensorCalibration& sensor : calibration.sensors) EmitSensor(yaml, sensor);
   yaml << YAML::EndSeq << YAML::EndMap << YAML::EndMap;
-
-  AtomicFileWriter file(path.string());
-  if (Status s = file.status(); !s.ok()) return s;
-  std::istringstream lines(header);
-  for (std::string line; std::getline(lines, line);) file.stream() << "# " << line << '\n';
-  file.stream() << yaml.c_str() << '\n';
-  return file.Commit();
+  return WriteYaml(path, yaml, header);
 }
 
 Expected<Calibration> ReadCalibrationFile(const std::filesystem::path& path) {
-  const std::string file = path.string();
-  try {
-    return ParseCalibration(YAML::LoadFile(file), file);
-  } catch (const YAML::BadFile&) {
-    return Status::Error(file + ": cannot open");
-  } catch (const YAML::Exception& e) {
-    return Status::Error(file + " (line " + std::to_string(e.mark.line + 1) + "): " + e.msg);
-  }
+  return ParseYamlFile(path, "cannot open", ParseCalibration);
+}
+
+Expected<std::shared_ptr<const CameraModel>> ReadCameraIntrinsicsFile(const std::filesystem::path& path) {
+  return ParseYamlFile(path, "cannot open the camera file", ParseCameraIntrinsics);
+}
+
+Status WriteCameraIntrinsicsFile(const std::filesystem::path& path, const CameraModel& model,
+                                 const std::string& header) {
+  YAML::Emitter yaml;
+  yaml << YAML::BeginMap;
+  EmitCameraCalibration(yaml, model);
+  yaml << YAML::EndMap;
+  return WriteYaml(path, yaml, header);
 }
 
 }  // namespace uf

@@ -1,6 +1,8 @@
 // Sensor calibration files: where each sensor sits on the body and how its clock relates to the body's.
 // The simulator writes two of them (calibration_true.yaml and calibration.yaml, the latter with the injected
-// errors); the estimator reads one through `run --config`.
+// errors); `colorize` reads them. Also the camera intrinsics file of `ultrafusion render --camera` (and a
+// run's views/camera.yaml): one camera's intrinsics at the top level, in the same dialect as a calibration
+// file's `intrinsics:` (camera_calibration.h).
 //
 //   calibration:
 //     body_frame: imu                # the frame the trajectory and every T_body_sensor refer to
@@ -53,5 +55,13 @@ Status WriteCalibrationFile(const std::filesystem::path& path, const Calibration
 // Reads the `calibration:` section. Errors name the file, the key and the value (unknown keys, missing
 // fields, a transform that is not rigid, duplicate sensor names, intrinsics on a non-camera).
 Expected<Calibration> ReadCalibrationFile(const std::filesystem::path& path);
+
+// Reads a camera intrinsics file. Errors name the file, the key, its line and the value (unknown keys, a
+// wrong number of values, impossible intrinsics).
+Expected<std::shared_ptr<const CameraModel>> ReadCameraIntrinsicsFile(const std::filesystem::path& path);
+
+// Writes `model` as a camera intrinsics file, atomically; `header` first as '#' comment lines.
+Status WriteCameraIntrinsicsFile(const std::filesystem::path& path, const CameraModel& model,
+                                 const std::string& header = "");
 
 }  // namespace uf

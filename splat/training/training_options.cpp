@@ -4,7 +4,7 @@
 #include <string>
 
 #include "splat/gaussian_model.h"
-#include "splat/splat_renderer.h"
+#include "splat/render_types.h"
 
 namespace uf::splat {
 

@@ -35,7 +35,10 @@ splat::GaussianModel SmallScene() {
   return model;
 }
 
-constexpr const char* kCamera = "model: pinhole\nwidth: 64\nheight: 48\nfx: 60\nfy: 60\ncx: 31.5\ncy: 23.5\n";
+constexpr const char* kCamera =
+    "distortion_model: radial-tangential\nintrinsics: [60, 60, 31.5, 23.5]\ndistortion_coefficients: [0, 0, "
+    "0, "
+    "0]\nresolution: [64, 48]\n";
 // Two poses (TUM: t x y z qx qy qz qw): the origin, and 0.2 m to the right turned 5 degrees.
 constexpr const char* kPoses =
     "1.000000000 0 0 0 0 0 0 1\n"
@@ -111,8 +114,9 @@ TEST(CliRender, DistortedCameraPutsAGaussianWhereTheModelProjectsIt) {
                          6.0f, Eigen::Vector3f(1, 1, 1));
   ASSERT_TRUE(exporting::WriteSplatPly(model, dir.File("dot.ply")).ok());
   const std::string camera =
-      "model: pinhole\nwidth: 160\nheight: 120\nfx: 100\nfy: 100\ncx: 79.5\ncy: 59.5\ndistortion: [-0.3, "
-      "0.08, 0, 0]\n";
+      "distortion_model: radial-tangential\nintrinsics: [100, 100, 79.5, 59.5]\ndistortion_coefficients: "
+      "[-0.3, "
+      "0.08, 0, 0]\nresolution: [160, 120]\n";
   const auto result = Ultrafusion(
       "render " + dir.File("dot.ply") + " --poses " + dir.Write("pose.tum", "2 0 0 0 0 0 0 1\n") +
       " --camera " + dir.Write("camera.yaml", camera) + " --out " + dir.File("views") + " --float");
@@ -145,8 +149,10 @@ TEST(CliRender, BadInputGivesClearErrors) {
   ASSERT_TRUE(exporting::WriteSplatPly(SmallScene(), dir.File("scene.ply")).ok());
   const std::string poses = dir.Write("poses.tum", kPoses), camera = dir.Write("camera.yaml", kCamera);
   // Impossible intrinsics: a usage error naming the file and key.
-  const std::string bad_camera =
-      dir.Write("bad.yaml", "model: pinhole\nwidth: 64\nheight: 48\nfx: 0\nfy: 60\ncx: 31.5\ncy: 23.5\n");
+  const std::string bad_camera = dir.Write(
+      "bad.yaml",
+      "distortion_model: radial-tangential\nintrinsics: [0, 60, 31.5, 23.5]\ndistortion_coefficients: [0, "
+      "0, 0, 0]\nresolution: [64, 48]\n");
   auto result = Ultrafusion("render " + dir.File("scene.ply") + " --poses " + poses + " --camera " +
                             bad_camera + " --out " + dir.File("a"));
   EXPECT_EQ(result.code, 2);

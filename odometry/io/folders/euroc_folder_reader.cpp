@@ -8,7 +8,7 @@
 #include <sstream>
 #include <tuple>
 
-#include "odometry/io/folders/camera_calibration.h"
+#include "odometry/io/camera_calibration.h"
 #include "odometry/io/folders/csv_sources.h"
 #include "odometry/io/folders/folder_common.h"
 #include "odometry/io/folders/folder_readers.h"

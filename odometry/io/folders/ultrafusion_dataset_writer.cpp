@@ -5,12 +5,12 @@
 #include <map>
 
 #include "odometry/io/atomic_file.h"
-#include "odometry/io/image_decode.h"
-#include "odometry/io/folders/camera_calibration.h"
+#include "odometry/io/camera_calibration.h"
 #include "odometry/io/folders/csv_sources.h"
 #include "odometry/io/folders/folder_common.h"
 #include "odometry/io/folders/lidar_record_file.h"
 #include "odometry/io/folders/ultrafusion_format.h"
+#include "odometry/io/image_decode.h"
 #include "odometry/io/trajectory_file.h"
 
 namespace uf {

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <set>
 
-#include "odometry/io/folders/camera_calibration.h"
+#include "odometry/io/camera_calibration.h"
 #include "odometry/io/folders/csv_sources.h"
 #include "odometry/io/folders/folder_common.h"
 #include "odometry/io/folders/folder_readers.h"

@@ -1,5 +1,5 @@
-// LoadSimConfig / EmitSimConfig: exact round trips, the documented profiles in configs/ and the
-// conventions (windows relative to the start, roll-pitch-yaw extrinsics, partial overrides).
+// The sim: section (LoadConfigFile / EmitSimConfig): exact round trips, the documented profiles in configs/
+// and the conventions (windows relative to the start, roll-pitch-yaw extrinsics, partial overrides).
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -8,8 +8,9 @@
 
 #include "odometry/sim/sequence/simulation_config.h"
 #include "tests/support/temp_dir.h"
-#include "tests/unit/app/expect_same_sim_config.h"
-#include "viewer/app/sim_config.h"
+#include "tests/unit/app/config_samples.h"
+#include "tests/unit/app/expect_same_config.h"
+#include "viewer/app/config/config_file.h"
 
 namespace uf::app {
 namespace {
@@ -18,86 +19,16 @@ using sim::GnssQuality;
 using sim::SimulationConfig;
 using sim::TimeWindow;
 using test::ExpectSameConfig;
+using test::NonDefaultConfig;
+using test::Pose;
 
-// [begin_s, end_s] after `start`, exact nanoseconds.
-TimeWindow Window(Stamp start, Stamp begin_ns, Stamp end_ns) { return {start + begin_ns, start + end_ns}; }
-
-SE3 Pose(double rx, double ry, double rz, double x, double y, double z) {
-  return SE3(SO3::Exp(Eigen::Vector3d(rx, ry, rz)), Eigen::Vector3d(x, y, z));
-}
-
-// A value other than the default in every field, with awkward doubles (1/3, 0.1 + 0.2, 1e-300, 2^-1074).
-SimulationConfig NonDefaultConfig() {
-  SimulationConfig c;
-  c.scene = "weird \"scene\" \\ name: #1";
-  c.seed = 18446744073709551615ULL;
-  c.duration_s = 1.0 / 3.0;
-  c.start_stamp = 1'234'567'890'123'456'789;
-  c.trajectory = {.file = "/data/path with spaces/poses.txt",
-                  .format = "kitti",
-                  .kitti_rate_hz = 9.5,
-                  .knot_spacing_s = 0.1 + 0.2};
-  c.body_height_m = 1e-300;
-  c.ground_truth_rate_hz = 123.456;
-  c.origin = {-33.8688197, 151.2092955, -12.5};
-  c.threads = 3;
-  c.write_bag = true;
-  const Stamp s = c.start_stamp;
-
-  c.imu.enabled = false;
-  c.imu.rate_hz = 400.5;
-  c.imu.noise = {1.1e-3, 2.2e-4, 3.3e-5, 4.4e-6, {0.01, -0.02, 0.03}, {-1e-4, 2e-4, 4.9406564584124654e-324},
-                 160.0,  8.7};
-
-  c.lidar.enabled = false;
-  c.lidar.model = {.model = "livox_avia",
-                   .rate_hz = 12.5,
-                   .horizontal_resolution_deg = 0.35,
-                   .min_range_m = 0.75,
-                   .max_range_m = 150.0,
-                   .range_noise_std_m = 0.033,
-                   .dropout_probability = 0.125};
-  c.lidar.placement = {Pose(0.1, -0.2, 0.3, 0.11, -0.22, 0.33), 0.1, {1.0, -2.0, 3.0}, {0.01, 0.02, -0.03}};
-
-  sim::CameraConfig& m = c.camera.model;
-  c.camera.enabled = false;
-  m.pinhole = {.width = 1280, .height = 720, .fx = 701.5, .fy = 702.25, .cx = 640.125, .cy = 359.75};
-  m.k1 = -0.28, m.k2 = 0.07, m.p1 = 1e-4, m.p2 = -2e-4, m.k3 = 0.001;
-  m.rate_hz = 30.0, m.noise_std_dn = 2.5, m.supersampling = 3;
-  m.sun_direction_world = {-0.5, 0.25, 1.0 / 7.0};
-  m.ambient = 0.2, m.exposure = 1.7, m.textured = false;
-  m.darkness = {Window(s, 1'000'000'001, 2'500'000'000), Window(s, -500'000'000, 1)};
-  m.exposure_changes = {{Window(s, 3'000'000'000, 4'000'000'000), 2.0}, {Window(s, 5, 6), 0.3}};
-  m.occlusions = {Window(s, 7'123'456'789, 8'000'000'000)};
-  c.camera.placement = {sim::ForwardLookingCamera({0.5, -0.1, 0.2}) * Pose(0.01, 0.02, 0.03, 0, 0, 0),
-                        -0.02,
-                        {0.5, 0.5, -0.5},
-                        {0, 0, 0.01}};
-
-  c.wheel.enabled = false;
-  c.wheel.model.rate_hz = 100.0;
-  c.wheel.model.wheel_radius_m = 0.2;
-  c.wheel.model.baseline_m = 0.6;
-  c.wheel.model.radius_error = 0.01;
-  c.wheel.model.baseline_error = -0.02;
-  c.wheel.model.encoder_resolution_ticks = 4096;
-  c.wheel.model.wheel_speed_noise_std = 0.05;
-  c.wheel.model.slips = {{Window(s, 10'000'000'000, 12'000'000'000), 0.3}, {Window(s, 1, 2), -1.0}};
-  c.wheel.model.floats = {Window(s, 20'000'000'000, 20'500'000'000)};
-  c.wheel.placement = {Pose(0, 0, 0.5, -0.4, 0.0, -0.6), 0.005, {0, 0, 1}, {0.1, 0, 0}};
-
-  c.gnss.enabled = false;
-  c.gnss.model.rate_hz = 10.0;
-  c.gnss.model.quality = GnssQuality::kRtkFloat;
-  c.gnss.model.quality_changes = {{Window(s, 0, 5'000'000'000), GnssQuality::kRtkFixed},
-                                  {Window(s, 6'000'000'000, 7'000'000'000), GnssQuality::kSingle}};
-  c.gnss.model.outages = {Window(s, 30'000'000'000, 40'000'000'000)};
-  c.gnss.model.multipath = {{Window(s, 41'000'000'000, 45'000'000'000), {3.0, -4.0, 0.5}}};
-  c.gnss.model.rtk_fixed = {0.01, 0.03, 1.0};
-  c.gnss.model.rtk_float = {0.2, 0.4, 8.0};
-  c.gnss.model.single = {2.0, 4.0, 60.0};
-  c.gnss.placement = {Pose(0, 0, 0, 0.1, 0.2, 0.9), 0.25, {0, 0, 0}, {0, 0, 0.1}};
-  return c;
+// The sim: section of `file` over `base`.
+Expected<SimulationConfig> LoadSimConfig(const std::string& file, SimulationConfig base = {}) {
+  ConfigFile config;
+  config.sim = std::move(base);
+  Expected<ConfigFile> loaded = LoadConfigFile(file, std::move(config));
+  if (!loaded) return loaded.status();
+  return loaded->sim;
 }
 
 Expected<SimulationConfig> LoadText(const testing::TempDir& dir, const std::string& text,

@@ -1,21 +1,20 @@
-// LoadSimConfig's errors name the file, the key path, the line and the bad value; LoadDatasetConfig
-// skips the other known top-level sections and still rejects unknown ones.
+// The sim: section's errors name the file, the key path, the line and the bad value; the loader skips the
+// calibration: section and rejects unknown top-level keys.
 #include <gtest/gtest.h>
 
 #include <string>
 #include <vector>
 
 #include "tests/support/temp_dir.h"
-#include "viewer/app/dataset_config.h"
-#include "viewer/app/sim_config.h"
+#include "viewer/app/config/config_file.h"
 
 namespace uf::app {
 namespace {
 
 using sim::SimulationConfig;
 
-Expected<SimulationConfig> LoadText(const testing::TempDir& dir, const std::string& text) {
-  return LoadSimConfig(dir.Write("sim.yaml", text));
+Expected<ConfigFile> LoadText(const testing::TempDir& dir, const std::string& text) {
+  return LoadConfigFile(dir.Write("sim.yaml", text));
 }
 
 // Each bad file fails with a message holding every one of `expected` (file name, key path, line, value).
@@ -67,32 +66,35 @@ TEST(SimConfig, ErrorsNameTheFileTheKeyTheLineAndTheValue) {
       {"sim:\n  start_time_s: noon\n",
        {"sim.start_time_s (line 2): expected a number of seconds, got 'noon'"}},
       {"dataset: {}\nestimator:\n  window: 10\n",
-       {"sim.yaml (line 2): unknown top-level key 'estimator' (expected dataset, sim, calibration, lo, lio, splat)"}},
+       {"sim.yaml (line 2): unknown top-level key 'estimator' (expected dataset, sim, calibration, lo, lio, "
+        "splat)"}},
       {"sim:\n  lidar: [1, 2\n", {"sim.yaml (line ", "YAML syntax error"}},
       {"- 1\n- 2\n", {"sim.yaml: expected a map of sections"}},
   };
   testing::TempDir dir;
   for (const BadFile& bad : cases) {
-    Expected<SimulationConfig> loaded = LoadText(dir, bad.text);
+    Expected<ConfigFile> loaded = LoadText(dir, bad.text);
     ASSERT_FALSE(loaded.ok()) << bad.text;
     for (const std::string& part : bad.expected)
       EXPECT_NE(loaded.error().find(part), std::string::npos) << bad.text << "gave: " << loaded.error();
   }
-  Expected<SimulationConfig> missing = LoadSimConfig(dir.File("nonexistent.yaml"));
+  Expected<ConfigFile> missing = LoadConfigFile(dir.File("nonexistent.yaml"));
   ASSERT_FALSE(missing.ok());
   EXPECT_NE(missing.error().find("nonexistent.yaml: cannot open"), std::string::npos) << missing.error();
 }
 
-TEST(DatasetConfig, SkipsTheOtherKnownSectionsAndRejectsUnknownOnes) {
+TEST(ConfigFile, ReadsEverySectionSkipsCalibrationAndRejectsUnknownOnes) {
   testing::TempDir dir;
-  Expected<DatasetConfig> loaded = LoadDatasetConfig(
+  Expected<ConfigFile> loaded = LoadConfigFile(
       dir.Write("all.yaml", "sim:\n  seed: 3\ncalibration: {lidar: 1}\ndataset:\n  format: kitti\n"));
   ASSERT_TRUE(loaded.ok()) << loaded.error();
-  EXPECT_EQ(loaded->reader.format, DatasetFormat::kKittiFolder);
+  EXPECT_EQ(loaded->dataset.reader.format, DatasetFormat::kKittiFolder);
+  EXPECT_EQ(loaded->sim.seed, 3u);
 
-  loaded = LoadDatasetConfig(dir.Write("top.yaml", "dataset: {}\nestimator:\n  window: 10\n"));
+  loaded = LoadConfigFile(dir.Write("top.yaml", "dataset: {}\nestimator:\n  window: 10\n"));
   ASSERT_FALSE(loaded.ok());
-  EXPECT_NE(loaded.error().find("unknown top-level key 'estimator' (expected dataset, sim, calibration, lo, lio, splat)"),
+  EXPECT_NE(loaded.error().find(
+                "unknown top-level key 'estimator' (expected dataset, sim, calibration, lo, lio, splat)"),
             std::string::npos)
       << loaded.error();
 }

@@ -3,12 +3,20 @@
 #include <gtest/gtest.h>
 
 #include "tests/support/temp_dir.h"
-#include "viewer/app/splat_config.h"
+#include "tests/unit/app/expect_config_error.h"
+#include "viewer/app/config/config_file.h"
 
 namespace uf::app {
 namespace {
 
 using testing::TempDir;
+
+// The splat: section of `file`.
+Expected<SplatConfig> LoadSplatConfig(const std::string& file) {
+  Expected<ConfigFile> loaded = LoadConfigFile(file);
+  if (!loaded) return loaded.status();
+  return loaded->splat;
+}
 
 TEST(SplatConfig, TheDocumentedFileStatesTheDefaults) {
   Expected<SplatConfig> loaded = LoadSplatConfig(std::string(UF_SOURCE_DIR) + "/configs/splat.yaml");
@@ -53,28 +61,20 @@ TEST(SplatConfig, OtherSectionsAreLeftToTheirReadersAndAFileWithoutTheSectionGiv
   EXPECT_EQ(EmitSplatConfig(*loaded), EmitSplatConfig(SplatConfig{}));
 }
 
-void ExpectError(const std::string& text, const std::vector<std::string>& parts) {
-  TempDir dir;
-  const std::string file = dir.Write("bad.yaml", text);
-  Expected<SplatConfig> loaded = LoadSplatConfig(file);
-  ASSERT_FALSE(loaded.ok()) << text;
-  EXPECT_NE(loaded.error().find(file), std::string::npos) << loaded.error();
-  for (const std::string& part : parts)
-    EXPECT_NE(loaded.error().find(part), std::string::npos) << loaded.error();
-}
+using test::ExpectConfigError;
 
 TEST(SplatConfig, BadFilesAreErrorsNamingFileKeyAndLine) {
-  ExpectError("splat:\n  iterations: 10\n  learning_rate: 1\n",
-              {"splat.learning_rate (line 3): unknown key"});
-  ExpectError("splat:\n  iterations: many\n",
-              {"splat.iterations (line 2): expected a whole number, got 'many'"});
-  ExpectError("splat:\n  resolution: [320]\n", {"splat.resolution (line 2)", "[width, height]"});
-  ExpectError("splat:\n  background: [0, 0]\n", {"splat.background (line 2)"});
-  ExpectError("splats:\n  iterations: 1\n", {"unknown top-level key 'splats'"});
-  ExpectError("splat:\n  iterations: -3\n", {"splat.iterations: must be > 0, got -3"});
-  ExpectError("splat:\n  holdout_stride: 1\n", {"splat.holdout_stride: must be >= 2, got 1"});
-  ExpectError("splat:\n  resolution: [320, 0]\n", {"splat.resolution: must be two sizes"});
-  ExpectError("splat:\n  time_budget_s: -1\n", {"splat.time_budget_s: must be >= 0, got -1"});
+  ExpectConfigError("splat:\n  iterations: 10\n  learning_rate: 1\n",
+                    {"splat.learning_rate (line 3): unknown key"});
+  ExpectConfigError("splat:\n  iterations: many\n",
+                    {"splat.iterations (line 2): expected an integer, got 'many'"});
+  ExpectConfigError("splat:\n  resolution: [320]\n", {"splat.resolution (line 2)", "[width, height]"});
+  ExpectConfigError("splat:\n  background: [0, 0]\n", {"splat.background (line 2)"});
+  ExpectConfigError("splats:\n  iterations: 1\n", {"unknown top-level key 'splats'"});
+  ExpectConfigError("splat:\n  iterations: -3\n", {"splat.iterations: must be > 0, got -3"});
+  ExpectConfigError("splat:\n  holdout_stride: 1\n", {"splat.holdout_stride: must be >= 2, got 1"});
+  ExpectConfigError("splat:\n  resolution: [320, 0]\n", {"splat.resolution: must be two sizes"});
+  ExpectConfigError("splat:\n  time_budget_s: -1\n", {"splat.time_budget_s: must be >= 0, got -1"});
 }
 
 TEST(SplatConfig, TheDefaultSizeHalvesTheCameraUntilItIsNarrowEnough) {

@@ -85,5 +85,69 @@ TEST(CalibrationFile, BadFilesNameFileKeyAndValue) {
   EXPECT_NE(ReadError("calibration: [\n").find("c.yaml (line"), std::string::npos);
 }
 
+TEST(CameraIntrinsicsFile, RoundTripIsExactForBothModels) {
+  TempDir dir;
+  const PinholeRadtanIntrinsics radtan{
+      {640, 480, 400.5, 401.25, 319.5, 239.75}, -0.1, 1.0 / 3.0, 1e-4, -2e-4, 0.001};
+  ASSERT_TRUE(WriteCameraIntrinsicsFile(dir.File("radtan.yaml"), PinholeRadtan(radtan), "a header").ok());
+  EXPECT_EQ(testing::ReadText(dir.File("radtan.yaml")).rfind("# a header\n", 0), 0u);
+  auto read = ReadCameraIntrinsicsFile(dir.File("radtan.yaml"));
+  ASSERT_TRUE(read.ok()) << read.error();
+  const auto* camera = dynamic_cast<const PinholeRadtan*>(read->get());
+  ASSERT_NE(camera, nullptr);
+  EXPECT_EQ(camera->width(), 640);
+  EXPECT_EQ(camera->height(), 480);
+  const PinholeRadtanIntrinsics& k = camera->intrinsics();
+  EXPECT_EQ(k.pinhole, radtan.pinhole);
+  for (const auto& [got, want] : {std::pair{k.k1, radtan.k1},
+                                  {k.k2, radtan.k2},
+                                  {k.p1, radtan.p1},
+                                  {k.p2, radtan.p2},
+                                  {k.k3, radtan.k3}})
+    EXPECT_EQ(got, want);
+
+  const EquidistantIntrinsics fisheye{{640, 480, 300, 301, 320.5, 240.5}, 0.1, -0.01, 0.002, -0.0003};
+  ASSERT_TRUE(WriteCameraIntrinsicsFile(dir.File("fisheye.yaml"), Equidistant(fisheye)).ok());
+  read = ReadCameraIntrinsicsFile(dir.File("fisheye.yaml"));
+  ASSERT_TRUE(read.ok()) << read.error();
+  const auto* equidistant = dynamic_cast<const Equidistant*>(read->get());
+  ASSERT_NE(equidistant, nullptr);
+  EXPECT_EQ(equidistant->intrinsics().k4, -0.0003);
+  EXPECT_EQ(equidistant->intrinsics().pinhole, fisheye.pinhole);
+}
+
+// `text` with the first `from` replaced by `to`.
+std::string Replaced(std::string text, const std::string& from, const std::string& to) {
+  return text.replace(text.find(from), from.size(), to);
+}
+
+TEST(CameraIntrinsicsFile, ErrorsNameFileKeyLineAndValue) {
+  TempDir dir;
+  const std::string ok =
+      "distortion_model: radial-tangential\nintrinsics: [50, 50, 31.5, 23.5]\n"
+      "distortion_coefficients: [0, 0, 0, 0]\nresolution: [64, 48]\n";
+  auto error = [&dir](const std::string& text) {
+    auto read = ReadCameraIntrinsicsFile(dir.Write("c.yaml", text));
+    return read.ok() ? std::string("<no error>") : read.error();
+  };
+  EXPECT_NE(error(ok + "fx: 1\n").find("c.yaml: fx (line 5): unknown key"), std::string::npos);
+  EXPECT_NE(error("distortion_model: fov\n" + ok.substr(ok.find('\n') + 1))
+                .find("c.yaml: distortion_model (line 1): 'fov' is not radial-tangential or equidistant"),
+            std::string::npos);
+  EXPECT_NE(
+      error(Replaced(ok, "[50, 50, 31.5, 23.5]", "[50, x, 31.5, 23.5]"))
+          .find("c.yaml: intrinsics (line 2): needs 4 numbers (fx, fy, cx, cy), found '[50, x, 31.5, 23.5]'"),
+      std::string::npos);
+  EXPECT_NE(error(Replaced(ok, "[0, 0, 0, 0]", "[0, 0, 0]"))
+                .find("distortion_coefficients (line 3): needs 4 or 5 numbers"),
+            std::string::npos);
+  EXPECT_NE(error(Replaced(ok, "[64, 48]", "[64]")).find("resolution (line 4): needs 2 whole numbers"),
+            std::string::npos);
+  EXPECT_NE(error(Replaced(ok, "[64, 48]", "[64, 4]")).find("c.yaml: camera intrinsics: cy = 23.5"),
+            std::string::npos);
+  EXPECT_NE(error("intrinsics: [\n").find("c.yaml (line"), std::string::npos);
+  EXPECT_NE(ReadCameraIntrinsicsFile(dir.File("none.yaml")).error().find("cannot open"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace uf

@@ -8,8 +8,9 @@
 #include <memory>
 
 #include "odometry/io/dataset_reader.h"
+#include "viewer/app/config/config_file.h"
 #include "viewer/app/cli/exit_codes.h"
-#include "viewer/app/dataset_config.h"
+#include "viewer/app/config/dataset_config.h"
 #include "viewer/app/report/info_report.h"
 #include "viewer/pipeline/stages/dataset_stage.h"
 
@@ -49,9 +50,9 @@ class Progress {
 int RunInfo(const InfoArguments& arguments) {
   DatasetConfig config;
   if (!arguments.config.empty()) {
-    Expected<DatasetConfig> loaded = LoadDatasetConfig(arguments.config);
+    Expected<ConfigFile> loaded = LoadConfigFile(arguments.config);
     if (!loaded) return ReportError(loaded.status());
-    config = *loaded;
+    config = loaded->dataset;
   }
   if (!arguments.format.empty()) {
     Expected<DatasetFormat> format = ParseDatasetFormat(arguments.format);

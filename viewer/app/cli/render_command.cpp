@@ -15,7 +15,7 @@
 #include "splat/splat_renderer.h"
 #include "viewer/app/cli/exit_codes.h"
 #include "splat/views/camera_view_renderer.h"
-#include "viewer/app/render_camera.h"
+#include "viewer/app/config/render_camera.h"
 #include "viewer/pipeline/progress_line.h"
 #include "viewer/pipeline/splat/splat_outputs.h"
 
@@ -128,7 +128,8 @@ Subcommand AddRenderCommand(CLI::App& app) {
       ->check(CLI::ExistingFile);
   command
       ->add_option("--camera", a->camera,
-                   "Camera YAML: model: pinhole, width, height, fx, fy, cx, cy[, distortion]")
+                   "Camera YAML: distortion_model: radial-tangential, intrinsics: [fx, fy, cx, cy], "
+                   "distortion_coefficients: [k1, k2, p1, p2], resolution: [width, height]")
       ->required()
       ->check(CLI::ExistingFile);
   command->add_option("--out", a->out, "Output folder (created; views are named by pose stamp)")->required();

@@ -4,9 +4,8 @@
 #include <filesystem>
 
 #include "viewer/app/cli/exit_codes.h"
-#include "viewer/app/estimator_config.h"
+#include "viewer/app/config/config_file.h"
 #include "viewer/app/report/run_report.h"
-#include "viewer/app/splat_config.h"
 #include "viewer/pipeline/run/run_pipeline.h"
 
 namespace uf::app {
@@ -38,13 +37,9 @@ Expected<RunRequest> MakeRequest(const RunArguments& a) {
   r.no_map = a.no_map, r.no_splat = a.no_splat, r.no_mesh = a.no_mesh;
   r.map_voxel_m = a.map_voxel_m;
   if (a.config.empty()) return r;
-  Expected<DatasetConfig> dataset = LoadDatasetConfig(a.config);
-  if (!dataset) return dataset.status();
-  Expected<estimator::LidarOdometryConfig> lo = LoadLidarOdometryConfig(a.config);
-  if (!lo) return lo.status();
-  Expected<SplatConfig> splat = LoadSplatConfig(a.config);
-  if (!splat) return splat.status();
-  r.dataset_config = *dataset, r.lo_config = *lo, r.splat_config = *splat;
+  Expected<ConfigFile> loaded = LoadConfigFile(a.config);
+  if (!loaded) return loaded.status();
+  r.dataset_config = loaded->dataset, r.lo_config = loaded->odometry, r.splat_config = loaded->splat;
   return r;
 }
 

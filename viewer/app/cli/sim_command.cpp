@@ -8,7 +8,7 @@
 #include "odometry/sim/scene/scene_builder.h"
 #include "odometry/sim/sequence/sequence_generator.h"
 #include "viewer/app/cli/exit_codes.h"
-#include "viewer/app/sim_config.h"
+#include "viewer/app/config/config_file.h"
 #include "viewer/pipeline/progress_line.h"
 
 namespace uf::app {
@@ -81,9 +81,9 @@ void PrintSummary(const sim::SimulationSummary& summary, const fs::path& out) {
 int RunSim(const SimArguments& arguments) {
   sim::SimulationConfig config;
   if (!arguments.config.empty()) {
-    auto loaded = LoadSimConfig(arguments.config, config);
+    Expected<ConfigFile> loaded = LoadConfigFile(arguments.config);
     if (!loaded) return ReportUsageError(loaded.status());
-    config = *loaded;
+    config = loaded->sim;
   }
   ApplyArguments(arguments, config);
   if (Status s = sim::ValidateSimulationConfig(config); !s.ok()) return ReportUsageError(s);

@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "viewer/app/cli/exit_codes.h"
+#include "viewer/app/config/config_file.h"
 #include "viewer/pipeline/progress_line.h"
 #include "viewer/pipeline/splat/splat_job.h"
 
@@ -29,9 +30,9 @@ struct SplatArguments {
 Expected<SplatConfig> ResolveConfig(const SplatArguments& a) {
   SplatConfig config;
   if (!a.config.empty()) {
-    Expected<SplatConfig> loaded = LoadSplatConfig(a.config);
+    Expected<ConfigFile> loaded = LoadConfigFile(a.config);
     if (!loaded) return loaded.status();
-    config = *loaded;
+    config = loaded->splat;
   }
   if (a.iterations > 0) config.training.iterations = a.iterations;
   if (a.sh_degree >= 0) config.training.sh_degree = a.sh_degree;

@@ -3,7 +3,7 @@
 #include <charconv>
 #include <iostream>
 
-#include "viewer/app/estimator_config.h"
+#include "viewer/app/config/estimator_config.h"
 
 namespace uf::pipeline {
 namespace {

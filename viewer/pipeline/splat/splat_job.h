@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "viewer/app/splat_config.h"
+#include "viewer/app/config/splat_config.h"
 #include "viewer/pipeline/splat/splat_outputs.h"
 #include "viewer/pipeline/splat/splat_views.h"
 

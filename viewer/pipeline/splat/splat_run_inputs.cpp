@@ -7,6 +7,7 @@
 #include "mapping/map_view.h"
 #include "odometry/io/atomic_file.h"
 #include "odometry/io/trajectory_file.h"
+#include "viewer/app/config/config_file.h"
 
 namespace uf::pipeline {
 
@@ -15,7 +16,9 @@ namespace fs = std::filesystem;
 Expected<DatasetConfig> RunDatasetConfig(const fs::path& folder) {
   std::error_code error;
   if (!fs::exists(folder / "config.yaml", error)) return DatasetConfig{};
-  return app::LoadDatasetConfig(folder / "config.yaml");
+  Expected<app::ConfigFile> config = app::LoadConfigFile(folder / "config.yaml");
+  if (!config) return config.status();
+  return config->dataset;
 }
 
 Expected<Trajectory> ReadSplatTrajectory(const fs::path& file) {

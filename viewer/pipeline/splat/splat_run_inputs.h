@@ -9,7 +9,7 @@
 #include "odometry/types/status.h"
 #include "odometry/types/trajectory.h"
 #include "splat/seeding.h"
-#include "viewer/app/dataset_config.h"
+#include "viewer/app/config/dataset_config.h"
 
 namespace uf::pipeline {
 

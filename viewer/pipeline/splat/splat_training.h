@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "splat/training/splat_trainer.h"
-#include "viewer/app/splat_config.h"
+#include "viewer/app/config/splat_config.h"
 #include "viewer/pipeline/splat/splat_views.h"
 
 namespace uf::pipeline {

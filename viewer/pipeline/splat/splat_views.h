@@ -22,7 +22,7 @@
 #include "odometry/types/trajectory.h"
 #include "splat/training/training_options.h"
 #include "splat/views/training_images.h"
-#include "viewer/app/splat_config.h"
+#include "viewer/app/config/splat_config.h"
 
 namespace uf::pipeline {
 

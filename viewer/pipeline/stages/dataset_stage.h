@@ -10,7 +10,7 @@
 
 #include "odometry/io/dataset_reader.h"
 #include "odometry/io/stream_diagnostics.h"
-#include "viewer/app/dataset_config.h"
+#include "viewer/app/config/dataset_config.h"
 #include "viewer/pipeline/stage_runner.h"
 
 namespace uf::pipeline {

@@ -1,10 +1,10 @@
 #include "viewer/pipeline/stages/splat_stage.h"
 
-#include <cstdio>
 #include <optional>
 
 #include "export/exr_view.h"
 #include "export/splat_ply.h"
+#include "odometry/io/calibration_file.h"
 #include "odometry/io/trajectory_file.h"
 #include "splat/splat_renderer.h"
 #include "viewer/pipeline/run_files.h"
@@ -16,19 +16,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// views/camera.yaml in the format of `ultrafusion render --camera` (render_camera.h), for a pinhole-radtan
+// views/camera.yaml, the camera file of `ultrafusion render --camera` (render_camera.h), for a pinhole-radtan
 // camera; false for other models.
 bool WriteCameraYaml(const fs::path& file, const CameraModel& model, Status& status) {
-  const auto* radtan = dynamic_cast<const PinholeRadtan*>(&model);
-  if (!radtan) return false;
-  const PinholeRadtanIntrinsics& k = radtan->intrinsics();
-  char text[512];
-  std::snprintf(text, sizeof(text),
-                "model: pinhole\nwidth: %d\nheight: %d\nfx: %.17g\nfy: %.17g\ncx: %.17g\ncy: %.17g\n"
-                "distortion: [%.17g, %.17g, %.17g, %.17g, %.17g]\n",
-                model.width(), model.height(), k.pinhole.fx, k.pinhole.fy, k.pinhole.cx, k.pinhole.cy, k.k1,
-                k.k2, k.p1, k.p2, k.k3);
-  status = WriteTextFileAtomically(file, text);
+  if (!dynamic_cast<const PinholeRadtan*>(&model)) return false;
+  status = WriteCameraIntrinsicsFile(file, model);
   return true;
 }
 

@@ -218,7 +218,9 @@ TEST(EurocFolder, DamagedFilesGiveNamedErrors) {
     std::string fisheye_lens(kCamYaml);
     fisheye_lens.replace(fisheye_lens.find("radial-tangential"), 17, "fov");
     testing::WriteBytes(mav / "cam0" / "sensor.yaml", fisheye_lens);
-    EXPECT_NE(OpenEurocFolder(dir.path()).error().find("cam0/sensor.yaml: distortion_model 'fov' is not"),
+    EXPECT_NE(OpenEurocFolder(dir.path())
+                  .error()
+                  .find("cam0/sensor.yaml: distortion_model (line 14): 'fov' is not"),
               std::string::npos);
     std::string off_centre(kCamYaml);
     off_centre.replace(off_centre.find("367.215"), 7, "900.000");

@@ -1,14 +1,7 @@
-// The camera file of `ultrafusion render`: a small YAML map
-//   model: pinhole            # the only model
-//   width: 640                # px
-//   height: 480
-//   fx: 525.0                 # px
-//   fy: 525.0
-//   cx: 319.5                 # px; pixel (0, 0) is the centre of the top-left pixel
-//   cy: 239.5
-//   distortion: [k1, k2, p1, p2]   # optional, radial-tangential (OpenCV's plumb bob); a fifth, k3, is
-//   allowed
-// Camera axes as OpenCV: x right, y down, z forward. Unknown keys are an error that names them.
+// The camera file of `ultrafusion render`: one camera's intrinsics in the dialect of the calibration files,
+// read by their parser (odometry/io/camera_calibration.h; the keys are in docs/CONFIG.md, "Camera
+// intrinsics"). Render draws pinhole cameras with radial-tangential distortion; camera axes as OpenCV:
+// x right, y down, z forward.
 #pragma once
 
 #include <memory>

@@ -1,7 +1,8 @@
-// The `sim:` section of a configuration file, mapped onto uf::sim::SimulationConfig (read and written).
-// configs/sim.yaml lists every key with its default, unit and range; configs/sim-degraded.yaml injects
-// errors. Every key is optional: a key that is not given keeps the value of the `base` config. A list
-// that is given (darkness, slips, outages, ...) replaces the base's list.
+// The `sim:` section of a configuration file, mapped onto uf::sim::SimulationConfig (read by LoadConfigFile,
+// config_file.h, and written). Its keys, defaults and units are in docs/CONFIG.md; configs/sim.yaml states
+// them with their ranges, configs/sim-degraded.yaml injects errors. Every key is optional: a key that is not
+// given keeps the value of the base config. A list that is given (darkness, slips, outages, ...) replaces
+// the base's list.
 //
 // Conventions of the file (the struct's are in odometry/sim/sequence/simulation_config.h):
 //   - start_time_s is the sequence start in seconds since the epoch, parsed exactly to the nanosecond.
@@ -19,7 +20,6 @@
 // "FILE: sim.lidar.rate_hz (line 12): expected a number, got 'fast'".
 #pragma once
 
-#include <filesystem>
 #include <string>
 #include <string_view>
 
@@ -28,12 +28,7 @@
 
 namespace uf::app {
 
-// Reads FILE's `sim:` section over `base`. Other known top-level sections (config_sections.h) are skipped;
-// any other top-level key is an error. A file without a `sim:` section gives `base`.
-Expected<sim::SimulationConfig> LoadSimConfig(const std::filesystem::path& file,
-                                              sim::SimulationConfig base = {});
-
-// The whole config as a YAML document with a `sim:` section that LoadSimConfig reads back to exactly the
+// The whole config as a YAML document with a `sim:` section that LoadConfigFile reads back to exactly the
 // same struct: numbers in shortest round-trip form, stamps and windows as exact decimal seconds, extrinsics
 // as 4x4 matrices (with their translation and roll-pitch-yaw in a comment). Sensor `threads` of the
 // lidar and camera models are not part of the file (the top-level `threads` is).

@@ -1,5 +1,7 @@
-// ExpectSameConfig: gtest expectations that two SimulationConfigs agree in every field that the `sim:`
-// section of a configuration file maps, exactly (doubles bit for bit) unless a tolerance is given.
+// gtest expectations that two settings agree in every field that a section of the configuration file maps,
+// exactly (doubles bit for bit), written out field by field: ExpectSameConfig (sim:, a tolerance for the
+// extrinsics allowed), ExpectSameDataset (dataset:), ExpectSameLo / ExpectSameLio (lo:, lio:) and
+// ExpectSameSplat (splat:).
 #pragma once
 
 #include <gtest/gtest.h>
@@ -8,6 +10,7 @@
 #include <vector>
 
 #include "odometry/sim/sequence/simulation_config.h"
+#include "viewer/app/config/config_file.h"
 
 namespace uf::app::test {
 
@@ -136,6 +139,105 @@ inline void ExpectSameConfig(const SimulationConfig& a, const SimulationConfig& 
   ExpectSameNoise(a.gnss.model.rtk_float, b.gnss.model.rtk_float, "rtk_float");
   ExpectSameNoise(a.gnss.model.single, b.gnss.model.single, "single");
   ExpectSamePlacement(a.gnss.placement, b.gnss.placement, "gnss", extrinsic_tolerance);
+}
+
+inline void ExpectSameDataset(const DatasetConfig& a, const DatasetConfig& b) {
+  EXPECT_FIELD(reader.format);
+  ASSERT_EQ(a.reader.topics.size(), b.reader.topics.size());
+  for (std::size_t i = 0; i < a.reader.topics.size(); ++i) {
+    EXPECT_FIELD(reader.topics[i].topic);
+    EXPECT_FIELD(reader.topics[i].kind);
+  }
+  EXPECT_FIELD(reader.imu_accel_unit);
+  EXPECT_FIELD(reader.derive_point_times_from_azimuth);
+  EXPECT_FIELD(reader.lidar_sweep_period_s);
+  EXPECT_FIELD(reader.folder_scan_stamp);
+  EXPECT_FIELD(stream.time_offsets);
+  EXPECT_FIELD(stream.reorder_window);
+}
+
+// The keys of lo: (not T_body_lidar, use_imu and marginalization, which have none).
+inline void ExpectSameLo(const estimator::LidarOdometryConfig& a, const estimator::LidarOdometryConfig& b) {
+  EXPECT_FIELD(input_voxel_m);
+  EXPECT_FIELD(window_size);
+  EXPECT_FIELD(max_iterations);
+  EXPECT_FIELD(max_solver_time_s);
+  EXPECT_FIELD(max_residuals_per_scan);
+  EXPECT_FIELD(huber_m);
+  EXPECT_FIELD(min_range_m);
+  EXPECT_FIELD(max_range_m);
+  EXPECT_FIELD(map_insert_voxel_m);
+  EXPECT_FIELD(association_rounds);
+  EXPECT_FIELD(max_correction_m);
+  EXPECT_FIELD(max_correction_rad);
+  EXPECT_FIELD(min_points);
+  EXPECT_FIELD(max_plane_distance_m);
+  EXPECT_FIELD(marginalize);
+  EXPECT_FIELD(motion.acc_density);
+  EXPECT_FIELD(motion.angular_acc_density);
+  EXPECT_FIELD(map.voxel_m);
+  EXPECT_FIELD(map.max_points_per_voxel);
+  EXPECT_FIELD(map.max_range_m);
+  EXPECT_FIELD(map.plane_eigen_ratio);
+  EXPECT_FIELD(map.min_plane_points);
+  EXPECT_FIELD(map.min_plane_sigma_m);
+}
+
+inline void ExpectSameLio(const estimator::LidarOdometryConfig& a, const estimator::LidarOdometryConfig& b) {
+  EXPECT_FIELD(imu_max_gap_s);
+  EXPECT_FIELD(imu_max_wait_s);
+  EXPECT_FIELD(max_speed_mps);
+  EXPECT_FIELD(imu.accel_noise_density);
+  EXPECT_FIELD(imu.gyro_noise_density);
+  EXPECT_FIELD(imu.accel_bias_random_walk);
+  EXPECT_FIELD(imu.gyro_bias_random_walk);
+  EXPECT_FIELD(imu.gravity);
+  EXPECT_FIELD(imu.max_accel_bias_change);
+  EXPECT_FIELD(imu.max_gyro_bias_change);
+  EXPECT_FIELD(init.window_scans);
+  EXPECT_FIELD(init.static_max_gyro_std);
+  EXPECT_FIELD(init.static_max_acc_std);
+  EXPECT_FIELD(init.static_max_motion_m);
+  EXPECT_FIELD(init.max_gravity_error);
+}
+
+inline void ExpectSameSplat(const SplatConfig& a, const SplatConfig& b) {
+  EXPECT_FIELD(time_budget_s);
+  EXPECT_FIELD(width);
+  EXPECT_FIELD(height);
+  EXPECT_FIELD(max_width);
+  EXPECT_FIELD(keyframe_distance_m);
+  EXPECT_FIELD(keyframe_angle_deg);
+  EXPECT_FIELD(holdout_stride);
+  EXPECT_FIELD(comparisons);
+  EXPECT_FIELD(seed_points);
+  EXPECT_FIELD(sky_gaussians);
+  EXPECT_FIELD(training.iterations);
+  EXPECT_FIELD(training.sh_degree);
+  EXPECT_FIELD(training.sh_degree_interval);
+  EXPECT_FIELD(training.lr_position_initial);
+  EXPECT_FIELD(training.lr_position_final);
+  EXPECT_FIELD(training.lr_log_scale);
+  EXPECT_FIELD(training.lr_rotation);
+  EXPECT_FIELD(training.lr_opacity);
+  EXPECT_FIELD(training.lr_sh_dc);
+  EXPECT_FIELD(training.lr_sh_rest);
+  EXPECT_FIELD(training.adam_beta1);
+  EXPECT_FIELD(training.adam_beta2);
+  EXPECT_FIELD(training.adam_epsilon);
+  EXPECT_FIELD(training.ssim_weight);
+  EXPECT_FIELD(training.depth_weight);
+  EXPECT_FIELD(training.densify_from);
+  EXPECT_FIELD(training.densify_until);
+  EXPECT_FIELD(training.densify_interval);
+  EXPECT_FIELD(training.densify_gradient_threshold);
+  EXPECT_FIELD(training.dense_fraction);
+  EXPECT_FIELD(training.prune_opacity);
+  EXPECT_FIELD(training.prune_world_fraction);
+  EXPECT_FIELD(training.opacity_reset_interval);
+  EXPECT_FIELD(training.max_gaussians);
+  EXPECT_FIELD(training.render.background);
+  EXPECT_FIELD(training.seed);
 }
 
 #undef EXPECT_FIELD

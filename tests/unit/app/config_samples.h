@@ -1,0 +1,189 @@
+// Settings with a value other than the default in every field that a section of the configuration file
+// maps, for round trips that must move every field: NonDefaultConfig (sim:), NonDefaultDataset,
+// NonDefaultOdometry (lo: and lio:) and NonDefaultSplat. Each passes its section's checks.
+#pragma once
+
+#include "odometry/sim/sequence/simulation_config.h"
+#include "viewer/app/config/config_file.h"
+
+namespace uf::app::test {
+
+using sim::GnssQuality;
+using sim::SimulationConfig;
+using sim::TimeWindow;
+
+// [begin_s, end_s] after `start`, exact nanoseconds.
+inline TimeWindow Window(Stamp start, Stamp begin_ns, Stamp end_ns) {
+  return {start + begin_ns, start + end_ns};
+}
+
+inline SE3 Pose(double rx, double ry, double rz, double x, double y, double z) {
+  return SE3(SO3::Exp(Eigen::Vector3d(rx, ry, rz)), Eigen::Vector3d(x, y, z));
+}
+
+// A value other than the default in every field, with awkward doubles (1/3, 0.1 + 0.2, 1e-300, 2^-1074).
+inline SimulationConfig NonDefaultConfig() {
+  SimulationConfig c;
+  c.scene = "weird \"scene\" \\ name: #1";
+  c.seed = 18446744073709551615ULL;
+  c.duration_s = 1.0 / 3.0;
+  c.start_stamp = 1'234'567'890'123'456'789;
+  c.trajectory = {.file = "/data/path with spaces/poses.txt",
+                  .format = "kitti",
+                  .kitti_rate_hz = 9.5,
+                  .knot_spacing_s = 0.1 + 0.2};
+  c.body_height_m = 1e-300;
+  c.ground_truth_rate_hz = 123.456;
+  c.origin = {-33.8688197, 151.2092955, -12.5};
+  c.threads = 3;
+  c.write_bag = true;
+  const Stamp s = c.start_stamp;
+
+  c.imu.enabled = false;
+  c.imu.rate_hz = 400.5;
+  c.imu.noise = {1.1e-3, 2.2e-4, 3.3e-5, 4.4e-6, {0.01, -0.02, 0.03}, {-1e-4, 2e-4, 4.9406564584124654e-324},
+                 160.0,  8.7};
+
+  c.lidar.enabled = false;
+  c.lidar.model = {.model = "livox_avia",
+                   .rate_hz = 12.5,
+                   .horizontal_resolution_deg = 0.35,
+                   .min_range_m = 0.75,
+                   .max_range_m = 150.0,
+                   .range_noise_std_m = 0.033,
+                   .dropout_probability = 0.125};
+  c.lidar.placement = {Pose(0.1, -0.2, 0.3, 0.11, -0.22, 0.33), 0.1, {1.0, -2.0, 3.0}, {0.01, 0.02, -0.03}};
+
+  sim::CameraConfig& m = c.camera.model;
+  c.camera.enabled = false;
+  m.pinhole.width = 1280, m.pinhole.height = 720;
+  m.pinhole.fx = 701.5, m.pinhole.fy = 702.25, m.pinhole.cx = 640.125, m.pinhole.cy = 359.75;
+  m.k1 = -0.28, m.k2 = 0.07, m.p1 = 1e-4, m.p2 = -2e-4, m.k3 = 0.001;
+  m.rate_hz = 30.0, m.noise_std_dn = 2.5, m.supersampling = 3;
+  m.sun_direction_world = {-0.5, 0.25, 1.0 / 7.0};
+  m.ambient = 0.2, m.exposure = 1.7, m.textured = false;
+  m.darkness = {Window(s, 1'000'000'001, 2'500'000'000), Window(s, -500'000'000, 1)};
+  m.exposure_changes = {{Window(s, 3'000'000'000, 4'000'000'000), 2.0}, {Window(s, 5, 6), 0.3}};
+  m.occlusions = {Window(s, 7'123'456'789, 8'000'000'000)};
+  c.camera.placement = {sim::ForwardLookingCamera({0.5, -0.1, 0.2}) * Pose(0.01, 0.02, 0.03, 0, 0, 0),
+                        -0.02,
+                        {0.5, 0.5, -0.5},
+                        {0, 0, 0.01}};
+
+  c.wheel.enabled = false;
+  c.wheel.model.rate_hz = 100.0;
+  c.wheel.model.wheel_radius_m = 0.2;
+  c.wheel.model.baseline_m = 0.6;
+  c.wheel.model.radius_error = 0.01;
+  c.wheel.model.baseline_error = -0.02;
+  c.wheel.model.encoder_resolution_ticks = 4096;
+  c.wheel.model.wheel_speed_noise_std = 0.05;
+  c.wheel.model.slips = {{Window(s, 10'000'000'000, 12'000'000'000), 0.3}, {Window(s, 1, 2), -1.0}};
+  c.wheel.model.floats = {Window(s, 20'000'000'000, 20'500'000'000)};
+  c.wheel.placement = {Pose(0, 0, 0.5, -0.4, 0.0, -0.6), 0.005, {0, 0, 1}, {0.1, 0, 0}};
+
+  c.gnss.enabled = false;
+  c.gnss.model.rate_hz = 10.0;
+  c.gnss.model.quality = GnssQuality::kRtkFloat;
+  c.gnss.model.quality_changes = {{Window(s, 0, 5'000'000'000), GnssQuality::kRtkFixed},
+                                  {Window(s, 6'000'000'000, 7'000'000'000), GnssQuality::kSingle}};
+  c.gnss.model.outages = {Window(s, 30'000'000'000, 40'000'000'000)};
+  c.gnss.model.multipath = {{Window(s, 41'000'000'000, 45'000'000'000), {3.0, -4.0, 0.5}}};
+  c.gnss.model.rtk_fixed = {0.01, 0.03, 1.0};
+  c.gnss.model.rtk_float = {0.2, 0.4, 8.0};
+  c.gnss.model.single = {2.0, 4.0, 60.0};
+  c.gnss.placement = {Pose(0, 0, 0, 0.1, 0.2, 0.9), 0.25, {0, 0, 0}, {0, 0, 0.1}};
+  return c;
+}
+
+inline DatasetConfig NonDefaultDataset() {
+  DatasetConfig c;
+  c.reader.format = DatasetFormat::kRosBag;
+  c.reader.topics = {{"/imu/data", SensorKind::kImu}, {"/velodyne \"points\"", SensorKind::kLidar}};
+  c.reader.imu_accel_unit = ImuAccelUnit::kStandardGravity;
+  c.reader.derive_point_times_from_azimuth = false;
+  c.reader.lidar_sweep_period_s = 0.05;
+  c.reader.folder_scan_stamp = ScanStampPosition::kSweepStart;
+  c.stream.time_offsets = {{"lidar", -12'000'000}, {"/fix", 200'000'001}};
+  c.stream.reorder_window = 2'500'000'000;
+  return c;
+}
+
+inline estimator::LidarOdometryConfig NonDefaultOdometry() {
+  estimator::LidarOdometryConfig c;
+  c.input_voxel_m = 0.75;
+  c.window_size = 6;
+  c.max_iterations = 5;
+  c.max_solver_time_s = 0.125;
+  c.max_residuals_per_scan = 900;
+  c.huber_m = 1.0 / 3.0;
+  c.min_range_m = 2;
+  c.max_range_m = 70;
+  c.map_insert_voxel_m = 0.3;
+  c.association_rounds = 4;
+  c.max_correction_m = 2.5;
+  c.max_correction_rad = 0.25;
+  c.min_points = 60;
+  c.max_plane_distance_m = 0.8;
+  c.marginalize = false;
+  c.motion = {3.5, 1.25};
+  c.map = {0.25, 7, 80, 0.2, 6, 0.02};
+  c.imu_max_gap_s = 0.1;
+  c.imu_max_wait_s = 0.75;
+  c.max_speed_mps = 40;
+  c.imu = {0.03, 0.002, 0.004, 2.5e-5, 9.81, 0.2, 0.02};
+  c.init = {4, 0.03, 0.4, 0.06, 0.15};
+  return c;
+}
+
+inline SplatConfig NonDefaultSplat() {
+  SplatConfig c;
+  splat::TrainingOptions& t = c.training;
+  t.iterations = 123;
+  t.sh_degree = 1;
+  t.sh_degree_interval = 50;
+  t.lr_position_initial = 3.25e-4;
+  t.lr_position_final = 2e-6;
+  t.lr_log_scale = 0.004;
+  t.lr_rotation = 0.002;
+  t.lr_opacity = 0.04;
+  t.lr_sh_dc = 0.003;
+  t.lr_sh_rest = 1e-4;
+  t.adam_beta1 = 0.8;
+  t.adam_beta2 = 0.99;
+  t.adam_epsilon = 1e-12;
+  t.ssim_weight = 0.3;
+  t.depth_weight = 0.1;
+  t.densify_from = 10;
+  t.densify_until = 100;
+  t.densify_interval = 20;
+  t.densify_gradient_threshold = 3e-4;
+  t.dense_fraction = 0.02;
+  t.prune_opacity = 0.01;
+  t.prune_world_fraction = 0.2;
+  t.opacity_reset_interval = 500;
+  t.max_gaussians = 12345;
+  t.render.background = Eigen::Vector3f(0.25f, 0.1f, 1.0f);
+  t.seed = 99;
+  c.time_budget_s = 12.5;
+  c.width = 200, c.height = 150;
+  c.max_width = 640;
+  c.keyframe_distance_m = 0.7;
+  c.keyframe_angle_deg = 7.5;
+  c.holdout_stride = 5;
+  c.comparisons = 2;
+  c.seed_points = 5000;
+  c.sky_gaussians = 100;
+  return c;
+}
+
+inline ConfigFile NonDefaultConfigFile() {
+  ConfigFile c;
+  c.dataset = NonDefaultDataset();
+  c.odometry = NonDefaultOdometry();
+  c.splat = NonDefaultSplat();
+  c.sim = NonDefaultConfig();
+  return c;
+}
+
+}  // namespace uf::app::test

@@ -1,0 +1,19 @@
+// The schema of each section of the configuration file (schema.h), declared in the section's file: the one
+// place where a key, its field, unit and meaning are written. Internal to uf_app_config.
+#pragma once
+
+#include "odometry/estimator/config/lidar_odometry_config.h"
+#include "odometry/sim/sequence/simulation_config.h"
+#include "viewer/app/config/dataset_config.h"
+#include "viewer/app/config/schema.h"
+#include "viewer/app/config/splat_config.h"
+
+namespace uf::app::config {
+
+const Schema<DatasetConfig>& DatasetSchema();               // dataset_config.cpp
+const Schema<estimator::LidarOdometryConfig>& LoSchema();   // estimator_config.cpp
+const Schema<estimator::LidarOdometryConfig>& LioSchema();  // estimator_config.cpp
+const Schema<SplatConfig>& SplatSchema();                   // splat_config.cpp
+const Schema<sim::SimulationConfig>& SimSchema();           // sim_config.cpp
+
+}  // namespace uf::app::config

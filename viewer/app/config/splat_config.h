@@ -1,0 +1,36 @@
+// The `splat:` section of a configuration file (`ultrafusion splat --config`, and `ultrafusion run --config`,
+// which may carry it): every field of splat::TrainingOptions under its own name, plus what the command
+// decides around the trainer (resolution, keyframe spacing, held-out stride, time budget). Its keys,
+// defaults and units are in docs/CONFIG.md; the file is read by LoadConfigFile (config_file.h).
+#pragma once
+
+#include <string>
+
+#include "odometry/types/status.h"
+#include "splat/training/training_options.h"
+
+namespace uf::app {
+
+struct SplatConfig {
+  splat::TrainingOptions training;
+  double time_budget_s = 0;   // 0: no limit
+  int width = 0, height = 0;  // training resolution, px; 0 x 0: derived from the camera (see DefaultSize)
+  int max_width = 320;
+  double keyframe_distance_m = 0.3, keyframe_angle_deg = 5.0;
+  int holdout_stride = 8;             // >= 2
+  int comparisons = 4;                // >= 0
+  std::size_t seed_points = 200'000;  // at most this many map points seed Gaussians (thinned evenly), > 0
+  int sky_gaussians = 30'000;         // Gaussians on a sphere beyond the map for the sky (0: none)
+
+  // Checks every field (the trainer's through TrainingOptions::Validate); the message names the field.
+  Status Validate() const;
+};
+
+// "splat:\n  iterations: 3000\n..." with every key.
+std::string EmitSplatConfig(const SplatConfig& config);
+
+// The default training size for a camera of width x height: halved (integer division keeps the aspect
+// within a pixel) until the width is <= max_width.
+void DefaultSize(int camera_width, int camera_height, int max_width, int& width, int& height);
+
+}  // namespace uf::app
