@@ -58,22 +58,4 @@ Status WriteTextFileAtomically(const std::filesystem::path& path, const std::str
   return writer.Commit();
 }
 
-Trajectory ToImuFrame(const Trajectory& lidar_trajectory, const SE3& T_imu_lidar) {
-  Trajectory imu;
-  imu.stamps = lidar_trajectory.stamps;
-  imu.poses.reserve(lidar_trajectory.size());
-  const SE3 T_lidar_imu = T_imu_lidar.inverse();
-  for (const SE3& T_lidar0_lidar : lidar_trajectory.poses)
-    imu.poses.push_back(T_imu_lidar * T_lidar0_lidar * T_lidar_imu);
-  return imu;
-}
-
-Trajectory ToLidarFrame(const Trajectory& imu_trajectory, const SE3& T_imu_lidar) {
-  Trajectory lidar;
-  lidar.stamps = imu_trajectory.stamps;
-  lidar.poses.reserve(imu_trajectory.size());
-  for (const SE3& T_world_imu : imu_trajectory.poses) lidar.poses.push_back(T_world_imu * T_imu_lidar);
-  return lidar;
-}
-
 }  // namespace uf::pipeline

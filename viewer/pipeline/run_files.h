@@ -1,6 +1,6 @@
 // The files `ultrafusion run` writes into its output folder besides the report: the trajectory (TUM and
 // KITTI), timing.json and any text file, each written under a temporary name and renamed into place so a
-// failure never leaves a half-written file. Also the change of frame for `--output-frame imu`.
+// failure never leaves a half-written file.
 #pragma once
 
 #include <cstdint>
@@ -39,13 +39,5 @@ Status WriteTimingPlot(const std::filesystem::path& png, const std::vector<Stamp
                        const std::vector<double>& milliseconds);
 
 Status WriteTextFileAtomically(const std::filesystem::path& path, const std::string& text);
-
-// Re-expresses a LiDAR trajectory T_lidar0_lidar(t) (world = first LiDAR pose) in the IMU frame:
-//   T_imu0_imu(t) = T_imu_lidar * T_lidar0_lidar(t) * T_imu_lidar^-1,
-// i.e. the pose of the IMU, in a world frame that is the IMU frame at the start.
-Trajectory ToImuFrame(const Trajectory& lidar_trajectory, const SE3& T_imu_lidar);
-
-// The LiDAR's trajectory from the IMU's (LIO), in the same world: T_world_lidar = T_world_imu T_imu_lidar.
-Trajectory ToLidarFrame(const Trajectory& imu_trajectory, const SE3& T_imu_lidar);
 
 }  // namespace uf::pipeline
