@@ -12,13 +12,6 @@ std::optional<Enum> Parse(std::string_view text, const std::array<Enum, N>& valu
   return std::nullopt;
 }
 
-// The first stream of `kind`, or nullptr.
-const StreamInfo* FirstStream(const DatasetDescription& description, SensorKind kind) {
-  for (const StreamInfo& stream : description.streams)
-    if (stream.kind == kind) return &stream;
-  return nullptr;
-}
-
 // T_lidar0_lidar(t) -> T_imu0_imu(t) = T_imu_lidar * T_lidar0_lidar(t) * T_imu_lidar^-1: the IMU's pose in a
 // world that is the IMU frame at the start.
 Trajectory ToImuFrame(const Trajectory& lidar_trajectory, const SE3& T_imu_lidar) {
@@ -40,16 +33,16 @@ Trajectory ToLidarFrame(const Trajectory& imu_trajectory, const SE3& T_imu_lidar
   return lidar;
 }
 
-// T_F_B: the LiDAR's or the IMU's T_body_sensor inverted (identity when it has none: the body is then that
-// sensor, as ImuFromLidar and the estimator take it).
-Expected<SE3> OutputFromBody(const DatasetDescription& description, TrajectoryFrame frame) {
-  if (frame == TrajectoryFrame::kImu) {
-    const StreamInfo* imu = FirstStream(description, SensorKind::kImu);
-    return imu && imu->T_body_sensor ? imu->T_body_sensor->inverse() : SE3();
-  }
-  const StreamInfo* lidar = FirstStream(description, SensorKind::kLidar);
-  if (!lidar) return Status::Error(description.path.string() + ": no LiDAR stream (the trajectory's frame)");
-  return lidar->T_body_sensor ? lidar->T_body_sensor->inverse() : SE3();
+// T_S_B for the sensor S that `frame` names (the first LiDAR or IMU stream): its T_body_sensor inverted,
+// the identity when it has none or there is no such stream (the body is then that sensor, as ImuFromLidar
+// and the estimator take it).
+SE3 SensorFromBody(const DatasetDescription& description, const DatasetSensors& sensors,
+                   TrajectoryFrame frame) {
+  const int stream = frame == TrajectoryFrame::kImu ? sensors.imu : sensors.lidar;
+  if (stream < 0) return SE3();
+  const std::optional<SE3>& T_body_sensor =
+      description.streams[static_cast<std::size_t>(stream)].T_body_sensor;
+  return T_body_sensor ? T_body_sensor->inverse() : SE3();
 }
 
 }  // namespace
@@ -100,16 +93,8 @@ Expected<RunFrames> ResolveRunFrames(const DatasetDescription& description, Odom
   if ((lio || trajectory_frame != EstimatorFrame(mode)) && !frames.T_imu_lidar)
     return Status::Error(description.path.string() + ": no LiDAR-to-IMU transform (T_body_sensor of " +
                          description.streams[static_cast<std::size_t>(sensors.lidar)].name + ")");
-  // T_E_B from the estimated sensor's T_body_sensor (identity when it has none).
-  const int estimated = lio ? sensors.imu : sensors.lidar;
-  if (estimated >= 0) {
-    const std::optional<SE3>& T_body_sensor =
-        description.streams[static_cast<std::size_t>(estimated)].T_body_sensor;
-    if (T_body_sensor) frames.T_estimator_body = T_body_sensor->inverse();
-  }
-  Expected<SE3> T_output_body = OutputFromBody(description, trajectory_frame);
-  if (!T_output_body) return T_output_body.status();
-  frames.T_output_body = *T_output_body;
+  frames.T_estimator_body = SensorFromBody(description, sensors, EstimatorFrame(mode));
+  frames.T_output_body = SensorFromBody(description, sensors, trajectory_frame);
   // T_M_W = T_lidar_imu for an LO run written in the IMU frame whose map came from the odometry, where
   // T_imu_lidar = T_F_B(imu) * T_B_lidar (ImuFromLidar).
   if (!lio && trajectory_frame == TrajectoryFrame::kImu && map_from == MapSource::kOdometry) {

@@ -67,9 +67,11 @@ Status CheckOutputFolder(const RunRequest& r) {
   return {};
 }
 
-// The report's notes on the request, and its description of the mode.
-void DescribeRun(const RunPlan& plan, RunSummary& summary) {
+// The summary's notes on the request, its description of the mode, the resolved config and the command that
+// repeats the run.
+void DescribeRun(RunPlan& plan) {
   const RunRequest& r = plan.request;
+  RunSummary& summary = plan.summary;
   const DatasetDescription& description = plan.stream->description();
   const std::string& lidar = description.streams[plan.sensors.lidar].name;
   summary.dataset = r.dataset.string();
@@ -84,13 +86,12 @@ void DescribeRun(const RunPlan& plan, RunSummary& summary) {
   if (r.no_map) summary.notes.push_back("--no-map: no map written");
   if (r.from == RunFrom::kSplat)
     summary.notes.push_back(
-        "--from splat: the splats are trained on map.vdb and trajectory.tum of the earlier run in this "
-        "folder");
+        "--from splat: the splats are trained on map.vdb and trajectory.tum of the earlier run in "
+        "this folder");
   if (r.from == RunFrom::kMap) {
     summary.notes.push_back(
-        "--from map: the trajectory is trajectory.tum of the earlier run in this folder, the map made from "
-        "the "
-        "dataset's scans deskewed with it; the odometry's figures are in timing.json");
+        "--from map: the trajectory is trajectory.tum of the earlier run in this folder, the map made "
+        "from the dataset's scans deskewed with it; the odometry's figures are in timing.json");
     std::error_code error;
     if (fs::exists(r.out / "plots/timing_per_scan.png", error))
       summary.odometry.timing_plot = "plots/timing_per_scan.png";
@@ -148,7 +149,7 @@ Expected<RunPlan> PlanRun(RunRequest request, PlanErrorKind& kind) {
     if (!mapper) return mapper.status();
     plan.mapper = std::make_unique<mapping::KeyframeMapper>(std::move(*mapper));
   }
-  DescribeRun(plan, plan.summary);
+  DescribeRun(plan);
   return plan;
 }
 

@@ -136,9 +136,7 @@ std::vector<Stage> RunStageList(RunPlan& plan, const fs::path& out, StageOutputs
 void Summarize(const RunPlan& plan, StageOutputs& o, RunSummary& summary) {
   if (o.dataset) summary.dataset_summary = std::move(o.dataset->summary);
   if (o.odometry) {
-    const std::string plot = summary.odometry.timing_plot;
     summary.odometry = std::move(o.odometry->summary);
-    if (summary.odometry.timing_plot.empty()) summary.odometry.timing_plot = plot;
     if (plan.frames.mode == OdometryMode::kLio)
       summary.notes.push_back(summary.odometry.initialization.empty()
                                   ? "LIO never initialized: the whole run is LiDAR-only (see warnings)"
