@@ -84,6 +84,7 @@ void LidarOdometry::Impl::ProcessScan(const LidarScan& input) {
     return;
   }
   ScanState scan;
+  scan.id = next_scan_id++;
   scan.stamp = input.stamp;
   scan.end = input.end;
   {
@@ -166,15 +167,16 @@ bool LidarOdometry::Impl::RegisterNewScan(ScanState& current) {
     Relinearize();
     solved = Solve(&stats.iterations);  // the whole window, once
   }
-  stats.residuals = static_cast<int>(current.residuals.size());
+  stats.residuals = current.residuals;
   current.plane_cache = {};  // the map changes next
   const bool finite = AllFinite(nodes);
   const SE3 correction = guess.inverse() * (finite ? NodePose(current.end_node) : guess);
   if (solved && finite && correction.translation().norm() <= config.max_correction_m &&
-      correction.so3().angle() <= config.max_correction_rad && current.residuals.size() >= 6)
+      correction.so3().angle() <= config.max_correction_rad && current.residuals >= 6)
     return true;
   Restore(saved, nodes);
-  current.residuals.clear();
+  graph.Remove(FactorKind::kLidar, current.id);
+  current.residuals = 0;
   warnings.push_back("lidar scan at " + StampText(current.stamp) +
                      ": registration rejected (solver failure, too few planes or implausible jump); kept the "
                      "predicted pose");

@@ -1,12 +1,10 @@
 // The sliding window behind LidarOdometry (private to this library): pose nodes at scan boundaries, the
-// scans with their point-to-plane residuals, the motion factors between nodes (constant-velocity prior in
-// LO, IMU preintegration in LIO), the marginalization prior and the local map. The design is described in
-// lidar_odometry.h; the methods live in lidar_odometry.cpp (scan flow), window_nodes.cpp (nodes, IMU,
-// initialization), window_scans.cpp (association, map, keyframes) and window_solve.cpp (solve, marginalize).
+// scans, the local map, and the factor graph (window/factor_graph.h) holding every factor between the nodes
+// (point-to-plane residuals, the constant-velocity prior in LO, IMU preintegration in LIO) and the
+// marginalization prior. The design is described in lidar_odometry.h; the methods live in lidar_odometry.cpp
+// (scan flow), window_nodes.cpp (nodes, IMU, initialization), window_scans.cpp (association, map, keyframes)
+// and window_solve.cpp (solve, marginalize).
 #pragma once
-
-#include <ceres/cost_function.h>
-#include <ceres/loss_function.h>
 
 #include <array>
 #include <chrono>
@@ -25,8 +23,7 @@
 #include "odometry/estimator/lidar_odometry/sweep_poses.h"
 #include "odometry/estimator/state/nav_state.h"
 #include "odometry/estimator/state/pose_manifold.h"
-#include "odometry/estimator/window/marginalization.h"
-#include "odometry/estimator/window/marginalization_factor.h"
+#include "odometry/estimator/window/factor_graph.h"
 
 namespace uf::estimator {
 
@@ -37,29 +34,23 @@ constexpr Stamp kSharedNodeTolerance = 1'000'000;  // 1 ms: a scan starting this
                                                    // shares that node
 
 // A state of the window. Nodes live in a deque: their blocks keep their addresses while the window grows
-// and shrinks at the ends, which the Ceres problem and the marginalization prior rely on.
+// and shrinks at the ends, which the factor graph and the marginalization prior rely on. The factors that
+// end at a node carry its id as their tag: the constant-velocity prior on (id - 2, id - 1, id) (LO, LIO
+// before its initialization, LIO across an IMU gap) or the IMU factor on (id - 1, id).
 struct Node {
   Stamp stamp = 0;
   PoseArray pose{};             // T_world_body
   SpeedBiasArray speed_bias{};  // LIO: [v, b_a, b_g] (nav_state.h); unused in LO
-  // Constant-velocity prior on (id - 2, id - 1, id): LO, LIO before its initialization, and LIO across an
-  // IMU gap. Null for the first two nodes.
-  std::unique_ptr<ceres::CostFunction> motion_prior;
-  std::unique_ptr<ImuFactor> imu_factor;  // LIO: between (id - 1, id)
-};
-
-struct Residual {
-  std::unique_ptr<ceres::CostFunction> cost;
-  std::unique_ptr<ceres::LossFunction> loss;
 };
 
 struct ScanState {
+  long id = 0;  // the tag of its point-to-plane factors in the graph
   Stamp stamp = 0, end = 0;
   long begin_node = 0, end_node = 0;               // node ids (equal for a scan without duration)
   std::vector<PreparedPoint> points;               // all prepared points, for the keyframe's deskewed scan
   std::vector<PreparedPoint> map_points;           // downsampled at map_insert_voxel_m, for the map
   std::vector<PreparedPoint> registration_points;  // downsampled at input_voxel_m
-  std::vector<Residual> residuals;                 // of the last association
+  int residuals = 0;                               // point-to-plane factors of the last association
   // The map's plane for each registration point, from its last query: within the ICP rounds of one scan
   // the map does not change, so a point still in the same voxel gets the same plane (VoxelHashMap::QueryKey)
   // and needs no new query. Valid for map revision plane_cache_revision; dropped after registration.
@@ -95,10 +86,11 @@ struct LidarOdometry::Impl {
 
   LidarOdometryConfig config;
   VoxelHashMap map;
-  PoseManifold manifold;
+  FactorGraph graph;
   std::deque<Node> nodes;  // ids first_node_id ...
   long first_node_id = 0;
   std::deque<ScanState> window;
+  long next_scan_id = 0;
   std::vector<Keyframe> finished;
   std::vector<std::string> warnings;
   OdometryStats stats;
@@ -106,8 +98,6 @@ struct LidarOdometry::Impl {
   SE3 restart_pose;  // the first node's guess (identity, or where a re-initialization starts)
   bool has_last = false;
   Stamp last_stamp = 0, last_end = 0;
-  // Marginalization prior on the oldest kept states (null until the first marginalization).
-  std::unique_ptr<MarginalizationFactor> prior;
   // LIO.
   std::vector<ImuSample> imu;     // time-ordered, from before the oldest node on
   std::deque<LidarScan> pending;  // scans waiting for the IMU to cover their end
@@ -121,6 +111,8 @@ struct LidarOdometry::Impl {
   NavState NodeState(long id);
   SE3 Extrapolate(Stamp stamp);
   long AddNode(Stamp stamp);
+  void AddImuFactor(long id, std::unique_ptr<ImuFactor> factor);
+  void AddMotionPrior(long id);
   Expected<ImuPreintegration> Preintegrate(Stamp from, Stamp to, const SpeedBiasArray& bias) const;
   Status AddImu(const ImuSample& sample);
   void TrimImu();
@@ -138,11 +130,8 @@ struct LidarOdometry::Impl {
 
   // Solve and marginalize (window_solve.cpp).
   bool Solve(int* iterations, bool new_scan_only = false);
-  template <typename PoseSink, typename SpeedBiasSink, typename ResidualSink>
-  void EnumerateProblem(bool new_scan_only, PoseSink&& pose, SpeedBiasSink&& speed_bias,
-                        ResidualSink&& residual);
   void Relinearize();
-  void MarginalizeScan(const ScanState& leaving, long keep_from);
+  void MarginalizeBefore(long keep_from, Stamp stamp);
 
   // Scan flow (lidar_odometry.cpp).
   Status AddScan(const LidarScan& scan);

@@ -36,6 +36,7 @@ SE3 LidarOdometry::Impl::Extrapolate(Stamp stamp) {
 long LidarOdometry::Impl::AddNode(Stamp stamp) {
   Node node;
   node.stamp = stamp;
+  std::unique_ptr<ImuFactor> imu_factor;
   if (inertial && !nodes.empty()) {
     node.speed_bias = nodes.back().speed_bias;
     Expected<ImuPreintegration> pre = Preintegrate(nodes.back().stamp, stamp, nodes.back().speed_bias);
@@ -43,21 +44,37 @@ long LidarOdometry::Impl::AddNode(Stamp stamp) {
       NavState predicted = pre->Predict(NodeState(LastNodeId()));
       node.pose = PoseBlock(predicted.T_world_imu);
       node.speed_bias = SpeedBiasBlock(predicted);
-      node.imu_factor = std::make_unique<ImuFactor>(std::move(*pre));
-      nodes.push_back(std::move(node));
-      return LastNodeId();
+      imu_factor = std::make_unique<ImuFactor>(std::move(*pre));
+    } else {
+      warnings.push_back("IMU at " + StampText(stamp) + ": " + pre.status().message() +
+                         "; bridged with the constant-velocity prior");
     }
-    warnings.push_back("IMU at " + StampText(stamp) + ": " + pre.status().message() +
-                       "; bridged with the constant-velocity prior");
   }
-  node.pose = PoseBlock(Extrapolate(stamp));
-  if (nodes.size() >= 2) {
-    const double dt_ab = ToSeconds(nodes[nodes.size() - 1].stamp - nodes[nodes.size() - 2].stamp);
-    const double dt_bc = ToSeconds(stamp - nodes.back().stamp);
-    node.motion_prior = MakeConstantVelocityFactor(dt_ab, dt_bc, config.motion);
+  if (!imu_factor) node.pose = PoseBlock(Extrapolate(stamp));
+  nodes.push_back(node);
+  const long id = LastNodeId();
+  graph.AddPoseBlock(NodeAt(id).pose.data());
+  graph.AddEuclideanBlock(NodeAt(id).speed_bias.data(), kSpeedBiasSize);
+  if (imu_factor) {
+    AddImuFactor(id, std::move(imu_factor));
+  } else if (nodes.size() >= 3) {
+    AddMotionPrior(id);
   }
-  nodes.push_back(std::move(node));
-  return LastNodeId();
+  return id;
+}
+
+void LidarOdometry::Impl::AddImuFactor(long id, std::unique_ptr<ImuFactor> factor) {
+  graph.Add(FactorKind::kImu, id, std::move(factor), nullptr,
+            {NodeAt(id - 1).pose.data(), NodeAt(id - 1).speed_bias.data(), NodeAt(id).pose.data(),
+             NodeAt(id).speed_bias.data()});
+}
+
+// The constant-velocity prior on (id - 2, id - 1, id), its segments divided by their own durations.
+void LidarOdometry::Impl::AddMotionPrior(long id) {
+  const double dt_ab = ToSeconds(NodeAt(id - 1).stamp - NodeAt(id - 2).stamp);
+  const double dt_bc = ToSeconds(NodeAt(id).stamp - NodeAt(id - 1).stamp);
+  graph.Add(FactorKind::kMotionPrior, id, MakeConstantVelocityFactor(dt_ab, dt_bc, config.motion), nullptr,
+            {NodeAt(id - 2).pose.data(), NodeAt(id - 1).pose.data(), NodeAt(id).pose.data()});
 }
 
 // The preintegration over [from, to] at the biases of `bias`; an error when the samples do not cover the
@@ -164,10 +181,10 @@ void LidarOdometry::Impl::ApplyInertialAlignment(const InertialAlignment& alignm
     if (id == first_node_id) continue;
     Expected<ImuPreintegration> pre = Preintegrate(NodeAt(id - 1).stamp, node.stamp, node.speed_bias);
     if (!pre) continue;  // keeps its constant-velocity prior
-    node.imu_factor = std::make_unique<ImuFactor>(std::move(*pre));
-    node.motion_prior.reset();
+    graph.Remove(FactorKind::kMotionPrior, id);
+    AddImuFactor(id, std::make_unique<ImuFactor>(std::move(*pre)));
   }
-  prior.reset();  // a prior from before would live in the old frame
+  graph.DropPrior();  // a prior from before would live in the old frame
   map.Clear();
   for (ScanState& scan : window)
     if (scan.in_map) InsertIntoMap(scan);
@@ -201,7 +218,7 @@ void LidarOdometry::Impl::Reset() {
   nodes.clear();
   window.clear();
   first_node_id = 0;
-  prior.reset();
+  graph.Clear();
   map.Clear();
   inertial = false;
   last_init_failure.clear();

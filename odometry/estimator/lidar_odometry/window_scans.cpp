@@ -22,12 +22,15 @@ SweepPoses LidarOdometry::Impl::Sweep(const ScanState& scan) {
 // serial pass.
 void LidarOdometry::Impl::Associate(ScanState& scan) {
   const StageTimer timer(stats.associate_ms);
-  scan.residuals.clear();
+  graph.Remove(FactorKind::kLidar, scan.id);
+  scan.residuals = 0;
   const auto& points = scan.registration_points;
   const std::size_t n = points.size(), cap = static_cast<std::size_t>(config.max_residuals_per_scan);
   const std::size_t step = std::max<std::size_t>(1, n / cap);
   const bool single = scan.begin_node == scan.end_node;
   const SweepPoses sweep = Sweep(scan);
+  std::vector<double*> blocks = {NodeAt(scan.begin_node).pose.data()};
+  if (!single) blocks.push_back(NodeAt(scan.end_node).pose.data());
   if (scan.plane_cache.size() != n || scan.plane_cache_revision != map.revision()) {
     scan.plane_cache.assign(n, {});
     scan.plane_cache_revision = map.revision();
@@ -38,10 +41,10 @@ void LidarOdometry::Impl::Associate(ScanState& scan) {
     for (std::size_t i = offset; i < n; i += step) order.push_back(i);
   std::vector<char> usable(order.size(), 0);  // the point has a plane within max_plane_distance_m
   std::size_t next = 0;
-  while (next < order.size() && scan.residuals.size() < cap) {
+  while (next < order.size() && static_cast<std::size_t>(scan.residuals) < cap) {
     // A batch a little larger than the residuals still wanted; where fewer of its points find a plane (on
     // KITTI about a third do), the next batch goes on from there.
-    const std::size_t wanted = cap - scan.residuals.size();
+    const std::size_t wanted = cap - static_cast<std::size_t>(scan.residuals);
     const std::size_t end = std::min(order.size(), next + wanted + wanted / 4 + 64);
     tbb::parallel_for(tbb::blocked_range<std::size_t>(next, end, 64), [&](const auto& range) {
       for (std::size_t k = range.begin(); k < range.end(); ++k) {
@@ -60,18 +63,19 @@ void LidarOdometry::Impl::Associate(ScanState& scan) {
             plane && std::abs(plane->normal.dot(p_world - plane->point)) <= config.max_plane_distance_m;
       }
     });
-    for (; next < end && scan.residuals.size() < cap; ++next) {
+    for (; next < end && static_cast<std::size_t>(scan.residuals) < cap; ++next) {
       if (!usable[next]) continue;
       const PreparedPoint& p = points[order[next]];
       const Plane& plane = *scan.plane_cache[order[next]].plane;
-      Residual r;
+      std::unique_ptr<ceres::CostFunction> cost;
       if (single) {
-        r.cost = std::make_unique<PointToPlaneFactorSinglePose>(config.T_body_lidar * p.point_lidar, plane);
+        cost = std::make_unique<PointToPlaneFactorSinglePose>(config.T_body_lidar * p.point_lidar, plane);
       } else {
-        r.cost = std::make_unique<PointToPlaneFactor>(p.point_lidar, p.alpha, plane, config.T_body_lidar);
+        cost = std::make_unique<PointToPlaneFactor>(p.point_lidar, p.alpha, plane, config.T_body_lidar);
       }
-      r.loss = std::make_unique<ceres::HuberLoss>(config.huber_m / plane.sigma);
-      scan.residuals.push_back(std::move(r));
+      graph.Add(FactorKind::kLidar, scan.id, std::move(cost),
+                std::make_unique<ceres::HuberLoss>(config.huber_m / plane.sigma), blocks, /*anchors=*/true);
+      ++scan.residuals;
     }
   }
 }
@@ -121,7 +125,7 @@ void LidarOdometry::Impl::Release(ScanState& scan) {
 void LidarOdometry::Impl::PopOldest() {
   Release(window.front());
   const long keep_from = window.size() > 1 ? window[1].begin_node : LastNodeId() + 1;
-  if (config.marginalize && window.size() > 1) MarginalizeScan(window.front(), keep_from);
+  MarginalizeBefore(keep_from, window.front().stamp);
   window.pop_front();
   while (!nodes.empty() && first_node_id < keep_from) {
     nodes.pop_front();

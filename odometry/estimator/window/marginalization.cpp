@@ -7,36 +7,15 @@
 #include <unordered_map>
 
 #include "odometry/estimator/state/nav_state.h"
-#include "odometry/estimator/state/pose_manifold.h"
+#include "odometry/estimator/window/dense_least_squares.h"
 
 namespace uf::estimator {
 namespace {
-
-using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
 // Eigenvalues at or below this are treated as zero (see MarginalizationConfig).
 double TruncationThreshold(const MarginalizationConfig& config, const Eigen::VectorXd& eigenvalues) {
   const double largest = eigenvalues.size() > 0 ? std::max(0.0, eigenvalues.maxCoeff()) : 0.0;
   return std::max(config.eigenvalue_threshold, config.relative_eigenvalue_threshold * largest);
-}
-
-// Ceres' robust reweighting of one residual block (ceres::internal::Corrector), in place. `r` is the
-// unweighted residual, `J` its tangent Jacobian (all blocks side by side).
-void ApplyRobustLoss(const ceres::LossFunction& loss, Eigen::VectorXd& r, Eigen::MatrixXd& J) {
-  const double s = r.squaredNorm();
-  double rho[3];
-  loss.Evaluate(s, rho);
-  const double sqrt_rho1 = std::sqrt(std::max(rho[1], 0.0));
-  if (s == 0.0 || rho[2] <= 0.0 || rho[1] <= 0.0) {
-    r *= sqrt_rho1;
-    J *= sqrt_rho1;
-    return;
-  }
-  // alpha solves 1/2 alpha^2 - alpha - rho'' s / rho' = 0 (Triggs et al., "Bundle adjustment - a modern
-  // synthesis", section 4.3), the smaller root.
-  const double alpha = 1.0 - std::sqrt(1.0 + 2.0 * s * rho[2] / rho[1]);
-  J = sqrt_rho1 * (J - (alpha / s) * r * (r.transpose() * J));
-  r *= sqrt_rho1 / (1.0 - alpha);
 }
 
 }  // namespace
@@ -124,42 +103,26 @@ Expected<std::shared_ptr<MarginalizationPrior>> Marginalizer::Compute() const {
   if (kept_size == 0)
     return Status::Error("marginalization: no kept block (nothing for the prior to act on)");
 
-  // 2. Gauss-Newton system in the tangent: H = sum J^T J, b = -sum J^T r (robust-reweighted).
-  Eigen::MatrixXd H = Eigen::MatrixXd::Zero(total_size, total_size);
-  Eigen::VectorXd b = Eigen::VectorXd::Zero(total_size);
-  for (const ResidualBlock* residual : involved) {
-    const int rows = residual->cost->num_residuals();
-    const auto& sizes = residual->cost->parameter_block_sizes();
-    std::vector<RowMajorMatrix> ambient(sizes.size());
-    std::vector<double*> jacobians(sizes.size());
-    for (size_t i = 0; i < sizes.size(); ++i) {
-      ambient[i].setZero(rows, sizes[i]);
-      jacobians[i] = ambient[i].data();
+  // 2. Gauss-Newton system in the tangent, H = sum J^T J, b = -sum J^T r, robust-reweighted as the solver
+  //    does: the dense solver's linearization, with every involved block free in layout order.
+  DenseLeastSquares system;
+  for (const BlockLayout& block : layout) {
+    if (block.kind == BlockKind::kPose) {
+      system.AddPoseBlock(block.address);
+    } else {
+      system.AddEuclideanBlock(block.address, block.ambient_size);
     }
-    Eigen::VectorXd r(rows);
-    if (!residual->cost->Evaluate(residual->parameter_blocks.data(), r.data(), jacobians.data()) ||
-        !r.allFinite()) {
-      return Status::Error("marginalization: a residual block failed to evaluate at the linearisation point");
-    }
-    // Tangent Jacobian of the block, columns in the system's order (a block may appear once per residual).
-    Eigen::MatrixXd J = Eigen::MatrixXd::Zero(rows, total_size);
-    for (size_t i = 0; i < sizes.size(); ++i) {
-      double* block = residual->parameter_blocks[i];
-      const int offset = tangent_offset.at(block);
-      if (pose_blocks_.count(block) > 0) {
-        Eigen::Matrix<double, kPoseSize, kPoseTangentSize, Eigen::RowMajor> plus;
-        PoseManifold().PlusJacobian(block, plus.data());
-        J.middleCols(offset, kPoseTangentSize) += ambient[i] * plus;  // chain rule d r/d x * d x/d delta
-      } else {
-        J.middleCols(offset, sizes[i]) += ambient[i];
-      }
-    }
-    if (!J.allFinite()) return Status::Error("marginalization: a residual block has a non-finite Jacobian");
-    if (residual->loss != nullptr) ApplyRobustLoss(*residual->loss, r, J);
-    H.selfadjointView<Eigen::Lower>().rankUpdate(J.transpose());
-    b -= J.transpose() * r;
   }
-  H = H.selfadjointView<Eigen::Lower>();
+  for (const ResidualBlock* residual : involved)
+    system.AddResidualBlock(residual->cost, residual->loss, residual->parameter_blocks);
+  double cost = 0;
+  Eigen::MatrixXd H;
+  Eigen::VectorXd b;
+  if (!system.Linearize(&cost, &H, &b))
+    return Status::Error(
+        "marginalization: a residual block failed to evaluate at the linearisation point "
+        "(or gave non-finite values)");
+  b = -b;
 
   // 3. Schur complement onto the kept blocks, H_mm inverted by truncated eigen-decomposition.
   const int m = marginalized_size, k = kept_size;

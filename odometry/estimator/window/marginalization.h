@@ -23,8 +23,10 @@
 // Robust losses: residuals are reweighted exactly as Ceres' solver does (ceres::internal::Corrector, Triggs
 // et al.): with s = |r|^2 and rho'(s), rho''(s), r <- sqrt(rho')/(1 - alpha) r and
 // J <- sqrt(rho') (I - alpha r r^T / s) J, alpha = 1 - sqrt(1 + 2 s rho''/rho') when rho'' > 0, else alpha =
-// 0 (plain sqrt(rho') scaling, the case of Huber/Cauchy). The prior thus carries the same information that
-// the solver used at the linearisation point.
+// 0 (plain sqrt(rho') scaling, the case of Huber/Cauchy). The system is built by the window's dense solver
+// (DenseLeastSquares::Linearize, every involved block free), so the prior carries exactly the information
+// that the solver used at the linearisation point, from one implementation of the reweighting and of the
+// tangent Jacobians.
 #pragma once
 
 #include <ceres/cost_function.h>

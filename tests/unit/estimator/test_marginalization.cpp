@@ -22,29 +22,8 @@ namespace uf::estimator {
 namespace {
 
 using testing::EvaluateDense;
+using testing::LinearFactor;
 using testing::RowMajorMatrix;
-
-// r = (sum_i A_i x_i - z) / sigma on Euclidean blocks.
-class LinearFactor : public ceres::CostFunction {
- public:
-  LinearFactor(std::vector<Eigen::MatrixXd> A, Eigen::VectorXd z, double sigma)
-      : A_(std::move(A)), z_(std::move(z)), sigma_(sigma) {
-    set_num_residuals(static_cast<int>(z_.size()));
-    for (const auto& a : A_) mutable_parameter_block_sizes()->push_back(static_cast<int>(a.cols()));
-  }
-  bool Evaluate(double const* const* x, double* residuals, double** jacobians) const override {
-    Eigen::VectorXd r = -z_;
-    for (size_t i = 0; i < A_.size(); ++i) r += A_[i] * Eigen::Map<const Eigen::VectorXd>(x[i], A_[i].cols());
-    Eigen::Map<Eigen::VectorXd>(residuals, r.size()) = r / sigma_;
-    for (size_t i = 0; jacobians != nullptr && i < A_.size(); ++i) {
-      if (jacobians[i]) Eigen::Map<RowMajorMatrix>(jacobians[i], A_[i].rows(), A_[i].cols()) = A_[i] / sigma_;
-    }
-    return true;
-  }
-  std::vector<Eigen::MatrixXd> A_;
-  Eigen::VectorXd z_;
-  double sigma_;
-};
 
 // One linear 3-D chain: states x0..x4, a prior on x0, relative measurements, absolute ones on x2, x4 and a
 // loop x0-x2 (so marginalizing x0 creates fill-in between x1 and x2).

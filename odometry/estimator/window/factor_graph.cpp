@@ -1,0 +1,197 @@
+#include "odometry/estimator/window/factor_graph.h"
+
+#include <ceres/problem.h>
+#include <ceres/solver.h>
+
+#include <algorithm>
+#include <cassert>
+#include <unordered_set>
+
+#include "odometry/estimator/state/nav_state.h"
+#include "odometry/estimator/window/dense_least_squares.h"
+#include "odometry/estimator/window/marginalization.h"
+
+namespace uf::estimator {
+namespace {
+
+bool Touches(const std::vector<double*>& blocks, const std::unordered_set<const double*>& set) {
+  return std::any_of(blocks.begin(), blocks.end(), [&](const double* b) { return set.count(b) > 0; });
+}
+
+}  // namespace
+
+const char* FactorKindName(FactorKind kind) {
+  switch (kind) {
+    case FactorKind::kMotionPrior:
+      return "motion_prior";
+    case FactorKind::kImu:
+      return "imu";
+    case FactorKind::kWheel:
+      return "wheel";
+    case FactorKind::kGnss:
+      return "gnss";
+    case FactorKind::kLidar:
+      return "lidar";
+  }
+  return "?";
+}
+
+void FactorGraph::AddPoseBlock(double* block) { blocks_[block] = {kPoseSize, true}; }
+
+void FactorGraph::AddEuclideanBlock(double* block, int size) {
+  assert(size > 0);
+  blocks_[block] = {size, false};
+}
+
+bool FactorGraph::IsPoseBlock(const double* block) const {
+  const auto it = blocks_.find(block);
+  return it != blocks_.end() && it->second.pose;
+}
+
+void FactorGraph::RemoveBlocks(const std::vector<double*>& blocks) {
+  const std::unordered_set<const double*> gone(blocks.begin(), blocks.end());
+  for (std::vector<Factor>& kind : entries_)
+    kind.erase(
+        std::remove_if(kind.begin(), kind.end(), [&](const Factor& f) { return Touches(f.blocks, gone); }),
+        kind.end());
+  for (const double* block : blocks) blocks_.erase(block);
+}
+
+void FactorGraph::Add(Factor factor) {
+  assert(factor.cost && factor.blocks.size() == factor.cost->parameter_block_sizes().size());
+  for ([[maybe_unused]] const double* block : factor.blocks) assert(blocks_.count(block));
+  entries_[static_cast<int>(factor.kind)].push_back(std::move(factor));
+}
+
+void FactorGraph::Add(FactorKind kind, long tag, std::unique_ptr<ceres::CostFunction> cost,
+                      std::unique_ptr<ceres::LossFunction> loss, std::vector<double*> blocks, bool anchors) {
+  Add(Factor{kind, tag, std::move(cost), std::move(loss), std::move(blocks), anchors});
+}
+
+void FactorGraph::Remove(FactorKind kind, long tag) {
+  std::vector<Factor>& list = Entries(kind);
+  list.erase(std::remove_if(list.begin(), list.end(), [&](const Factor& f) { return f.tag == tag; }),
+             list.end());
+}
+
+int FactorGraph::Count(FactorKind kind, long tag) const {
+  const std::vector<Factor>& list = Entries(kind);
+  return static_cast<int>(
+      std::count_if(list.begin(), list.end(), [&](const Factor& f) { return f.tag == tag; }));
+}
+
+void FactorGraph::Clear() {
+  blocks_.clear();
+  for (std::vector<Factor>& kind : entries_) kind.clear();
+  prior_.reset();
+}
+
+// The entries a solve uses, in solve order: those passing request.use and touching a free block, then the
+// prior (when asked for and present).
+template <typename Visit>
+void FactorGraph::ForEachUsed(const WindowSolveRequest& request, Visit&& visit) {
+  const std::unordered_set<const double*> free(request.free.begin(), request.free.end());
+  for (const std::vector<Factor>& kind : entries_)
+    for (const Factor& f : kind)
+      if ((!request.use || request.use(f)) && Touches(f.blocks, free))
+        visit(f.cost.get(), f.loss.get(), f.blocks);
+  if (request.use_prior && prior_) visit(prior_.get(), nullptr, prior_->prior().ParameterBlocks());
+}
+
+// Dense: the window's few hundred tangent dimensions fit one dense normal-equation system, built straight
+// from the residual blocks (dense_least_squares.h). Ceres: sparse Cholesky, for windows far larger.
+WindowSolveResult FactorGraph::Solve(const WindowSolveRequest& request) {
+  WindowSolveResult result;
+  if (request.solver == WindowSolver::kDense) {
+    DenseLeastSquares problem;
+    for (double* block : request.free) {
+      const BlockInfo& info = blocks_.at(block);
+      if (info.pose) {
+        problem.AddPoseBlock(block);
+      } else {
+        problem.AddEuclideanBlock(block, info.size);
+      }
+    }
+    ForEachUsed(request,
+                [&](const ceres::CostFunction* cost, const ceres::LossFunction* loss,
+                    const std::vector<double*>& blocks) { problem.AddResidualBlock(cost, loss, blocks); });
+    DenseSolverOptions options;
+    options.max_iterations = request.max_iterations;
+    options.max_time_s = request.max_time_s;
+    const DenseSolverSummary summary = problem.Solve(options);
+    result.iterations = summary.iterations;
+    result.usable = summary.usable;
+    return result;
+  }
+  ceres::Problem::Options problem_options;
+  problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
+  problem_options.enable_fast_removal = false;
+  ceres::Problem problem(problem_options);
+  const std::unordered_set<const double*> free(request.free.begin(), request.free.end());
+  ForEachUsed(request, [&](const ceres::CostFunction* cost, const ceres::LossFunction* loss,
+                           const std::vector<double*>& blocks) {
+    for (double* block : blocks) {
+      if (problem.HasParameterBlock(block)) continue;
+      const BlockInfo& info = blocks_.at(block);
+      problem.AddParameterBlock(block, info.size, info.pose ? &manifold_ : nullptr);
+      if (!free.count(block)) problem.SetParameterBlockConstant(block);
+    }
+    problem.AddResidualBlock(const_cast<ceres::CostFunction*>(cost), const_cast<ceres::LossFunction*>(loss),
+                             blocks);
+  });
+  ceres::Solver::Options options;
+  options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;  // J^T J block-banded
+  options.max_num_iterations = request.max_iterations;
+  options.max_solver_time_in_seconds = request.max_time_s;
+  options.num_threads = 1;
+  options.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(options, &problem, &summary);
+  result.iterations = static_cast<int>(summary.iterations.size());
+  result.usable = summary.termination_type != ceres::FAILURE;
+  return result;
+}
+
+Status FactorGraph::Marginalize(const std::vector<double*>& leaving, const MarginalizationConfig& config) {
+  const std::unordered_set<const double*> gone(leaving.begin(), leaving.end());
+  Marginalizer marginalizer(config);
+  std::unordered_set<const double*> touched;  // leaving blocks some folded entry acts on
+  bool anchored = false, any = false;
+  for (const auto& [block, info] : blocks_)
+    if (info.pose) marginalizer.SetPoseBlock(const_cast<double*>(block));
+  for (const std::vector<Factor>& kind : entries_)
+    for (const Factor& f : kind) {
+      if (!Touches(f.blocks, gone)) continue;
+      marginalizer.AddResidualBlock(f.cost.get(), f.loss.get(), f.blocks);
+      for (const double* b : f.blocks)
+        if (gone.count(b)) touched.insert(b);
+      anchored |= f.anchors;
+      any = true;
+    }
+  const bool prior_leaves = prior_ && Touches(prior_->prior().ParameterBlocks(), gone);
+  if (prior_leaves) {
+    marginalizer.AddPrior(prior_.get());
+    for (const double* b : prior_->prior().ParameterBlocks())
+      if (gone.count(b)) touched.insert(b);
+  }
+  // A prior that does not touch the leaving blocks stays as it is (the entries are then dropped): the
+  // window's own driver never gets there, since its prior always sits on the oldest kept states.
+  Status status;
+  if (prior_leaves || (!prior_ && any && anchored)) {
+    for (double* block : leaving)
+      if (touched.count(block)) marginalizer.MarginalizeBlock(block);
+    Expected<std::shared_ptr<MarginalizationPrior>> computed = marginalizer.Compute();
+    if (computed) {
+      prior_ = std::make_unique<MarginalizationFactor>(*computed);
+    } else {
+      prior_.reset();
+      status = computed.status();
+    }
+  }
+  RemoveBlocks(leaving);
+  return status;
+}
+
+}  // namespace uf::estimator

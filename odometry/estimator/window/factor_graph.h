@@ -1,0 +1,110 @@
+// The sliding window's factor graph, the same for every sensor (docs/METHOD.md "Sliding window and solve";
+// paper Sec. III-B): parameter blocks (poses on PoseManifold; Euclidean blocks: speed and biases,
+// calibration) and factor entries {kind, tag, cost, loss, blocks} that each modality's provider adds.
+// Assembling a solve (dense Levenberg-Marquardt or Ceres), and folding leaving states into the
+// marginalization prior, are generic over the entries: a new kind of factor is its cost function, its
+// provider, and one line in FactorKind.
+//
+// Blocks live in the caller's storage at fixed addresses (the window's nodes); the graph only records how
+// each block moves. Entries own their cost and loss. Solves visit the entries kind by kind in FactorKind
+// order, within a kind in insertion order, then the prior: the order in which the dense solver sums them,
+// so results do not depend on anything but the calls made.
+#pragma once
+
+#include <ceres/cost_function.h>
+#include <ceres/loss_function.h>
+
+#include <array>
+#include <functional>
+#include <memory>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "odometry/estimator/config/marginalization_config.h"
+#include "odometry/estimator/state/pose_manifold.h"
+#include "odometry/estimator/window/marginalization_factor.h"
+#include "odometry/types/status.h"
+
+namespace uf::estimator {
+
+// Solve order. Adding a kind: one line here and its name in factor_graph.cpp.
+enum class FactorKind { kMotionPrior, kImu, kWheel, kGnss, kLidar };
+constexpr int kFactorKinds = 5;
+const char* FactorKindName(FactorKind kind);
+
+struct Factor {
+  FactorKind kind = FactorKind::kMotionPrior;
+  long tag = 0;  // the provider's key (the node a motion factor ends at, a scan's id): see Remove
+  std::unique_ptr<ceres::CostFunction> cost;
+  std::unique_ptr<ceres::LossFunction> loss;  // null: plain least squares
+  std::vector<double*> blocks;                // in the cost function's parameter order
+  // Ties the states to something outside the window's own motion (the map, the Earth). Motion factors (IMU,
+  // wheel, constant velocity) do not: a prior made only of them would leave the window's gauge free.
+  bool anchors = false;
+};
+
+enum class WindowSolver { kDense, kCeres };
+
+struct WindowSolveRequest {
+  std::vector<double*> free;  // the blocks the solve moves, in tangent order; every other block is constant
+  // Which entries take part (default: all). Only entries touching a free block are added to the problem.
+  std::function<bool(const Factor&)> use;
+  bool use_prior = true;
+  WindowSolver solver = WindowSolver::kDense;
+  int max_iterations = 8;
+  double max_time_s = 0.04;
+};
+
+struct WindowSolveResult {
+  int iterations = 0;   // as Ceres' summary.iterations.size()
+  bool usable = false;  // false: the solver failed (values may have moved; the caller restores them)
+};
+
+class FactorGraph {
+ public:
+  void AddPoseBlock(double* block);  // 7 ambient {t, q}, PoseManifold
+  void AddEuclideanBlock(double* block, int size);
+  // Forgets blocks and removes every entry touching one of them (not the prior: see Marginalize).
+  void RemoveBlocks(const std::vector<double*>& blocks);
+  bool IsPoseBlock(const double* block) const;
+
+  void Add(Factor factor);
+  void Add(FactorKind kind, long tag, std::unique_ptr<ceres::CostFunction> cost,
+           std::unique_ptr<ceres::LossFunction> loss, std::vector<double*> blocks, bool anchors = false);
+  // Removes the entries of `kind` with `tag`.
+  void Remove(FactorKind kind, long tag);
+  std::vector<Factor>& Entries(FactorKind kind) { return entries_[static_cast<int>(kind)]; }
+  const std::vector<Factor>& Entries(FactorKind kind) const { return entries_[static_cast<int>(kind)]; }
+  int Count(FactorKind kind, long tag) const;
+  // Everything: blocks, entries and the prior (a re-initialization).
+  void Clear();
+
+  const MarginalizationFactor* prior() const { return prior_.get(); }
+  void DropPrior() { prior_.reset(); }
+
+  WindowSolveResult Solve(const WindowSolveRequest& request);
+
+  // Folds the blocks of `leaving` into the prior: the entries touching any of them and the previous prior
+  // (when it touches one) are linearized at the current values and Schur-complemented onto the blocks they
+  // connect to (window/marginalization.h); those entries are removed, the new prior replaces the old one,
+  // and the leaving blocks are forgotten. Without an anchoring entry or a previous prior among them nothing
+  // would pin the kept states, so the entries are dropped and no prior is made. A failed computation drops
+  // the prior (the caller then holds its oldest state constant) and returns the reason.
+  Status Marginalize(const std::vector<double*>& leaving, const MarginalizationConfig& config);
+
+ private:
+  struct BlockInfo {
+    int size = 0;
+    bool pose = false;
+  };
+  template <typename Visit>
+  void ForEachUsed(const WindowSolveRequest& request, Visit&& visit);
+
+  std::unordered_map<const double*, BlockInfo> blocks_;
+  std::array<std::vector<Factor>, kFactorKinds> entries_;
+  std::unique_ptr<MarginalizationFactor> prior_;
+  PoseManifold manifold_;
+};
+
+}  // namespace uf::estimator
