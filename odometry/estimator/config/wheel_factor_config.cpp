@@ -1,0 +1,32 @@
+#include "odometry/estimator/config/wheel_factor_config.h"
+
+#include <cmath>
+
+#include "odometry/estimator/config/field_rules.h"
+
+namespace uf::estimator {
+namespace {
+
+template <typename T>
+Status Bad(const char* field, const char* rule, T value) {
+  return FieldMustBe("lio.wheel", field, rule, value);
+}
+
+}  // namespace
+
+Status WheelFactorConfig::Validate() const {
+  // Zero densities would make the information infinite (a singular covariance).
+  if (!Positive(forward_velocity_density))
+    return Bad("forward_velocity_density", "finite and > 0", forward_velocity_density);
+  if (!Positive(yaw_rate_density)) return Bad("yaw_rate_density", "finite and > 0", yaw_rate_density);
+  if (!Positive(nonholonomic_velocity_density))
+    return Bad("nonholonomic_velocity_density", "finite and > 0", nonholonomic_velocity_density);
+  if (!Positive(roll_pitch_rate_density))
+    return Bad("roll_pitch_rate_density", "finite and > 0", roll_pitch_rate_density);
+  if (!Positive(max_gap_s)) return Bad("max_gap_s", "finite and > 0", max_gap_s);
+  if (!(std::abs(time_offset_s) <= 1.0)) return Bad("time_offset_s", "in [-1, 1]", time_offset_s);
+  if (!Positive(scale_prior_sigma)) return Bad("scale_prior_sigma", "finite and > 0", scale_prior_sigma);
+  return {};
+}
+
+}  // namespace uf::estimator

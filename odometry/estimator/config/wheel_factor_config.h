@@ -1,0 +1,60 @@
+// Configuration of the wheel odometry preintegration and factor (preintegration/wheel_preintegration.h,
+// factors/wheel_factor.h): the noise model of the wheel twist, the gaps and time offset of the wheel stream,
+// and the wheel scale. The extrinsic T_imu_wheel is not here: it comes from the calibration (the wheel
+// stream's T_body_sensor), like every extrinsic.
+//
+// Densities are continuous-time white noise on the twist (as the IMU's, imu_noise_params.h): over a step of
+// dt seconds a density sigma becomes a variance sigma^2 / dt, so over an interval of T seconds the integrated
+// error has the standard deviation sigma sqrt(T) (m for the velocities, rad for the rates).
+//
+// Non-holonomic model: a ground vehicle's base frame (x forward, y left, z up) moves along its x axis and
+// turns about its z axis; its lateral and vertical velocity and its roll and pitch rates are close to zero
+// but not zero (tyre side slip, suspension, a mount away from the rear axle, bumps). Readers of
+// nav_msgs/Odometry deliver the full twist, and the simulator (sim/wheel_model.h) (v_x, 0, 0) and (0, 0,
+// w_z): either way those four components are taken as measured with the soft densities below, so that only
+// the forward distance and the yaw are constrained firmly.
+#pragma once
+
+#include "odometry/types/status.h"
+
+namespace uf::estimator {
+
+struct WheelFactorConfig {
+  // Forward speed (v_x). Encoder counts integrate without drift, so this covers what they do not see: tyre
+  // deformation, uneven ground and small slip. 0.05 gives 5 cm over 1 s, ~0.6 % of the distance at 8 m/s;
+  // the slow error of the wheel radius is the scale's, not this noise's.
+  double forward_velocity_density = 0.05;  // m/s/sqrt(Hz)
+  // Yaw rate (w_z). A differential drive's yaw depends on the effective baseline, which the tyres' contact
+  // patches and any skid change: less precise than the forward speed. 0.01 gives 0.6 degrees over 1 s (a
+  // MEMS gyro is ~10x better, so with an IMU the yaw comes mostly from the IMU).
+  double yaw_rate_density = 0.01;  // rad/s/sqrt(Hz)
+  // Lateral and vertical velocity (v_y, v_z), soft non-holonomic constraint: 0.2 = 4x the forward density,
+  // 20 cm over 1 s, which holds side slip in ordinary turns and the suspension's travel without fighting a
+  // LiDAR or IMU that sees them.
+  double nonholonomic_velocity_density = 0.2;  // m/s/sqrt(Hz)
+  // Roll and pitch rates (w_x, w_y), soft: 0.1 = 10x the yaw density, 5.7 degrees over 1 s; body roll in
+  // turns and pitch over bumps and grades are real, and the IMU observes them far better.
+  double roll_pitch_rate_density = 0.1;  // rad/s/sqrt(Hz)
+
+  // A step between consecutive wheel samples longer than this inside an interval (the samples that bracket
+  // its ends included) is a gap: the preintegration fails rather than interpolate linearly across it. 0.2 s
+  // is two periods of a 10 Hz odometry (one dropped message), or nine dropped samples at 50 Hz.
+  double max_gap_s = 0.2;  // s
+  // Added to the wheel stamps to put them on the estimator's clock: t = stamp + time_offset_s. Fixed (not
+  // estimated); 0 when the dataset's per-stream offset (dataset.time_offsets_s) already aligns the streams.
+  double time_offset_s = 0.0;  // s, |.| <= 1
+
+  // The wheel scale s multiplies the reported linear velocity (wrong wheel radius, tyre pressure, load).
+  // Estimated by default, as one parameter block shared by the wheel factors; with false the caller holds
+  // the block constant at 1.
+  bool estimate_scale = true;
+  // The scale block's prior, (s - 1) / scale_prior_sigma (relative): 0.05 allows the few percent a tyre's
+  // rolling radius differs from its nominal value, and keeps s near 1 while the motion does not observe it
+  // (standing still).
+  double scale_prior_sigma = 0.05;
+
+  // Ok, or the first bad field with its value ("lio.wheel.<field>: must be ..., got ...").
+  Status Validate() const;
+};
+
+}  // namespace uf::estimator
