@@ -8,15 +8,18 @@ DatasetSensors FindSensors(const DatasetDescription& description) {
     const SensorKind kind = description.streams[s].kind;
     if (kind == SensorKind::kLidar && sensors.lidar < 0) sensors.lidar = static_cast<int>(s);
     if (kind == SensorKind::kImu && sensors.imu < 0) sensors.imu = static_cast<int>(s);
+    if (kind == SensorKind::kWheel && sensors.wheel < 0) sensors.wheel = static_cast<int>(s);
     if (kind == SensorKind::kGnss && sensors.gnss < 0) sensors.gnss = static_cast<int>(s);
   }
-  if (sensors.lidar >= 0) sensors.T_imu_lidar = ImuFromLidar(description, sensors.lidar);
+  if (sensors.lidar >= 0) sensors.T_imu_lidar = ImuFromSensor(description, sensors.lidar);
+  if (sensors.wheel >= 0) sensors.T_imu_wheel = ImuFromSensor(description, sensors.wheel);
+  if (sensors.gnss >= 0) sensors.T_imu_gnss = ImuFromSensor(description, sensors.gnss);
   return sensors;
 }
 
-std::optional<SE3> ImuFromLidar(const DatasetDescription& description, int lidar_stream) {
-  const StreamInfo& lidar = description.streams.at(static_cast<std::size_t>(lidar_stream));
-  if (!lidar.T_body_sensor) return std::nullopt;
+std::optional<SE3> ImuFromSensor(const DatasetDescription& description, int stream) {
+  const StreamInfo& sensor = description.streams.at(static_cast<std::size_t>(stream));
+  if (!sensor.T_body_sensor) return std::nullopt;
   SE3 T_body_imu;  // identity: the body is the IMU unless the IMU stream says otherwise
   for (const StreamInfo& stream : description.streams) {
     if (stream.kind == SensorKind::kImu && stream.T_body_sensor) {
@@ -24,8 +27,8 @@ std::optional<SE3> ImuFromLidar(const DatasetDescription& description, int lidar
       break;
     }
   }
-  // p_imu = T_body_imu^-1 * p_body = T_body_imu^-1 * T_body_lidar * p_lidar
-  return T_body_imu.inverse() * *lidar.T_body_sensor;
+  // p_imu = T_body_imu^-1 * p_body = T_body_imu^-1 * T_body_sensor * p_sensor
+  return T_body_imu.inverse() * *sensor.T_body_sensor;
 }
 
 }  // namespace uf

@@ -10,17 +10,17 @@
 
 namespace uf {
 
-// The first LiDAR, IMU and GNSS streams (-1: none) and T_imu_lidar (ImuFromLidar of that LiDAR).
+// The first LiDAR, IMU, wheel and GNSS streams (-1: none) and their extrinsics to the IMU (ImuFromSensor).
 struct DatasetSensors {
-  int lidar = -1, imu = -1, gnss = -1;
-  std::optional<SE3> T_imu_lidar;
+  int lidar = -1, imu = -1, wheel = -1, gnss = -1;
+  std::optional<SE3> T_imu_lidar, T_imu_wheel, T_imu_gnss;
 };
 
 DatasetSensors FindSensors(const DatasetDescription& description);
 
-// T_imu_lidar (p_imu = T_imu_lidar * p_lidar): the LiDAR stream's T_body_sensor composed with the inverse of
-// the first IMU stream's (identity when the IMU has none, the body then being the IMU). Empty when the LiDAR
+// T_imu_sensor (p_imu = T_imu_sensor * p_sensor): the stream's T_body_sensor composed with the inverse of
+// the first IMU stream's (identity when the IMU has none, the body then being the IMU). Empty when the
 // stream carries no T_body_sensor.
-std::optional<SE3> ImuFromLidar(const DatasetDescription& description, int lidar_stream);
+std::optional<SE3> ImuFromSensor(const DatasetDescription& description, int stream);
 
 }  // namespace uf

@@ -37,6 +37,8 @@ Status LidarOdometryConfig::Validate() const {
   if (!Positive(max_correction_rad)) return Bad("max_correction_rad", "> 0", max_correction_rad);
   if (min_points < 6) return Bad("min_points", ">= 6", min_points);
   if (Status s = marginalization.Validate(); !s.ok()) return Status::Error("lo." + s.message());
+  if (use_wheel)
+    if (Status s = wheel.Validate(); !s.ok()) return s;
   if (!use_imu) return {};
   if (Status s = ValidateImuNoiseParams(imu); !s.ok()) return Status::Error("lio." + s.message());
   if (Status s = init.Validate(); !s.ok()) return s;

@@ -8,6 +8,7 @@
 #include "odometry/estimator/config/inertial_init_config.h"
 #include "odometry/estimator/config/marginalization_config.h"
 #include "odometry/estimator/config/voxel_map_config.h"
+#include "odometry/estimator/config/wheel_factor_config.h"
 #include "odometry/types/se3.h"
 #include "odometry/types/status.h"
 
@@ -46,6 +47,12 @@ struct LidarOdometryConfig {
                                 //   constant-velocity prior and a warning
   double imu_max_wait_s = 0.5;  // a scan waits this long (stream time) for the IMU to cover its end
   double max_speed_mps = 80;    // a faster state is divergence: logged re-initialization
+
+  // Wheel odometry factors between consecutive nodes (LWIO; providers/wheel_provider.h). A scan then also
+  // waits (at most imu_max_wait_s of stream time) for the wheel samples to cover its end.
+  bool use_wheel = false;
+  WheelFactorConfig wheel;
+  SE3 T_body_wheel;  // the wheel (base) frame in the body frame, from the calibration like T_body_lidar
 
   Status Validate() const;
 };

@@ -48,7 +48,7 @@ bool AllFinite(const std::deque<Node>& nodes) {
 Status LidarOdometry::Impl::AddScan(const LidarScan& input) {
   if (input.end < input.stamp)
     return Status::Error("lidar scan at " + StampText(input.stamp) + ": end before stamp");
-  if (!config.use_imu) {
+  if (!config.use_imu && !config.use_wheel) {
     ProcessScan(input);
     return {};
   }
@@ -57,12 +57,14 @@ Status LidarOdometry::Impl::AddScan(const LidarScan& input) {
   return {};
 }
 
-// LIO: a scan is processed once the IMU covers its end, or once a scan more than imu_max_wait_s newer is
-// waiting (the IMU stalled: the scan goes ahead and the gap is bridged), or at the end of the data.
+// LIO (or with wheel factors): a scan is processed once the IMU (and the wheel) cover its end, or once a
+// scan more than imu_max_wait_s newer is waiting (a stream stalled: the scan goes ahead, the gap is
+// bridged), or at the end of the data.
 void LidarOdometry::Impl::ProcessReady(bool flush) {
   while (!pending.empty()) {
     const LidarScan& scan = pending.front();
-    const bool covered = !imu.empty() && imu.back().stamp >= scan.end;
+    const bool covered = (!config.use_imu || (!imu.empty() && imu.back().stamp >= scan.end)) &&
+                         (!wheel || wheel->CoveredUntil() >= scan.end);
     const bool stalled = pending.back().stamp - scan.end > FromSeconds(config.imu_max_wait_s);
     if (!flush && !covered && !stalled) return;
     ProcessScan(scan);
@@ -195,6 +197,11 @@ Expected<LidarOdometry> LidarOdometry::Create(const LidarOdometryConfig& config)
 
 Status LidarOdometry::AddScan(const LidarScan& scan) { return impl_->AddScan(scan); }
 
+Status LidarOdometry::AddWheel(const WheelSample& sample) {
+  if (!impl_->wheel) return {};
+  return impl_->AddWheel(sample);
+}
+
 Status LidarOdometry::AddImu(const ImuSample& sample) {
   if (!impl_->config.use_imu) return {};
   return impl_->AddImu(sample);
@@ -232,5 +239,14 @@ const std::vector<std::string>& LidarOdometry::warnings() const { return impl_->
 const OdometryStats& LidarOdometry::last_stats() const { return impl_->stats; }
 bool LidarOdometry::inertial() const { return impl_->inertial; }
 const std::string& LidarOdometry::initialization() const { return impl_->init_summary; }
+
+SensorFactorStats LidarOdometry::sensor_factors() const {
+  SensorFactorStats stats;
+  if (const WheelProvider* wheel = impl_->wheel.get()) {
+    stats.wheel = {wheel->factors_added(), wheel->factors_skipped()};
+    stats.wheel_scale = wheel->scale();
+  }
+  return stats;
+}
 
 }  // namespace uf::estimator

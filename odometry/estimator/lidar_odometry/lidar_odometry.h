@@ -61,6 +61,16 @@ struct OdometryStats {
   double prepare_ms = 0, associate_ms = 0, register_ms = 0, window_ms = 0, map_ms = 0, marginalize_ms = 0;
 };
 
+// What the optional factors did over the run so far: factors added, and skipped (no data over the interval,
+// or rejected by an integrity check).
+struct FactorCount {
+  int added = 0, skipped = 0;
+};
+struct SensorFactorStats {
+  FactorCount wheel;
+  double wheel_scale = 1;  // the estimated wheel scale (1 without wheel factors or with it fixed)
+};
+
 class LidarOdometry {
  public:
   static Expected<LidarOdometry> Create(const LidarOdometryConfig& config);
@@ -76,6 +86,9 @@ class LidarOdometry {
   // Feeds one IMU sample (LIO; ignored in LO). Non-finite or not-increasing samples are skipped with a
   // warning.
   Status AddImu(const ImuSample& sample);
+  // Feeds one wheel odometry sample (config.use_wheel; ignored otherwise). Non-finite or not-increasing
+  // samples are skipped with a warning; a node interval the samples do not cover gets no wheel factor.
+  Status AddWheel(const WheelSample& sample);
   // Keyframes whose state has left the window (final) since the last call: stamp = the scan's middle
   // (stamp + (end - stamp) / 2), T_world_body = pose at that time, scan_world = deskewed points (world),
   // scan_intensity, velocity from the estimate.
@@ -88,6 +101,7 @@ class LidarOdometry {
   const OdometryStats& last_stats() const;    // of the last processed scan
   bool inertial() const;                      // LIO initialized (IMU factors active)
   const std::string& initialization() const;  // how LIO initialized ("static at 0.9 s ..."), or empty
+  SensorFactorStats sensor_factors() const;
 
  private:
   struct Impl;

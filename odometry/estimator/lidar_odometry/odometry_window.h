@@ -21,6 +21,7 @@
 #include "odometry/estimator/lidar_odometry/lidar_odometry.h"
 #include "odometry/estimator/lidar_odometry/scan_preparation.h"
 #include "odometry/estimator/lidar_odometry/sweep_poses.h"
+#include "odometry/estimator/providers/wheel_provider.h"
 #include "odometry/estimator/state/nav_state.h"
 #include "odometry/estimator/state/pose_manifold.h"
 #include "odometry/estimator/window/factor_graph.h"
@@ -82,7 +83,12 @@ class StageTimer {
 };
 
 struct LidarOdometry::Impl {
-  explicit Impl(const LidarOdometryConfig& c) : config(c), map(c.map) {}
+  explicit Impl(const LidarOdometryConfig& c) : config(c), map(c.map) {
+    if (config.use_wheel) {
+      wheel = std::make_unique<WheelProvider>(config.wheel, config.T_body_wheel);
+      wheel->Attach(graph);
+    }
+  }
 
   LidarOdometryConfig config;
   VoxelHashMap map;
@@ -100,9 +106,11 @@ struct LidarOdometry::Impl {
   Stamp last_stamp = 0, last_end = 0;
   // LIO.
   std::vector<ImuSample> imu;     // time-ordered, from before the oldest node on
-  std::deque<LidarScan> pending;  // scans waiting for the IMU to cover their end
+  std::deque<LidarScan> pending;  // scans waiting for the IMU (and the wheel) to cover their end
   bool inertial = false;          // initialized: IMU factors active
   std::string init_summary, last_init_failure;
+  // Optional factors.
+  std::unique_ptr<WheelProvider> wheel;
 
   // Nodes (window_nodes.cpp).
   Node& NodeAt(long id) { return nodes[static_cast<std::size_t>(id - first_node_id)]; }
@@ -113,9 +121,11 @@ struct LidarOdometry::Impl {
   long AddNode(Stamp stamp);
   void AddImuFactor(long id, std::unique_ptr<ImuFactor> factor);
   void AddMotionPrior(long id);
+  void LinkWheel(long id);
+  Status AddWheel(const WheelSample& sample);
   Expected<ImuPreintegration> Preintegrate(Stamp from, Stamp to, const SpeedBiasArray& bias) const;
   Status AddImu(const ImuSample& sample);
-  void TrimImu();
+  void TrimStreams();
   void TryInitializeInertial();
   void ApplyInertialAlignment(const InertialAlignment& alignment);
   bool Diverged(std::string* why);

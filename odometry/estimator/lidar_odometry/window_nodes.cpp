@@ -60,7 +60,23 @@ long LidarOdometry::Impl::AddNode(Stamp stamp) {
   } else if (nodes.size() >= 3) {
     AddMotionPrior(id);
   }
+  if (wheel && nodes.size() >= 2) LinkWheel(id);
   return id;
+}
+
+// The wheel factor between nodes id - 1 and id; without wheel samples over the interval the nodes go on
+// without it (a warning).
+void LidarOdometry::Impl::LinkWheel(long id) {
+  if (Status s = wheel->Link(graph, id, NodeAt(id - 1).pose.data(), NodeAt(id).pose.data(),
+                             NodeAt(id - 1).stamp, NodeAt(id).stamp);
+      !s.ok())
+    warnings.push_back("wheel factor at " + StampText(NodeAt(id).stamp) + " skipped: " + s.message());
+}
+
+Status LidarOdometry::Impl::AddWheel(const WheelSample& sample) {
+  if (std::optional<std::string> skipped = wheel->Add(sample)) warnings.push_back(*skipped);
+  ProcessReady(/*flush=*/false);
+  return {};
 }
 
 void LidarOdometry::Impl::AddImuFactor(long id, std::unique_ptr<ImuFactor> factor) {
@@ -114,9 +130,11 @@ Status LidarOdometry::Impl::AddImu(const ImuSample& sample) {
   return {};
 }
 
-// Drops IMU samples no node interval needs any more (keeps one before the oldest node).
-void LidarOdometry::Impl::TrimImu() {
-  if (nodes.empty() || imu.size() < 2) return;
+// Drops IMU (and wheel) samples no node interval needs any more (keeps one before the oldest node).
+void LidarOdometry::Impl::TrimStreams() {
+  if (nodes.empty()) return;
+  if (wheel) wheel->Trim(nodes.front().stamp);
+  if (imu.size() < 2) return;
   const Stamp oldest = nodes.front().stamp;
   auto keep = std::lower_bound(imu.begin(), imu.end(), oldest,
                                [](const ImuSample& s, Stamp t) { return s.stamp < t; });
@@ -219,6 +237,7 @@ void LidarOdometry::Impl::Reset() {
   window.clear();
   first_node_id = 0;
   graph.Clear();
+  if (wheel) wheel->Attach(graph);
   map.Clear();
   inertial = false;
   last_init_failure.clear();

@@ -131,7 +131,7 @@ void LidarOdometry::Impl::PopOldest() {
     nodes.pop_front();
     ++first_node_id;
   }
-  TrimImu();
+  TrimStreams();
 }
 
 }  // namespace uf::estimator

@@ -1,4 +1,4 @@
-// FindSensors and ImuFromLidar against hand-built dataset descriptions: the first stream of each kind, and
+// FindSensors and ImuFromSensor against hand-built dataset descriptions: the first stream of each kind, and
 // T_imu_lidar = T_body_imu^-1 T_body_lidar computed by hand.
 #include <gtest/gtest.h>
 
@@ -32,7 +32,7 @@ TEST(DatasetSensors, TheFirstStreamOfEachKind) {
   EXPECT_EQ(none.gnss, -1);
 }
 
-TEST(DatasetSensors, ImuFromLidarComposesTheBodyExtrinsics) {
+TEST(DatasetSensors, ImuFromSensorComposesTheBodyExtrinsics) {
   // Body = a vehicle frame; IMU 1 m ahead, turned 90 deg about z; LiDAR 2 m up.
   const SE3 T_body_imu(SO3::Exp(Eigen::Vector3d(0, 0, std::numbers::pi / 2)), Eigen::Vector3d(1, 0, 0));
   const SE3 T_body_lidar(SO3(), Eigen::Vector3d(0, 0, 2));
@@ -49,7 +49,7 @@ TEST(DatasetSensors, ImuFromLidarComposesTheBodyExtrinsics) {
 
   // Without an IMU extrinsic the body is the IMU: T_imu_lidar = T_body_lidar.
   description.streams[1].T_body_sensor.reset();
-  EXPECT_TRUE(ImuFromLidar(description, 0)->matrix().isApprox(T_body_lidar.matrix(), 1e-15));
+  EXPECT_TRUE(ImuFromSensor(description, 0)->matrix().isApprox(T_body_lidar.matrix(), 1e-15));
 }
 
 }  // namespace

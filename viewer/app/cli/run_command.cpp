@@ -27,9 +27,9 @@ struct RunArguments {
 Expected<RunRequest> MakeRequest(const RunArguments& a) {
   RunRequest r;
   r.dataset = a.dataset, r.out = a.out;
-  r.mode = a.mode == "lo"    ? pipeline::ModeChoice::kLo
-           : a.mode == "lio" ? pipeline::ModeChoice::kLio
-                             : pipeline::ModeChoice::kAuto;
+  Expected<std::optional<pipeline::EstimatorMode>> mode = pipeline::ParseMode(a.mode);
+  if (!mode) return mode.status();
+  r.mode = *mode;
   if (!a.output_frame.empty()) r.output_frame = pipeline::ParseTrajectoryFrame(a.output_frame);
   r.from = a.from == "map"     ? pipeline::RunFrom::kMap
            : a.from == "splat" ? pipeline::RunFrom::kSplat
@@ -99,8 +99,9 @@ Subcommand AddRunCommand(CLI::App& app) {
       ->check(CLI::ExistingFile);
   run->add_option(
          "--mode", a->mode,
-         "auto: LIO with an IMU and the LiDAR's extrinsic, else LO; lo: LiDAR only; lio: LiDAR + IMU")
-      ->check(CLI::IsMember({"auto", "lo", "lio"}))
+         "auto: the richest the dataset supports (LIO with an IMU and the LiDAR's extrinsic, else LO; "
+         "plus wheel (W) and GNSS (G) factors when those streams are there); lo, lio, lwio, lio+g, "
+         "lwgio (and lwo, lo+g, lwgo)")
       ->capture_default_str();
   run->add_option("--output-frame", a->output_frame,
                   "Frame of the written trajectory: lidar or imu (needs the LiDAR's T_body_sensor); default: "

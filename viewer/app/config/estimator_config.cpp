@@ -94,6 +94,23 @@ Schema<LidarOdometryConfig> MakeLioSchema() {
   init.Key("max_gravity_error", &InertialInitConfig::max_gravity_error, "fraction of gravity",
            "LiDAR-aided initialization is admitted when abs(|g| - gravity) <= this * gravity");
   s.Nest("init", &C::init, init);
+
+  using estimator::WheelFactorConfig;
+  using W = WheelFactorConfig;
+  Schema<W> wheel;
+  wheel.Key("forward_velocity_density", &W::forward_velocity_density, "m/s/sqrt(Hz)",
+            "wheel factor (lwio, lwgio): white noise of the forward speed");
+  wheel.Key("yaw_rate_density", &W::yaw_rate_density, "rad/s/sqrt(Hz)", "white noise of the yaw rate");
+  wheel.Key("nonholonomic_velocity_density", &W::nonholonomic_velocity_density, "m/s/sqrt(Hz)",
+            "soft non-holonomic constraint on the lateral and vertical velocity");
+  wheel.Key("roll_pitch_rate_density", &W::roll_pitch_rate_density, "rad/s/sqrt(Hz)",
+            "soft constraint on the roll and pitch rates");
+  wheel.Key("max_gap_s", &W::max_gap_s, "s",
+            "a longer step between wheel samples leaves the interval without a factor");
+  wheel.Key("time_offset_s", &W::time_offset_s, "s", "added to the wheel stamps (fixed, |.| <= 1)");
+  wheel.Key("estimate_scale", &W::estimate_scale, "", "estimate the wheel scale (false: held at 1)");
+  wheel.Key("scale_prior_sigma", &W::scale_prior_sigma, "", "prior of the wheel scale, relative to 1");
+  s.Nest("wheel", &C::wheel, wheel);
   return s;
 }
 

@@ -34,7 +34,7 @@ Trajectory ToLidarFrame(const Trajectory& imu_trajectory, const SE3& T_imu_lidar
 }
 
 // T_S_B for the sensor S that `frame` names (the first LiDAR or IMU stream): its T_body_sensor inverted,
-// the identity when it has none or there is no such stream (the body is then that sensor, as ImuFromLidar
+// the identity when it has none or there is no such stream (the body is then that sensor, as ImuFromSensor
 // and the estimator take it).
 SE3 SensorFromBody(const DatasetDescription& description, const DatasetSensors& sensors,
                    TrajectoryFrame frame) {
@@ -96,7 +96,7 @@ Expected<RunFrames> ResolveRunFrames(const DatasetDescription& description, Odom
   frames.T_estimator_body = SensorFromBody(description, sensors, EstimatorFrame(mode));
   frames.T_output_body = SensorFromBody(description, sensors, trajectory_frame);
   // T_M_W = T_lidar_imu for an LO run written in the IMU frame whose map came from the odometry, where
-  // T_imu_lidar = T_F_B(imu) * T_B_lidar (ImuFromLidar).
+  // T_imu_lidar = T_F_B(imu) * T_B_lidar (ImuFromSensor).
   if (!lio && trajectory_frame == TrajectoryFrame::kImu && map_from == MapSource::kOdometry) {
     const StreamInfo& lidar = description.streams[static_cast<std::size_t>(sensors.lidar)];
     frames.T_map_world = (frames.T_output_body * *lidar.T_body_sensor).inverse();

@@ -43,7 +43,7 @@ struct RunFrames {
   OdometryMode mode = OdometryMode::kLo;
   TrajectoryFrame trajectory_frame = TrajectoryFrame::kLidar;
   MapSource map_from = MapSource::kOdometry;
-  std::optional<SE3> T_imu_lidar;  // from the dataset (ImuFromLidar); needed whenever F != E
+  std::optional<SE3> T_imu_lidar;  // from the dataset (ImuFromSensor); needed whenever F != E
   SE3 T_estimator_body;            // T_E_B
   SE3 T_output_body;               // T_F_B
   SE3 T_map_world;                 // T_M_W

@@ -18,31 +18,13 @@ std::string StreamList(const DatasetDescription& description) {
   return list.empty() ? "none" : list;
 }
 
-// --mode against what the dataset has. LIO needs an IMU stream and the LiDAR's extrinsic; auto falls back
-// to LO (with a note) without them, --mode lio is an error.
-Expected<OdometryMode> ChooseMode(const RunRequest& r, const DatasetDescription& description,
-                                  const DatasetSensors& sensors, std::vector<std::string>& notes) {
-  if (r.mode == ModeChoice::kLo) return OdometryMode::kLo;
-  std::string missing;
-  if (sensors.imu < 0)
-    missing = "no IMU stream";
-  else if (!sensors.T_imu_lidar)
-    missing = "no LiDAR-to-IMU transform (T_body_sensor of " + description.streams[sensors.lidar].name + ")";
-  if (missing.empty()) return OdometryMode::kLio;
-  if (r.mode == ModeChoice::kLio)
-    return Status::Error("--mode lio: " + r.dataset.string() + " has " + missing +
-                         " (streams: " + StreamList(description) + ")");
-  notes.push_back("--mode auto: " + missing + ", ran LO");
-  return OdometryMode::kLo;
-}
-
 // The command line that repeats the run: the resolved mode and every option that is not in config.yaml.
-std::string RepeatCommand(const RunRequest& r, const RunFrames& frames) {
+std::string RepeatCommand(const RunRequest& r, const RunFrames& frames, const EstimatorMode& mode) {
   char voxel[32] = {};
   std::to_chars(voxel, voxel + sizeof(voxel) - 1, r.map_voxel_m);  // shortest text that reads back exactly
   return "ultrafusion run " + fs::absolute(r.dataset).string() + " --config config.yaml --mode " +
-         std::string(Name(frames.mode)) + " --output-frame " + std::string(Name(frames.trajectory_frame)) +
-         " --map-voxel " + voxel + (r.no_map ? " --no-map" : "") + (r.no_mesh ? " --no-mesh" : "") +
+         ModeName(mode) + " --output-frame " + std::string(Name(frames.trajectory_frame)) + " --map-voxel " +
+         voxel + (r.no_map ? " --no-map" : "") + (r.no_mesh ? " --no-mesh" : "") +
          (r.no_splat ? " --no-splat" : "") + " --out NEW_FOLDER";
 }
 
@@ -76,10 +58,14 @@ void DescribeRun(RunPlan& plan) {
   const std::string& lidar = description.streams[plan.sensors.lidar].name;
   summary.dataset = r.dataset.string();
   summary.format = std::string(DatasetFormatName(description.format));
-  summary.mode = plan.frames.mode == OdometryMode::kLio
-                     ? "lio (LiDAR-inertial odometry on " + lidar + " and " +
-                           description.streams[plan.sensors.imu].name + ")"
-                     : "lo (LiDAR-only odometry on " + lidar + ")";
+  std::string streams = lidar;
+  if (plan.frames.mode == OdometryMode::kLio) streams += ", " + description.streams[plan.sensors.imu].name;
+  if (plan.mode.wheel) streams += ", " + description.streams[plan.sensors.wheel].name;
+  if (plan.mode.gnss) streams += ", " + description.streams[plan.sensors.gnss].name;
+  summary.mode = ModeName(plan.mode) + " (" +
+                 (plan.frames.mode == OdometryMode::kLio ? "LiDAR-inertial" : "LiDAR-only") + " odometry" +
+                 (plan.mode.wheel ? " with wheel factors" : "") +
+                 (plan.mode.gnss ? " with GNSS factors" : "") + " on " + streams + ")";
   summary.output_frame = plan.frames.trajectory_frame;
   for (const std::string& note : summary.notes) std::cerr << "ultrafusion: warning: " << note << "\n";
   if (r.no_splat) summary.notes.push_back("--no-splat: no splats trained");
@@ -99,7 +85,7 @@ void DescribeRun(RunPlan& plan) {
   summary.config_yaml = app::EmitDatasetConfig(r.dataset_config) +
                         app::EmitLidarOdometryConfig(plan.lo_config) +
                         (r.no_splat ? "" : app::EmitSplatConfig(r.splat_config));
-  summary.repeat_command = RepeatCommand(r, plan.frames);
+  summary.repeat_command = RepeatCommand(r, plan.frames, plan.mode);
 }
 
 }  // namespace
@@ -122,22 +108,31 @@ Expected<RunPlan> PlanRun(RunRequest request, PlanErrorKind& kind) {
   if (plan.sensors.lidar < 0)
     return Status::Error(r.dataset.string() + ": no LiDAR stream, which LO and LIO need (streams: " +
                          StreamList(description) + ")");
-  Expected<OdometryMode> mode = ChooseMode(r, description, plan.sensors, plan.summary.notes);
-  if (!mode) return mode.status();
-  const TrajectoryFrame frame = r.output_frame.value_or(EstimatorFrame(*mode));
   kind = PlanErrorKind::kUsage;
+  Expected<EstimatorMode> mode = ChooseMode(r.mode, description, plan.sensors, plan.summary.notes);
+  if (!mode) return mode.status();
+  plan.mode = *mode;
+  const TrajectoryFrame frame = r.output_frame.value_or(EstimatorFrame(mode->core));
   if (frame == TrajectoryFrame::kImu && !plan.sensors.T_imu_lidar)
     return Status::Error("--output-frame imu: " + r.dataset.string() +
                          " gives no LiDAR-to-IMU transform (T_body_sensor) for " +
                          description.streams[plan.sensors.lidar].name + "; use --output-frame lidar");
-  Expected<RunFrames> frames = ResolveRunFrames(
-      description, *mode, frame, r.from == RunFrom::kMap ? MapSource::kTrajectory : MapSource::kOdometry);
+  Expected<RunFrames> frames =
+      ResolveRunFrames(description, mode->core, frame,
+                       r.from == RunFrom::kMap ? MapSource::kTrajectory : MapSource::kOdometry);
   if (!frames) return frames.status();
   plan.frames = *frames;
   // The body is the LiDAR in LO and the IMU in LIO.
   plan.lo_config = r.lo_config;
-  plan.lo_config.use_imu = *mode == OdometryMode::kLio;
+  plan.lo_config.use_imu = mode->core == OdometryMode::kLio;
   plan.lo_config.T_body_lidar = plan.frames.T_estimator_lidar();
+  plan.lo_config.use_wheel = mode->wheel;
+  // T_body_wheel: T_imu_wheel in LIO, T_lidar_wheel = T_imu_lidar^-1 T_imu_wheel in LO (ChooseMode checked
+  // that both exist).
+  if (mode->wheel)
+    plan.lo_config.T_body_wheel = mode->core == OdometryMode::kLio
+                                      ? *plan.sensors.T_imu_wheel
+                                      : plan.sensors.T_imu_lidar->inverse() * *plan.sensors.T_imu_wheel;
   Expected<estimator::LidarOdometry> odometry = estimator::LidarOdometry::Create(plan.lo_config);
   if (!odometry) return odometry.status();
   plan.odometry = std::make_unique<estimator::LidarOdometry>(std::move(*odometry));

@@ -29,16 +29,16 @@
 #include "viewer/app/config/splat_config.h"
 #include "viewer/pipeline/progress_line.h"
 #include "viewer/pipeline/run/run_frames.h"
+#include "viewer/pipeline/run/run_mode.h"
 #include "viewer/pipeline/run/run_summary.h"
 
 namespace uf::pipeline {
 
-enum class ModeChoice { kAuto, kLo, kLio };   // --mode
 enum class RunFrom { kStart, kMap, kSplat };  // --from: re-run from that stage on an earlier run's outputs
 
 struct RunRequest {
-  std::filesystem::path dataset, out;  // out: "" = a new runs/<UTC time>/ with runs/latest
-  ModeChoice mode = ModeChoice::kAuto;
+  std::filesystem::path dataset, out;           // out: "" = a new runs/<UTC time>/ with runs/latest
+  std::optional<EstimatorMode> mode;            // --mode: none = auto (ChooseMode)
   std::optional<TrajectoryFrame> output_frame;  // none: the estimator's body
   RunFrom from = RunFrom::kStart;
   bool no_map = false, no_splat = false, no_mesh = false;
@@ -57,6 +57,7 @@ struct RunPlan {
   std::unique_ptr<estimator::LidarOdometry> odometry;
   std::unique_ptr<mapping::KeyframeMapper> mapper;  // none with --no-map or --from splat
   DatasetSensors sensors;
+  EstimatorMode mode;
   RunFrames frames;
   estimator::LidarOdometryConfig lo_config;  // as the estimator runs it
   RunSummary summary;                        // what is known before the stages run

@@ -1,6 +1,7 @@
 // The stages of `ultrafusion run` in order, each wired to the plan and to the outputs of the stages before
 // it (run_pipeline.h), and the run around them: output folder, config.yaml, run.json, the summary.
 #include <chrono>
+#include <cstdio>
 
 #include "viewer/pipeline/run/run_pipeline.h"
 #include "viewer/pipeline/run/run_record.h"
@@ -141,6 +142,15 @@ void Summarize(const RunPlan& plan, StageOutputs& o, RunSummary& summary) {
       summary.notes.push_back(summary.odometry.initialization.empty()
                                   ? "LIO never initialized: the whole run is LiDAR-only (see warnings)"
                                   : "LIO initialized: " + summary.odometry.initialization);
+    const estimator::SensorFactorStats& factors = summary.odometry.sensor_factors;
+    if (plan.mode.wheel) {
+      char scale[32];
+      std::snprintf(scale, sizeof(scale), "%.4f", factors.wheel_scale);
+      summary.notes.push_back("wheel factors: " + std::to_string(factors.wheel.added) + " added, " +
+                              std::to_string(factors.wheel.skipped) +
+                              " skipped (no wheel samples over the interval); estimated wheel scale " +
+                              scale);
+    }
   }
   if (o.from_trajectory) {
     for (std::string& note : o.from_trajectory->notes) summary.notes.push_back(std::move(note));

@@ -71,6 +71,8 @@ Expected<OdometryStageOutput> RunOdometryStage(const OdometryStageInput& in, Sta
       ++scans;
     } else if (const auto* sample = std::get_if<ImuSample>(&m.data); sample && m.stream == sensors.imu) {
       status = odometry.AddImu(*sample);
+    } else if (const auto* wheel = std::get_if<WheelSample>(&m.data); wheel && m.stream == sensors.wheel) {
+      status = odometry.AddWheel(*wheel);
     } else if (auto* frame = std::get_if<CameraFrame>(&m.data);
                frame && in.mapper && in.mapper->UsesCamera(m.stream)) {
       in.mapper->AddCameraFrame(m.stream, std::move(*frame));
@@ -97,6 +99,7 @@ Expected<OdometryStageOutput> RunOdometryStage(const OdometryStageInput& in, Sta
   summary.timing = SummarizeTimings(times.ms);
   summary.reader_warnings = in.stream->warnings();
   summary.odometry_warnings = odometry.warnings();
+  summary.sensor_factors = odometry.sensor_factors();
   if (out.estimated.empty())
     return Status::Error(in.stream->description().path.string() + ": the odometry produced no pose (" +
                          std::to_string(scans) + " scans, " +

@@ -1,7 +1,7 @@
-// The odometry stage of `ultrafusion run`: LO or LIO over the dataset's measurement stream. The LiDAR scans
-// and IMU samples go to the estimator, the camera frames and the keyframes leaving its window go straight to
-// the map's KeyframeMapper (a scan is never held twice), the GNSS fixes are kept for the georeference.
-// Writes trajectory.tum and trajectory_kitti.txt (in the run's trajectory frame,
+// The odometry stage of `ultrafusion run`: LO or LIO over the dataset's measurement stream. The LiDAR scans,
+// IMU and wheel samples go to the estimator, the camera frames and the keyframes leaving its window go
+// straight to the map's KeyframeMapper (a scan is never held twice), the GNSS fixes are kept for the
+// georeference. Writes trajectory.tum and trajectory_kitti.txt (in the run's trajectory frame,
 // RunFrames::OutputTrajectory), timing.json and plots/timing_per_scan.png.
 #pragma once
 
@@ -36,8 +36,9 @@ struct OdometrySummary {
   TimingSummary timing;
   std::vector<ReadWarning> reader_warnings;
   std::vector<std::string> odometry_warnings;
-  std::string initialization;  // LIO: how it initialized ("" never); LO: ""
-  std::string timing_plot;     // "plots/timing_per_scan.png" once written
+  std::string initialization;                   // LIO: how it initialized ("" never); LO: ""
+  estimator::SensorFactorStats sensor_factors;  // wheel (and GNSS) factors added and skipped
+  std::string timing_plot;                      // "plots/timing_per_scan.png" once written
 };
 
 struct OdometryStageOutput {

@@ -1,0 +1,52 @@
+// The wheel odometry's part of the window (docs/METHOD.md "Wheel factor"): it keeps the wheel samples, owns
+// the wheel scale block (shared by every wheel factor, with its prior), and links two nodes by a wheel
+// factor over the samples between their stamps. Used by the LiDAR odometry's window (LWIO, LWGIO); nothing
+// in it depends on the LiDAR.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "odometry/estimator/config/wheel_factor_config.h"
+#include "odometry/estimator/window/factor_graph.h"
+#include "odometry/types/measurements.h"
+#include "odometry/types/se3.h"
+
+namespace uf::estimator {
+
+class WheelProvider {
+ public:
+  // T_body_wheel: the wheel (base) frame in the window's body frame (the IMU in LIO).
+  WheelProvider(const WheelFactorConfig& config, const SE3& T_body_wheel);
+  WheelProvider(const WheelProvider&) = delete;  // the graph refers to scale_
+  WheelProvider& operator=(const WheelProvider&) = delete;
+
+  // Keeps a sample; a non-finite or not-increasing one is skipped and the reason returned (a warning).
+  std::optional<std::string> Add(const WheelSample& sample);
+  // The last sample's time on the estimator's clock (config.time_offset_s applied); min when none.
+  Stamp CoveredUntil() const;
+
+  // Registers the scale block with the graph, with its prior (again after the graph was cleared).
+  void Attach(FactorGraph& graph);
+  // Adds the wheel factor between the poses at `from` and `to` (tagged `tag`); an error, and no factor,
+  // when the samples do not cover the interval (see WheelPreintegration::Between).
+  Status Link(FactorGraph& graph, long tag, double* pose_from, double* pose_to, Stamp from, Stamp to);
+  // Drops the samples no interval from `oldest` on needs (one before it is kept).
+  void Trim(Stamp oldest);
+
+  double* scale_block() { return &scale_; }
+  bool scale_free() const { return config_.estimate_scale; }
+  double scale() const { return scale_; }
+  int factors_added() const { return added_; }
+  int factors_skipped() const { return skipped_; }
+
+ private:
+  WheelFactorConfig config_;
+  SE3 T_body_wheel_;
+  std::vector<WheelSample> samples_;  // wheel clock, increasing
+  double scale_ = 1.0;
+  int added_ = 0, skipped_ = 0;
+};
+
+}  // namespace uf::estimator

@@ -1,0 +1,41 @@
+// The estimator's mode (docs/METHOD.md "Modes"): its core, LiDAR-only (LO) or LiDAR-inertial (LIO), and the
+// optional factors it adds (W: wheel odometry, G: GNSS), named as the paper names them: lo, lio, lwio, lio+g,
+// lwgio. `run --mode` takes a name or auto, which picks the richest mode the dataset supports and says what
+// it left out and why.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "odometry/io/dataset_reader.h"
+#include "odometry/io/dataset_sensors.h"
+#include "odometry/types/status.h"
+#include "viewer/pipeline/run/run_frames.h"
+
+namespace uf::pipeline {
+
+struct EstimatorMode {
+  OdometryMode core = OdometryMode::kLo;
+  bool wheel = false, gnss = false;
+
+  bool operator==(const EstimatorMode&) const = default;
+};
+
+// "lo", "lio", "lwio", "lio+g", "lwgio"; "lwo", "lo+g", "lwgo" for the LiDAR-only core with factors.
+std::string ModeName(const EstimatorMode& mode);
+// Every name ModeName gives, and "auto" (nullopt). "wio" and "wgio" (no LiDAR) are errors saying that the
+// estimator needs a LiDAR today; anything else is an error listing the names.
+Expected<std::optional<EstimatorMode>> ParseMode(std::string_view text);
+// The names --mode accepts, for the command's help and check.
+std::vector<std::string> ModeNames();
+
+// The mode to run: `asked` when the dataset has what it needs (else an error naming the missing stream or
+// extrinsic and listing the streams), or with auto the richest one it supports, with a note for each
+// factor left out.
+Expected<EstimatorMode> ChooseMode(const std::optional<EstimatorMode>& asked,
+                                   const DatasetDescription& description, const DatasetSensors& sensors,
+                                   std::vector<std::string>& notes);
+
+}  // namespace uf::pipeline
