@@ -10,12 +10,11 @@
 //   p_w  = R(a) p_B + t(a)
 //   r    = n^T (p_w - q) / sigma                                       (plane {n, q, sigma} from the map)
 // Jacobians in the tangent [dt; dtheta] of each pose (t <- t + dt, R <- R Exp(dtheta)), lifted to the 7-wide
-// ambient blocks with TangentToAmbientJacobian:
+// ambient blocks with TangentToAmbientJacobian: dr/dp_w = n^T / sigma through the interpolation
+// (interpolated_point.h, which has the derivation):
 //   dr/dt_b = (1 - a) n^T / sigma,   dr/dt_e = a n^T / sigma
-//   R(a) moves as R(a) Exp(Phi dtheta) with (Jr, Jl: right/left Jacobians of SO3, u = a d)
-//     Phi_b = Exp(u)^T - a Jr(u) Jl(d)^-1     (from Log(Exp(-db) Exp(d)) ~ d - Jl(d)^-1 db)
-//     Phi_e = a Jr(u) Jr(d)^-1                (from Log(Exp(d) Exp(de)) ~ d + Jr(d)^-1 de)
-//   and p_w moves by -R(a) [p_B]x Phi dtheta, so dr/dtheta_{b,e} = -n^T R(a) [p_B]x Phi_{b,e} / sigma.
+//   dr/dtheta_{b,e} = -n^T R(a) [p_B]x Phi_{b,e} / sigma,   u = a d
+//     Phi_b = Exp(u)^T - a Jr(u) Jl(d)^-1,   Phi_e = a Jr(u) Jr(d)^-1
 // a = 0 gives Phi_b = I, Phi_e = 0; a = 1 gives Phi_b = 0, Phi_e = I; R_b = R_e gives (1 - a) I and a I.
 //
 // PointToPlaneFactorSinglePose, block: pose = T_world_body, for a point already deskewed into the body frame

@@ -1,0 +1,68 @@
+// Configuration of the GNSS position factor (factors/gnss_factor.h) and of its gatekeepers in
+// odometry/estimator/gnss/: which fixes are used, the covariance each one gets, the 4-dof alignment's start
+// and the innovation (integrity) test. The antenna lever arm is not here: it is the GNSS stream's
+// T_body_sensor from the dataset's calibration.
+#pragma once
+
+#include "odometry/types/measurements.h"
+#include "odometry/types/status.h"
+
+namespace uf::estimator {
+
+// How the covariance a receiver reports for one fix status is turned into the factor's:
+//   Sigma = k^2 Sigma_reported, then every eigenvalue raised to at least min_sigma_m^2,
+// with k = sigma_scale. A fix with an all-zero covariance (ROS' COVARIANCE_TYPE_UNKNOWN) is rejected, unless
+// use_nominal_for_unknown is set: it then gets diag(h^2, h^2, v^2) from the nominal sigmas below (before k
+// and the floor).
+struct GnssStatusNoise {
+  double min_sigma_m = 0.0;                 // floor of the sigma along every axis, m (> 0)
+  double sigma_scale = 1.0;                 // k >= 1: receivers tend to be optimistic
+  double nominal_horizontal_sigma_m = 0.0;  // per horizontal axis, m (> 0), for an unknown covariance
+  double nominal_vertical_sigma_m = 0.0;    // up, m (> 0), for an unknown covariance
+};
+
+struct GnssFactorConfig {
+  // Fixes with a lower status (in GnssFixStatus' order: kNoFix < kFix < kSbas < kRtkFloat < kRtkFixed) are
+  // not used. Must not be kNoFix.
+  GnssFixStatus min_status = GnssFixStatus::kFix;
+
+  // Per status, {min_sigma_m, sigma_scale, nominal_horizontal_sigma_m, nominal_vertical_sigma_m}. Floors a
+  // little under the receivers' best case; nominal sigmas of a typical receiver in that mode.
+  GnssStatusNoise fix{0.5, 1.0, 2.5, 5.0};
+  GnssStatusNoise sbas{0.3, 1.0, 1.0, 2.0};
+  GnssStatusNoise rtk_float{0.05, 1.0, 0.3, 0.5};
+  GnssStatusNoise rtk_fixed{0.01, 1.0, 0.03, 0.05};
+  // Use the nominal sigmas for a fix whose covariance is all zero, instead of rejecting it.
+  bool use_nominal_for_unknown = false;
+
+  // Innovation test of a fix against the window's prediction: accepted iff d^2 <= integrity_gate, with
+  // d^2 = e^T (Sigma_fix + prediction_sigma_m^2 I)^-1 e. 16.27 is the chi-square 99.9 % quantile for 3
+  // degrees of freedom. prediction_sigma_m is the uncertainty of the predicted antenna position in ENU
+  // (drift since the last fix plus the alignment's), m.
+  double integrity_gate = 16.27;
+  double prediction_sigma_m = 1.0;
+
+  // The yaw of the world in ENU is initialised once the antenna has moved this far horizontally (largest
+  // distance from the first used position) over at least min_alignment_fixes fixes; the initial alignment
+  // is refused when the residual RMS of its fixes exceeds max_alignment_rms_m.
+  double min_alignment_baseline_m = 10.0;
+  int min_alignment_fixes = 5;
+  double max_alignment_rms_m = 10.0;
+
+  // Placement of a fix between the window's nodes: interpolated between the two nodes around it when they
+  // are at most max_interpolation_gap_s apart; a fix outside the nodes' span, or in a longer gap, is
+  // attached to the nearest node if it is within max_snap_s of it, and not used otherwise.
+  double max_interpolation_gap_s = 1.0;
+  double max_snap_s = 0.05;
+
+  // The noise of one status (kNoFix: the fix entry; such fixes are rejected before).
+  const GnssStatusNoise& Noise(GnssFixStatus status) const;
+
+  // Names the first bad field and its value ("gnss.integrity_gate: must be > 0, got -1").
+  Status Validate() const;
+};
+
+// "no_fix", "fix", "sbas", "rtk_float", "rtk_fixed".
+const char* GnssStatusName(GnssFixStatus status);
+
+}  // namespace uf::estimator
