@@ -95,13 +95,16 @@ TEST_F(CliRun, LidarOdometryOnASimulatedSequenceWritesEveryOutput) {
   EXPECT_NE(again.output.find("not an empty folder"), std::string::npos) << again.output;
 }
 
-TEST_F(CliRun, AutoModeRunsLidarInertialOdometryInTheImuFrame) {
+TEST_F(CliRun, AutoModeRunsLidarInertialOdometryWithWheelFactorsInTheImuFrame) {
   TempDir out;
   const std::string run = out.File("run");
   const auto result = Ultrafusion("run " + Sequence() + " --out " + run);
   ASSERT_EQ(result.code, 0) << result.output;
-  EXPECT_NE(result.output.find("run: lio (LiDAR-inertial odometry"), std::string::npos) << result.output;
+  // The sequence has an IMU, a wheel stream and their extrinsics: auto takes the richest mode.
+  EXPECT_NE(result.output.find("run: lwio (LiDAR-inertial odometry with wheel factors"), std::string::npos)
+      << result.output;
   const std::string report = testing::ReadText(run + "/report.md");
+  EXPECT_NE(report.find("wheel factors: 40 added, 0 skipped"), std::string::npos) << report;
   EXPECT_NE(report.find("LIO initialized: static"), std::string::npos) << report;  // 1 s at rest first
   EXPECT_NE(report.find("lio:"), std::string::npos) << report;                     // the resolved config
   // LIO writes the IMU (body) frame by default, the frame of the ground truth.
@@ -173,7 +176,7 @@ TEST(CliRunKitti, FirstTenKeyframesRunAndReportTheAccuracy) {
 
   // KITTI has no IMU: --mode lio is an error naming what is missing, auto runs LO.
   const auto lio = Ultrafusion("run " + copy.string() + " --mode lio --out " + dir.File("lio"));
-  EXPECT_EQ(lio.code, 1) << lio.output;
+  EXPECT_EQ(lio.code, 2) << lio.output;  // a usage error: the mode asks for what the data lacks
   EXPECT_NE(lio.output.find("has no IMU stream"), std::string::npos) << lio.output;
   EXPECT_FALSE(fs::exists(dir.File("lio")));
 }

@@ -133,6 +133,14 @@ inline estimator::LidarOdometryConfig NonDefaultOdometry() {
   c.max_speed_mps = 40;
   c.imu = {0.03, 0.002, 0.004, 2.5e-5, 9.81, 0.2, 0.02};
   c.init = {4, 0.03, 0.4, 0.06, 0.15};
+  c.wheel = {.forward_velocity_density = 0.07,
+             .yaw_rate_density = 0.02,
+             .nonholonomic_velocity_density = 0.3,
+             .roll_pitch_rate_density = 0.15,
+             .max_gap_s = 0.25,
+             .time_offset_s = 0.01,
+             .estimate_scale = false,
+             .scale_prior_sigma = 0.03};
   return c;
 }
 

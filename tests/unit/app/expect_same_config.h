@@ -199,6 +199,14 @@ inline void ExpectSameLio(const estimator::LidarOdometryConfig& a, const estimat
   EXPECT_FIELD(init.static_max_acc_std);
   EXPECT_FIELD(init.static_max_motion_m);
   EXPECT_FIELD(init.max_gravity_error);
+  EXPECT_FIELD(wheel.forward_velocity_density);
+  EXPECT_FIELD(wheel.yaw_rate_density);
+  EXPECT_FIELD(wheel.nonholonomic_velocity_density);
+  EXPECT_FIELD(wheel.roll_pitch_rate_density);
+  EXPECT_FIELD(wheel.max_gap_s);
+  EXPECT_FIELD(wheel.time_offset_s);
+  EXPECT_FIELD(wheel.estimate_scale);
+  EXPECT_FIELD(wheel.scale_prior_sigma);
 }
 
 inline void ExpectSameSplat(const SplatConfig& a, const SplatConfig& b) {

@@ -1,6 +1,6 @@
-// LiDAR-inertial odometry (LIO) end to end on short simulated urban sequences: initialization (static and
-// LiDAR-aided), accuracy against the simulator's ground truth, and bad IMU input (gaps, stamps going back,
-// NaN samples) that must be bridged with warnings, never a NaN pose.
+// LiDAR-inertial odometry (LIO, and LWIO with wheel factors) end to end on short simulated urban sequences:
+// initialization (static and LiDAR-aided), accuracy against the simulator's ground truth, and bad IMU and
+// wheel input (gaps, stamps going back, NaN samples) that must be bridged with warnings, never a NaN pose.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -24,12 +24,13 @@ const SE3 kImuFromLidar(SO3(), Eigen::Vector3d(0, 0, 0.25));
 // A short urban sequence with LiDAR (16 beams, 0.4 deg) and IMU only; `trajectory` (TUM) or the scene's
 // default motion (1 s at rest, then driving off).
 std::filesystem::path Simulate(const uf::testing::TempDir& dir, double duration_s,
-                               const std::string& trajectory = "") {
+                               const std::string& trajectory = "", bool wheel = false) {
   sim::SimulationConfig config;
   config.duration_s = duration_s;
   config.lidar.model.model = "spinning16";
   config.lidar.model.horizontal_resolution_deg = 0.4;
-  config.camera.enabled = config.wheel.enabled = config.gnss.enabled = false;
+  config.camera.enabled = config.gnss.enabled = false;
+  config.wheel.enabled = wheel;
   config.trajectory.file = trajectory;
   const std::filesystem::path out = dir.path() / "sequence";
   auto summary = sim::GenerateSequence(config, out);
@@ -41,13 +42,17 @@ struct LioRun {
   Trajectory estimate;
   std::vector<std::string> warnings;
   std::string initialization;
+  SensorFactorStats factors;
   double ate_m = std::numeric_limits<double>::infinity();
 };
 
-// Runs LIO over the folder; `edit_imu` may change or drop (return false) each IMU sample first.
+// Runs LIO over the folder; `edit_imu` may change or drop (return false) each IMU sample first. With
+// `edit_wheel`, LWIO: the wheel stream goes in too (each sample through it first), with the wheel's
+// T_body_sensor from the dataset (the body is the IMU).
 LioRun RunLio(
     const std::filesystem::path& folder,
-    const std::function<bool(ImuSample&)>& edit_imu = [](ImuSample&) { return true; }) {
+    const std::function<bool(ImuSample&)>& edit_imu = [](ImuSample&) { return true; },
+    const std::function<bool(WheelSample&)>& edit_wheel = nullptr) {
   LioRun run;
   auto reader = OpenDataset(folder.string());
   EXPECT_TRUE(reader.ok()) << reader.error();
@@ -56,12 +61,20 @@ LioRun RunLio(
   config.T_body_lidar = kImuFromLidar;
   config.input_voxel_m = 0.5;
   config.max_solver_time_s = 10;  // only the iteration budget: the results do not depend on the load
+  if (edit_wheel) {
+    config.use_wheel = true;
+    for (const StreamInfo& stream : (*reader)->description().streams)
+      if (stream.kind == SensorKind::kWheel && stream.T_body_sensor)
+        config.T_body_wheel = *stream.T_body_sensor;
+  }
   auto lio = LidarOdometry::Create(config);
   EXPECT_TRUE(lio.ok()) << lio.error();
   const Status read = ForEachMeasurement(**reader, [&](Measurement& m) {
     if (const auto* scan = std::get_if<LidarScan>(&m.data)) return lio->AddScan(*scan);
     if (auto* sample = std::get_if<ImuSample>(&m.data); sample && edit_imu(*sample))
       return lio->AddImu(*sample);
+    if (auto* wheel = std::get_if<WheelSample>(&m.data); wheel && edit_wheel && edit_wheel(*wheel))
+      return lio->AddWheel(*wheel);
     return Status();
   });
   EXPECT_TRUE(read.ok()) << read.message();
@@ -73,6 +86,7 @@ LioRun RunLio(
   }
   run.warnings = lio->warnings();
   run.initialization = lio->initialization();
+  run.factors = lio->sensor_factors();
   auto truth = ReadTrajectory((folder / "groundtruth.tum").string());
   EXPECT_TRUE(truth.ok());
   auto result = Evaluate(*truth, run.estimate, EvalOptions{});
@@ -113,6 +127,44 @@ TEST(LidarInertialOdometry, MovingStartInitializesWithTheLidar) {
                                                             << Joined(run.warnings);
   // Measured 0.013 m: the first LO window is rougher on a moving start (its first sweep is mapped as if at
   // rest), the alignment's gravity comes out 7 % short and is rescaled.
+  EXPECT_LT(run.ate_m, 0.03);
+}
+
+TEST(LidarInertialOdometry, WheelFactorsJoinTheWindow) {
+  uf::testing::TempDir dir;
+  const LioRun run = RunLio(
+      Simulate(dir, 4.0, "", /*wheel=*/true), [](ImuSample&) { return true; },
+      [](WheelSample&) { return true; });
+  EXPECT_TRUE(run.warnings.empty()) << Joined(run.warnings);
+  // One factor per node interval: the first scan has one node, every later one a begin and an end node that
+  // it shares with the previous scan: 40 scans, 41 nodes, 40 intervals.
+  EXPECT_EQ(run.factors.wheel.added, 40);
+  EXPECT_EQ(run.factors.wheel.skipped, 0);
+  // The simulator's default encoder is ideal: the scale stays at 1 within a percent.
+  EXPECT_NEAR(run.factors.wheel_scale, 1.0, 0.01);
+  EXPECT_LT(run.ate_m, 0.03);  // as LIO's (measured 0.015 m without wheel)
+}
+
+TEST(LidarInertialOdometry, SkipsBadWheelSamplesWithWarnings) {
+  uf::testing::TempDir dir;
+  int count = 0;
+  Stamp last = 0;
+  const LioRun run = RunLio(
+      Simulate(dir, 4.0, "", /*wheel=*/true), [](ImuSample&) { return true; },
+      [&](WheelSample& w) {
+        ++count;
+        if (count == 60) w.linear_velocity.x() = std::nan("");  // NaN
+        if (count == 90) w.stamp = last - 1'000'000;            // back in time
+        if (count >= 120 && count < 140) return false;          // a 0.4 s gap at 50 Hz
+        last = w.stamp;
+        return true;
+      });
+  const std::string text = Joined(run.warnings);
+  EXPECT_NE(text.find("not finite"), std::string::npos) << text;
+  EXPECT_NE(text.find("not after"), std::string::npos) << text;
+  EXPECT_NE(text.find("wheel factor at"), std::string::npos) << text;  // the intervals inside the gap
+  EXPECT_GT(run.factors.wheel.skipped, 0);
+  EXPECT_EQ(run.estimate.size(), 40u);
   EXPECT_LT(run.ate_m, 0.03);
 }
 

@@ -100,8 +100,7 @@ Subcommand AddRunCommand(CLI::App& app) {
   run->add_option(
          "--mode", a->mode,
          "auto: the richest the dataset supports (LIO with an IMU and the LiDAR's extrinsic, else LO; "
-         "plus wheel (W) and GNSS (G) factors when those streams are there); lo, lio, lwio, lio+g, "
-         "lwgio (and lwo, lo+g, lwgo)")
+         "wheel factors (W) with a wheel stream and its extrinsic); lo, lio, lwio, lwo")
       ->capture_default_str();
   run->add_option("--output-frame", a->output_frame,
                   "Frame of the written trajectory: lidar or imu (needs the LiDAR's T_body_sensor); default: "

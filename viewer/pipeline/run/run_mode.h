@@ -1,7 +1,8 @@
-// The estimator's mode (docs/METHOD.md "Modes"): its core, LiDAR-only (LO) or LiDAR-inertial (LIO), and the
-// optional factors it adds (W: wheel odometry, G: GNSS), named as the paper names them: lo, lio, lwio, lio+g,
-// lwgio. `run --mode` takes a name or auto, which picks the richest mode the dataset supports and says what
-// it left out and why.
+// The estimator's mode (docs/METHOD.md "LO and LIO modes"): its core, LiDAR-only (LO) or LiDAR-inertial
+// (LIO), and the optional factors it adds (W: wheel odometry, G: GNSS), named as the paper names them: lo,
+// lio, lwio, lio+g, lwgio. `run --mode` takes a name or auto, which picks the richest mode the dataset
+// supports and says what it left out and why. The G modes are refused until the GNSS factor is in the
+// window.
 #pragma once
 
 #include <optional>
@@ -25,8 +26,8 @@ struct EstimatorMode {
 
 // "lo", "lio", "lwio", "lio+g", "lwgio"; "lwo", "lo+g", "lwgo" for the LiDAR-only core with factors.
 std::string ModeName(const EstimatorMode& mode);
-// Every name ModeName gives, and "auto" (nullopt). "wio" and "wgio" (no LiDAR) are errors saying that the
-// estimator needs a LiDAR today; anything else is an error listing the names.
+// "auto" (nullopt) or the name of a mode that runs: lo, lio, lwio, lwo. The G modes, and "wio" and "wgio"
+// (no LiDAR), are errors saying what is not implemented yet; anything else is an error listing the names.
 Expected<std::optional<EstimatorMode>> ParseMode(std::string_view text);
 // The names --mode accepts, for the command's help and check.
 std::vector<std::string> ModeNames();

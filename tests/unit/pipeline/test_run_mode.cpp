@@ -1,0 +1,86 @@
+// The estimator's mode: names and their parsing, and what --mode (a name or auto) gets from datasets with
+// and without IMU, wheel and GNSS streams and their extrinsics.
+#include <gtest/gtest.h>
+
+#include "viewer/pipeline/run/run_mode.h"
+
+namespace uf::pipeline {
+namespace {
+
+StreamInfo Stream(std::string name, SensorKind kind, bool extrinsic = true) {
+  StreamInfo stream;
+  stream.name = std::move(name);
+  stream.kind = kind;
+  if (extrinsic) stream.T_body_sensor = SE3();
+  return stream;
+}
+
+struct Dataset {
+  DatasetDescription description;
+  DatasetSensors sensors;
+  explicit Dataset(std::vector<StreamInfo> streams) {
+    description.path = "data";
+    description.streams = std::move(streams);
+    sensors = FindSensors(description);
+  }
+};
+
+TEST(RunMode, NamesParseBack) {
+  for (const std::string& name : ModeNames()) {
+    Expected<std::optional<EstimatorMode>> mode = ParseMode(name);
+    ASSERT_TRUE(mode.ok()) << mode.error();
+    if (name == "auto") {
+      EXPECT_FALSE(*mode);
+    } else {
+      EXPECT_EQ(ModeName(**mode), name);
+    }
+  }
+  EXPECT_EQ(ModeName({OdometryMode::kLio, true, true}), "lwgio");
+  EXPECT_EQ(ModeName({OdometryMode::kLio, false, true}), "lio+g");
+  EXPECT_EQ(ModeName({OdometryMode::kLo, false, false}), "lo");
+  EXPECT_NE(ParseMode("wgio").error().find("not implemented yet"), std::string::npos);
+  EXPECT_NE(ParseMode("lio+g").error().find("GNSS factor is not in the estimator's window yet"),
+            std::string::npos);
+  EXPECT_NE(ParseMode("lvio").error().find("unknown mode"), std::string::npos);
+}
+
+TEST(RunMode, AutoPicksTheRichestTheDataSupports) {
+  std::vector<std::string> notes;
+  const Dataset all({Stream("lidar", SensorKind::kLidar), Stream("imu", SensorKind::kImu),
+                     Stream("wheel", SensorKind::kWheel), Stream("gnss", SensorKind::kGnss)});
+  EXPECT_EQ(*ChooseMode(std::nullopt, all.description, all.sensors, notes),
+            (EstimatorMode{OdometryMode::kLio, true, false}));  // GNSS: the map's georeference
+  EXPECT_TRUE(notes.empty());
+
+  const Dataset no_wheel_extrinsic({Stream("lidar", SensorKind::kLidar), Stream("imu", SensorKind::kImu),
+                                    Stream("odom", SensorKind::kWheel, false)});
+  EXPECT_EQ(*ChooseMode(std::nullopt, no_wheel_extrinsic.description, no_wheel_extrinsic.sensors, notes),
+            (EstimatorMode{OdometryMode::kLio, false, false}));
+  ASSERT_EQ(notes.size(), 1u);
+  EXPECT_NE(notes[0].find("ran lio (no wheel-to-IMU transform (T_body_sensor of odom))"), std::string::npos)
+      << notes[0];
+
+  notes.clear();
+  const Dataset lidar_wheel({Stream("lidar", SensorKind::kLidar), Stream("wheel", SensorKind::kWheel)});
+  EXPECT_EQ(*ChooseMode(std::nullopt, lidar_wheel.description, lidar_wheel.sensors, notes),
+            (EstimatorMode{OdometryMode::kLo, false, false}));  // the factors need the inertial core
+}
+
+TEST(RunMode, AnExplicitModeNamesWhatIsMissing) {
+  std::vector<std::string> notes;
+  const Dataset lio({Stream("lidar", SensorKind::kLidar), Stream("imu", SensorKind::kImu)});
+  const Expected<EstimatorMode> lwio =
+      ChooseMode(EstimatorMode{OdometryMode::kLio, true, false}, lio.description, lio.sensors, notes);
+  ASSERT_FALSE(lwio.ok());
+  EXPECT_NE(
+      lwio.error().find("--mode lwio: data has no wheel odometry stream (streams: lidar (lidar), imu (imu))"),
+      std::string::npos)
+      << lwio.error();
+  const Dataset lidar_wheel({Stream("lidar", SensorKind::kLidar), Stream("wheel", SensorKind::kWheel)});
+  EXPECT_TRUE(ChooseMode(EstimatorMode{OdometryMode::kLo, true, false}, lidar_wheel.description,
+                         lidar_wheel.sensors, notes)
+                  .ok());
+}
+
+}  // namespace
+}  // namespace uf::pipeline
