@@ -18,7 +18,7 @@ struct LidarOdometryConfig {
   double input_voxel_m = 1.0;         // downsampling of each scan for registration, m
   VoxelMapConfig map;                 // voxel 0.5 m, eigen-ratio 0.12 (paper)
   int window_size = 10;               // scans (states) in the window, >= 2 (real-time profile 4)
-  int max_iterations = 8;             // Ceres LM iterations per solve (paper 8 / 40 ms)
+  int max_iterations = 8;             // LM iterations per solve (paper 8 / 40 ms)
   double max_solver_time_s = 0.04;    // per solve, s
   int max_residuals_per_scan = 1500;  // point-to-plane residuals of one scan (paper 1200-2000)
   double huber_m = 0.5;               // robust loss scale, m of point-to-plane distance (paper 0.5-1.0)

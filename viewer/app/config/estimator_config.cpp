@@ -18,7 +18,7 @@ Schema<LidarOdometryConfig> MakeLoSchema() {
   Schema<C> s("lo");
   s.Key("input_voxel_m", &C::input_voxel_m, "m", "downsampling of each scan for registration");
   s.Key("window_size", &C::window_size, "scans", "scans in the sliding window (each has 1-2 states), >= 2");
-  s.Key("max_iterations", &C::max_iterations, "LM iterations", "per solve (dense LM in LO, Ceres in LIO)");
+  s.Key("max_iterations", &C::max_iterations, "LM iterations", "per solve (the dense LM solver)");
   s.Key("max_solver_time_s", &C::max_solver_time_s, "s", "wall-time budget per solve");
   s.Key("max_residuals_per_scan", &C::max_residuals_per_scan, "residuals",
         "point-to-plane residuals of one scan");
