@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "odometry/eval/alignment.h"
+#include "odometry/types/alignment.h"
 #include "odometry/eval/association.h"
 #include "odometry/eval/kitti_drift.h"
 #include "odometry/eval/relative_pose_error.h"

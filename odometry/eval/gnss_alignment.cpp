@@ -4,7 +4,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "odometry/eval/alignment.h"
+#include "odometry/types/alignment.h"
 
 namespace uf {
 namespace {

@@ -6,7 +6,7 @@
 // With fixes f_i (ENU, weight w_i = 1 / (mean variance of its covariance)) and the antenna positions
 // a_i = T_world_body(t_i) * p_body_antenna (trajectory interpolated at the fix time), minimise
 //   sum_i w_i |T a_i - f_i|^2
-// over T = (R, t) with uf::WeightedRigidAlignment (odometry/eval/alignment.h): weighted Umeyama in 3D, or,
+// over T = (R, t) with uf::WeightedRigidAlignment (odometry/types/alignment.h): weighted Umeyama in 3D, or,
 // for a gravity-aligned world (LIO: z is up in both frames), the yaw and the translation only. Fixes without
 // a position (no fix) or outside the trajectory's time span are not used. The result is admitted only with
 // enough fixes spread over enough distance (else the heading is not determined) and a residual RMS below

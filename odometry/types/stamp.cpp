@@ -73,6 +73,8 @@ std::optional<Stamp> ParseSeconds(std::string_view text) {
   return negative ? -value : value;
 }
 
+std::string StampText(Stamp t) { return std::to_string(ToSeconds(t)) + " s"; }
+
 std::string FormatSeconds(Stamp t) {
   const bool negative = t < 0;
   // -(t + 1) + 1 avoids overflowing on INT64_MIN.

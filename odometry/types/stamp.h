@@ -28,4 +28,7 @@ std::optional<Stamp> ParseSeconds(std::string_view text);
 // "1305031102.160407000": seconds with exactly nine decimals, the inverse of ParseSeconds.
 std::string FormatSeconds(Stamp t);
 
+// "1305031102.160407 s": seconds with six decimals and the unit, for messages.
+std::string StampText(Stamp t);
+
 }  // namespace uf

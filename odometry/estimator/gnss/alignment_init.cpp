@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <vector>
+
+#include "odometry/types/alignment.h"
 
 namespace uf::estimator {
 namespace {
@@ -41,27 +44,18 @@ Expected<AlignmentInit> InitializeAlignment(std::span<const AlignmentPair> pairs
     return Refused(why.str());
   }
 
-  // Weighted centroids, then the cross and dot sums of the centred horizontal components.
-  double W = 0.0;
-  Eigen::Vector3d c_a = Eigen::Vector3d::Zero(), c_b = Eigen::Vector3d::Zero();
+  // A gravity-aligned world: the yaw-only weighted alignment (2D Procrustes, types/alignment.h).
+  std::vector<Eigen::Vector3d> antenna, enu;
+  std::vector<double> weights;
   for (const AlignmentPair& pair : pairs) {
-    W += pair.weight;
-    c_a += pair.weight * pair.antenna_world;
-    c_b += pair.weight * pair.fix_enu;
+    antenna.push_back(pair.antenna_world);
+    enu.push_back(pair.fix_enu);
+    weights.push_back(pair.weight);
   }
-  c_a /= W;
-  c_b /= W;
-  double cross = 0.0, dot = 0.0;
-  for (const AlignmentPair& pair : pairs) {
-    const Eigen::Vector2d A = (pair.antenna_world - c_a).head<2>(), B = (pair.fix_enu - c_b).head<2>();
-    cross += pair.weight * (A.x() * B.y() - A.y() * B.x());
-    dot += pair.weight * A.dot(B);
-  }
+  const SE3 T_enu_world = WeightedRigidAlignment(antenna, enu, weights, /*yaw_only=*/true);
   EnuAlignment& alignment = result.alignment;
-  alignment.yaw_rad = std::atan2(cross, dot);
-  alignment.translation.head<2>() =
-      c_b.head<2>() - RotationZ(alignment.yaw_rad).topLeftCorner<2, 2>() * c_a.head<2>();
-  alignment.translation.z() = c_b.z() - c_a.z();  // = sum w_i (b_i,z - a_i,z) / W
+  alignment.yaw_rad = std::atan2(T_enu_world.rotation()(1, 0), T_enu_world.rotation()(0, 0));
+  alignment.translation = T_enu_world.translation();
 
   double squared = 0.0;
   for (const AlignmentPair& pair : pairs)

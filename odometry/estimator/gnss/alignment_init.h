@@ -3,7 +3,8 @@
 // horizontally for the yaw to be seen.
 //
 // Pairs (a_i = antenna in the world, b_i = fix in ENU, weight w_i > 0), W = sum w_i. The world is
-// gravity-aligned, so the rotation is about z only and the horizontal and vertical parts separate:
+// gravity-aligned, so the rotation is about z only and the horizontal and vertical parts separate (the
+// yaw-only case of uf::WeightedRigidAlignment, types/alignment.h, computes it):
 //   horizontal (2D weighted Procrustes), on the x-y components:
 //     c_a = sum w_i a_i / W,  c_b = sum w_i b_i / W,  A_i = a_i - c_a,  B_i = b_i - c_b
 //     yaw = atan2(sum w_i (A_i x B_i), sum w_i (A_i . B_i))      (A x B = A_x B_y - A_y B_x)

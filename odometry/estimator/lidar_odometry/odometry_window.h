@@ -65,8 +65,6 @@ struct ScanState {
   bool in_map = false;  // registered and inserted into the map
 };
 
-std::string StampText(Stamp stamp);
-
 // Adds the wall time of its scope to a millisecond counter (the per-stage figures of OdometryStats).
 class StageTimer {
  public:

@@ -8,8 +8,6 @@
 
 namespace uf::estimator {
 
-std::string StampText(Stamp stamp) { return std::to_string(ToSeconds(stamp)) + " s"; }
-
 NavState LidarOdometry::Impl::NodeState(long id) {
   NavState state;
   state.stamp = NodeAt(id).stamp;

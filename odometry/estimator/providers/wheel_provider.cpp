@@ -11,8 +11,6 @@ namespace {
 
 constexpr long kScalePriorTag = -1;
 
-std::string StampText(Stamp stamp) { return std::to_string(ToSeconds(stamp)) + " s"; }
-
 }  // namespace
 
 WheelProvider::WheelProvider(const WheelFactorConfig& config, const SE3& T_body_wheel)

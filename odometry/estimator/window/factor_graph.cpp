@@ -54,6 +54,7 @@ void FactorGraph::RemoveBlocks(const std::vector<double*>& blocks) {
     kind.erase(
         std::remove_if(kind.begin(), kind.end(), [&](const Factor& f) { return Touches(f.blocks, gone); }),
         kind.end());
+  if (prior_ && Touches(prior_->prior().ParameterBlocks(), gone)) prior_.reset();
   for (const double* block : blocks) blocks_.erase(block);
 }
 
@@ -86,11 +87,11 @@ void FactorGraph::Clear() {
   prior_.reset();
 }
 
-// The entries a solve uses, in solve order: those passing request.use and touching a free block, then the
-// prior (when asked for and present).
+// The entries a solve uses, in solve order: those passing request.use and touching a free block (`free`:
+// request.free as a set), then the prior (when asked for and present).
 template <typename Visit>
-void FactorGraph::ForEachUsed(const WindowSolveRequest& request, Visit&& visit) {
-  const std::unordered_set<const double*> free(request.free.begin(), request.free.end());
+void FactorGraph::ForEachUsed(const WindowSolveRequest& request,
+                              const std::unordered_set<const double*>& free, Visit&& visit) {
   for (const std::vector<Factor>& kind : entries_)
     for (const Factor& f : kind)
       if ((!request.use || request.use(f)) && Touches(f.blocks, free))
@@ -102,6 +103,7 @@ void FactorGraph::ForEachUsed(const WindowSolveRequest& request, Visit&& visit) 
 // from the residual blocks (dense_least_squares.h). Ceres: sparse Cholesky, for windows far larger.
 WindowSolveResult FactorGraph::Solve(const WindowSolveRequest& request) {
   WindowSolveResult result;
+  const std::unordered_set<const double*> free(request.free.begin(), request.free.end());
   if (request.solver == WindowSolver::kDense) {
     DenseLeastSquares problem;
     for (double* block : request.free) {
@@ -112,7 +114,7 @@ WindowSolveResult FactorGraph::Solve(const WindowSolveRequest& request) {
         problem.AddEuclideanBlock(block, info.size);
       }
     }
-    ForEachUsed(request,
+    ForEachUsed(request, free,
                 [&](const ceres::CostFunction* cost, const ceres::LossFunction* loss,
                     const std::vector<double*>& blocks) { problem.AddResidualBlock(cost, loss, blocks); });
     DenseSolverOptions options;
@@ -129,18 +131,18 @@ WindowSolveResult FactorGraph::Solve(const WindowSolveRequest& request) {
   problem_options.manifold_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   problem_options.enable_fast_removal = false;
   ceres::Problem problem(problem_options);
-  const std::unordered_set<const double*> free(request.free.begin(), request.free.end());
-  ForEachUsed(request, [&](const ceres::CostFunction* cost, const ceres::LossFunction* loss,
-                           const std::vector<double*>& blocks) {
-    for (double* block : blocks) {
-      if (problem.HasParameterBlock(block)) continue;
-      const BlockInfo& info = blocks_.at(block);
-      problem.AddParameterBlock(block, info.size, info.pose ? &manifold_ : nullptr);
-      if (!free.count(block)) problem.SetParameterBlockConstant(block);
-    }
-    problem.AddResidualBlock(const_cast<ceres::CostFunction*>(cost), const_cast<ceres::LossFunction*>(loss),
-                             blocks);
-  });
+  ForEachUsed(request, free,
+              [&](const ceres::CostFunction* cost, const ceres::LossFunction* loss,
+                  const std::vector<double*>& blocks) {
+                for (double* block : blocks) {
+                  if (problem.HasParameterBlock(block)) continue;
+                  const BlockInfo& info = blocks_.at(block);
+                  problem.AddParameterBlock(block, info.size, info.pose ? &manifold_ : nullptr);
+                  if (!free.count(block)) problem.SetParameterBlockConstant(block);
+                }
+                problem.AddResidualBlock(const_cast<ceres::CostFunction*>(cost),
+                                         const_cast<ceres::LossFunction*>(loss), blocks);
+              });
   ceres::Solver::Options options;
   options.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;  // J^T J block-banded
   options.max_num_iterations = request.max_iterations;

@@ -19,6 +19,7 @@
 #include <memory>
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "odometry/estimator/config/marginalization_config.h"
@@ -65,7 +66,8 @@ class FactorGraph {
  public:
   void AddPoseBlock(double* block);  // 7 ambient {t, q}, PoseManifold
   void AddEuclideanBlock(double* block, int size);
-  // Forgets blocks and removes every entry touching one of them (not the prior: see Marginalize).
+  // Forgets blocks and removes every entry touching one of them, and the prior when it does (their
+  // information is dropped; Marginalize keeps it instead).
   void RemoveBlocks(const std::vector<double*>& blocks);
   bool IsPoseBlock(const double* block) const;
 
@@ -99,7 +101,8 @@ class FactorGraph {
     bool pose = false;
   };
   template <typename Visit>
-  void ForEachUsed(const WindowSolveRequest& request, Visit&& visit);
+  void ForEachUsed(const WindowSolveRequest& request, const std::unordered_set<const double*>& free,
+                   Visit&& visit);
 
   std::unordered_map<const double*, BlockInfo> blocks_;
   std::array<std::vector<Factor>, kFactorKinds> entries_;

@@ -35,9 +35,10 @@ TEST(RunMode, NamesParseBack) {
       EXPECT_EQ(ModeName(**mode), name);
     }
   }
-  EXPECT_EQ(ModeName({OdometryMode::kLio, true, true}), "lwgio");
-  EXPECT_EQ(ModeName({OdometryMode::kLio, false, true}), "lio+g");
-  EXPECT_EQ(ModeName({OdometryMode::kLo, false, false}), "lo");
+  EXPECT_EQ(ModeName({OdometryMode::kLio, true}), "lwio");
+  EXPECT_EQ(ModeName({OdometryMode::kLo, false}), "lo");
+  EXPECT_NE(ParseMode("lwgio").error().find("GNSS factor is not in the estimator's window yet"),
+            std::string::npos);
   EXPECT_NE(ParseMode("wgio").error().find("not implemented yet"), std::string::npos);
   EXPECT_NE(ParseMode("lio+g").error().find("GNSS factor is not in the estimator's window yet"),
             std::string::npos);
@@ -49,13 +50,13 @@ TEST(RunMode, AutoPicksTheRichestTheDataSupports) {
   const Dataset all({Stream("lidar", SensorKind::kLidar), Stream("imu", SensorKind::kImu),
                      Stream("wheel", SensorKind::kWheel), Stream("gnss", SensorKind::kGnss)});
   EXPECT_EQ(*ChooseMode(std::nullopt, all.description, all.sensors, notes),
-            (EstimatorMode{OdometryMode::kLio, true, false}));  // GNSS: the map's georeference
+            (EstimatorMode{OdometryMode::kLio, true}));  // GNSS: the map's georeference
   EXPECT_TRUE(notes.empty());
 
   const Dataset no_wheel_extrinsic({Stream("lidar", SensorKind::kLidar), Stream("imu", SensorKind::kImu),
                                     Stream("odom", SensorKind::kWheel, false)});
   EXPECT_EQ(*ChooseMode(std::nullopt, no_wheel_extrinsic.description, no_wheel_extrinsic.sensors, notes),
-            (EstimatorMode{OdometryMode::kLio, false, false}));
+            (EstimatorMode{OdometryMode::kLio, false}));
   ASSERT_EQ(notes.size(), 1u);
   EXPECT_NE(notes[0].find("ran lio (no wheel-to-IMU transform (T_body_sensor of odom))"), std::string::npos)
       << notes[0];
@@ -63,23 +64,23 @@ TEST(RunMode, AutoPicksTheRichestTheDataSupports) {
   notes.clear();
   const Dataset lidar_wheel({Stream("lidar", SensorKind::kLidar), Stream("wheel", SensorKind::kWheel)});
   EXPECT_EQ(*ChooseMode(std::nullopt, lidar_wheel.description, lidar_wheel.sensors, notes),
-            (EstimatorMode{OdometryMode::kLo, false, false}));  // the factors need the inertial core
+            (EstimatorMode{OdometryMode::kLo, false}));  // the factors need the inertial core
 }
 
 TEST(RunMode, AnExplicitModeNamesWhatIsMissing) {
   std::vector<std::string> notes;
   const Dataset lio({Stream("lidar", SensorKind::kLidar), Stream("imu", SensorKind::kImu)});
   const Expected<EstimatorMode> lwio =
-      ChooseMode(EstimatorMode{OdometryMode::kLio, true, false}, lio.description, lio.sensors, notes);
+      ChooseMode(EstimatorMode{OdometryMode::kLio, true}, lio.description, lio.sensors, notes);
   ASSERT_FALSE(lwio.ok());
   EXPECT_NE(
       lwio.error().find("--mode lwio: data has no wheel odometry stream (streams: lidar (lidar), imu (imu))"),
       std::string::npos)
       << lwio.error();
   const Dataset lidar_wheel({Stream("lidar", SensorKind::kLidar), Stream("wheel", SensorKind::kWheel)});
-  EXPECT_TRUE(ChooseMode(EstimatorMode{OdometryMode::kLo, true, false}, lidar_wheel.description,
-                         lidar_wheel.sensors, notes)
-                  .ok());
+  EXPECT_TRUE(
+      ChooseMode(EstimatorMode{OdometryMode::kLo, true}, lidar_wheel.description, lidar_wheel.sensors, notes)
+          .ok());
 }
 
 }  // namespace

@@ -19,18 +19,21 @@ namespace uf::pipeline {
 
 struct EstimatorMode {
   OdometryMode core = OdometryMode::kLo;
-  bool wheel = false, gnss = false;
+  bool wheel = false;  // wheel odometry factors between the nodes
 
   bool operator==(const EstimatorMode&) const = default;
 };
 
-// "lo", "lio", "lwio", "lio+g", "lwgio"; "lwo", "lo+g", "lwgo" for the LiDAR-only core with factors.
+// "lo", "lio", "lwio", "lwo".
 std::string ModeName(const EstimatorMode& mode);
 // "auto" (nullopt) or the name of a mode that runs: lo, lio, lwio, lwo. The G modes, and "wio" and "wgio"
 // (no LiDAR), are errors saying what is not implemented yet; anything else is an error listing the names.
 Expected<std::optional<EstimatorMode>> ParseMode(std::string_view text);
 // The names --mode accepts, for the command's help and check.
 std::vector<std::string> ModeNames();
+
+// "/imu/data (imu), velodyne (lidar)": the streams a dataset has, for messages ("none" without any).
+std::string StreamList(const DatasetDescription& description);
 
 // The mode to run: `asked` when the dataset has what it needs (else an error naming the missing stream or
 // extrinsic and listing the streams), or with auto the richest one it supports, with a note for each

@@ -10,14 +10,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// "/imu/data (imu), velodyne (lidar)": the streams a dataset has, for messages.
-std::string StreamList(const DatasetDescription& description) {
-  std::string list;
-  for (const StreamInfo& s : description.streams)
-    list += (list.empty() ? "" : ", ") + s.name + " (" + std::string(SensorKindName(s.kind)) + ")";
-  return list.empty() ? "none" : list;
-}
-
 // The command line that repeats the run: the resolved mode and every option that is not in config.yaml.
 std::string RepeatCommand(const RunRequest& r, const RunFrames& frames, const EstimatorMode& mode) {
   char voxel[32] = {};
@@ -61,11 +53,9 @@ void DescribeRun(RunPlan& plan) {
   std::string streams = lidar;
   if (plan.frames.mode == OdometryMode::kLio) streams += ", " + description.streams[plan.sensors.imu].name;
   if (plan.mode.wheel) streams += ", " + description.streams[plan.sensors.wheel].name;
-  if (plan.mode.gnss) streams += ", " + description.streams[plan.sensors.gnss].name;
   summary.mode = ModeName(plan.mode) + " (" +
                  (plan.frames.mode == OdometryMode::kLio ? "LiDAR-inertial" : "LiDAR-only") + " odometry" +
-                 (plan.mode.wheel ? " with wheel factors" : "") +
-                 (plan.mode.gnss ? " with GNSS factors" : "") + " on " + streams + ")";
+                 (plan.mode.wheel ? " with wheel factors" : "") + " on " + streams + ")";
   summary.output_frame = plan.frames.trajectory_frame;
   for (const std::string& note : summary.notes) std::cerr << "ultrafusion: warning: " << note << "\n";
   if (r.no_splat) summary.notes.push_back("--no-splat: no splats trained");

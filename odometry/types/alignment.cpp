@@ -1,4 +1,4 @@
-#include "odometry/eval/alignment.h"
+#include "odometry/types/alignment.h"
 
 #include <Eigen/Geometry>
 #include <Eigen/SVD>

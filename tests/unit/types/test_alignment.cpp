@@ -6,7 +6,7 @@
 #include <Eigen/Geometry>
 #include <random>
 
-#include "odometry/eval/alignment.h"
+#include "odometry/types/alignment.h"
 
 namespace uf {
 namespace {
