@@ -13,6 +13,7 @@
 #include "odometry/io/dataset_options.h"
 #include "odometry/io/measurement.h"
 #include "odometry/types/camera_model.h"
+#include "odometry/types/geodetic.h"
 #include "odometry/types/se3.h"
 #include "odometry/types/status.h"
 
@@ -61,6 +62,7 @@ struct DatasetDescription {
   DatasetFormat format = DatasetFormat::kAuto;
   std::vector<StreamInfo> streams;
   std::optional<std::filesystem::path> ground_truth;  // TUM/KITTI/EuRoC ground truth found beside the data
+  std::optional<GeodeticOrigin> ground_truth_enu_origin;  // its world is ENU at this point, when known
 };
 
 class DatasetReader {

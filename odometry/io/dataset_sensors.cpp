@@ -13,6 +13,7 @@ DatasetSensors FindSensors(const DatasetDescription& description) {
   }
   if (sensors.lidar >= 0) sensors.T_imu_lidar = ImuFromSensor(description, sensors.lidar);
   if (sensors.wheel >= 0) sensors.T_imu_wheel = ImuFromSensor(description, sensors.wheel);
+  if (sensors.gnss >= 0) sensors.T_imu_gnss = ImuFromSensor(description, sensors.gnss);
   return sensors;
 }
 

@@ -11,7 +11,7 @@ namespace {
 
 template <typename T>
 Status Bad(const std::string& field, const char* rule, T value) {
-  return FieldMustBe("gnss", field.c_str(), rule, value);
+  return FieldMustBe("lio.gnss", field.c_str(), rule, value);
 }
 
 Status CheckNoise(const char* status, const GnssStatusNoise& noise) {

@@ -58,7 +58,7 @@ struct GnssFactorConfig {
   // The noise of one status (kNoFix: the fix entry; such fixes are rejected before).
   const GnssStatusNoise& Noise(GnssFixStatus status) const;
 
-  // Names the first bad field and its value ("gnss.integrity_gate: must be > 0, got -1").
+  // Names the first bad field and its value ("lio.gnss.integrity_gate: must be > 0, got -1").
   Status Validate() const;
 };
 

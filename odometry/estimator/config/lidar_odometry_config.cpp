@@ -39,6 +39,12 @@ Status LidarOdometryConfig::Validate() const {
   if (Status s = marginalization.Validate(); !s.ok()) return Status::Error("lo." + s.message());
   if (use_wheel)
     if (Status s = wheel.Validate(); !s.ok()) return s;
+  if (use_gnss) {
+    if (!use_imu)
+      return Status::Error("lio.use_gnss: the GNSS factor needs the IMU (a gravity-aligned world), got LO");
+    if (Status s = gnss.Validate(); !s.ok()) return s;
+    if (!T_body_gnss.matrix().allFinite()) return Bad("T_body_gnss", "finite", "non-finite", "lio");
+  }
   if (!use_imu) return {};
   if (Status s = ValidateImuNoiseParams(imu); !s.ok()) return Status::Error("lio." + s.message());
   if (Status s = init.Validate(); !s.ok()) return s;

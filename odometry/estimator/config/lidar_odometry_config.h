@@ -4,6 +4,7 @@
 #pragma once
 
 #include "odometry/estimator/config/constant_velocity_noise.h"
+#include "odometry/estimator/config/gnss_factor_config.h"
 #include "odometry/estimator/config/imu_noise_params.h"
 #include "odometry/estimator/config/inertial_init_config.h"
 #include "odometry/estimator/config/marginalization_config.h"
@@ -53,6 +54,12 @@ struct LidarOdometryConfig {
   bool use_wheel = false;
   WheelFactorConfig wheel;
   SE3 T_body_wheel;  // the wheel (base) frame in the body frame, from the calibration like T_body_lidar
+
+  // GNSS position factors (LIO+G, LWGIO; providers/gnss_provider.h). Needs use_imu: the factor's 4-dof
+  // alignment (yaw and translation) holds only in a gravity-aligned world.
+  bool use_gnss = false;
+  GnssFactorConfig gnss;
+  SE3 T_body_gnss;  // the antenna in the body frame (its translation is the lever arm)
 
   Status Validate() const;
 };

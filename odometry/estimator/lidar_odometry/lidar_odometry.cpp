@@ -166,6 +166,7 @@ bool LidarOdometry::Impl::RegisterNewScan(ScanState& current) {
     visited.emplace_back(begin, end);
   }
   if (solved && (config.window_size > 2 || inertial)) {
+    LinkGnss();  // the new nodes are registered: a fair prediction for the integrity test
     Relinearize();
     solved = Solve(&stats.iterations);  // the whole window, once
   }
@@ -202,6 +203,12 @@ Status LidarOdometry::AddWheel(const WheelSample& sample) {
   return impl_->AddWheel(sample);
 }
 
+Status LidarOdometry::AddGnss(const GnssFix& fix) {
+  if (!impl_->gnss) return {};
+  if (std::optional<std::string> skipped = impl_->gnss->Add(fix)) impl_->warnings.push_back(*skipped);
+  return {};
+}
+
 Status LidarOdometry::AddImu(const ImuSample& sample) {
   if (!impl_->config.use_imu) return {};
   return impl_->AddImu(sample);
@@ -223,6 +230,7 @@ void LidarOdometry::Finish() {
   Impl& w = *impl_;
   w.ProcessReady(/*flush=*/true);
   if (w.window.size() >= 2) {
+    w.LinkGnss();
     const SavedStates saved = Save(w.nodes);
     int iterations = 0;
     w.Relinearize();
@@ -246,7 +254,17 @@ SensorFactorStats LidarOdometry::sensor_factors() const {
     stats.wheel = {wheel->factors_added(), wheel->factors_skipped()};
     stats.wheel_scale = wheel->scale();
   }
+  if (const GnssProvider* gnss = impl_->gnss.get()) {
+    const GnssCounts& counts = gnss->counts();
+    stats.gnss = {counts.added, counts.screened_out + counts.unplaced, counts.integrity_rejected};
+    stats.gnss_alignment = gnss->alignment_summary();
+  }
   return stats;
+}
+
+std::optional<Georeference> LidarOdometry::georeference() const {
+  if (!impl_->gnss) return std::nullopt;
+  return impl_->gnss->georeference();
 }
 
 }  // namespace uf::estimator

@@ -41,10 +41,12 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "odometry/estimator/config/lidar_odometry_config.h"
+#include "odometry/types/georeference.h"
 #include "odometry/types/keyframe.h"
 #include "odometry/types/measurements.h"
 #include "odometry/types/status.h"
@@ -61,14 +63,16 @@ struct OdometryStats {
   double prepare_ms = 0, associate_ms = 0, register_ms = 0, window_ms = 0, map_ms = 0, marginalize_ms = 0;
 };
 
-// What the optional factors did over the run so far: factors added, and skipped (no data over the interval,
-// or rejected by an integrity check).
+// What the optional factors did over the run so far: factors added, measurements skipped (bad values, no
+// data over the interval, no node near), and rejected by an integrity check.
 struct FactorCount {
-  int added = 0, skipped = 0;
+  int added = 0, skipped = 0, rejected = 0;
 };
 struct SensorFactorStats {
   FactorCount wheel;
   double wheel_scale = 1;  // the estimated wheel scale (1 without wheel factors or with it fixed)
+  FactorCount gnss;
+  std::string gnss_alignment;  // how the world -> ENU alignment started, or why not yet ("" without GNSS)
 };
 
 class LidarOdometry {
@@ -89,6 +93,10 @@ class LidarOdometry {
   // Feeds one wheel odometry sample (config.use_wheel; ignored otherwise). Non-finite or not-increasing
   // samples are skipped with a warning; a node interval the samples do not cover gets no wheel factor.
   Status AddWheel(const WheelSample& sample);
+  // Feeds one GNSS fix (config.use_gnss; ignored otherwise). Fixes that fail the screening (status, NaN,
+  // covariance) or come out of time order are skipped with a warning; accepted ones join the window once
+  // its nodes cover them and the alignment has started (providers/gnss_provider.h).
+  Status AddGnss(const GnssFix& fix);
   // Keyframes whose state has left the window (final) since the last call: stamp = the scan's middle
   // (stamp + (end - stamp) / 2), T_world_body = pose at that time, scan_world = deskewed points (world),
   // scan_intensity, velocity from the estimate.
@@ -102,6 +110,9 @@ class LidarOdometry {
   bool inertial() const;                      // LIO initialized (IMU factors active)
   const std::string& initialization() const;  // how LIO initialized ("static at 0.9 s ..."), or empty
   SensorFactorStats sensor_factors() const;
+  // With GNSS factors, once the world -> ENU alignment has started: the ENU origin and T_enu_world as
+  // estimated now (after Finish: at the end of the run).
+  std::optional<Georeference> georeference() const;
 
  private:
   struct Impl;

@@ -21,6 +21,7 @@
 #include "odometry/estimator/lidar_odometry/lidar_odometry.h"
 #include "odometry/estimator/lidar_odometry/scan_preparation.h"
 #include "odometry/estimator/lidar_odometry/sweep_poses.h"
+#include "odometry/estimator/providers/gnss_provider.h"
 #include "odometry/estimator/providers/wheel_provider.h"
 #include "odometry/estimator/state/nav_state.h"
 #include "odometry/estimator/state/pose_manifold.h"
@@ -86,6 +87,7 @@ struct LidarOdometry::Impl {
       wheel = std::make_unique<WheelProvider>(config.wheel, config.T_body_wheel);
       wheel->Attach(graph);
     }
+    if (config.use_gnss) gnss = std::make_unique<GnssProvider>(config.gnss, config.T_body_gnss.translation());
   }
 
   LidarOdometryConfig config;
@@ -109,6 +111,7 @@ struct LidarOdometry::Impl {
   std::string init_summary, last_init_failure;
   // Optional factors.
   std::unique_ptr<WheelProvider> wheel;
+  std::unique_ptr<GnssProvider> gnss;
 
   // Nodes (window_nodes.cpp).
   Node& NodeAt(long id) { return nodes[static_cast<std::size_t>(id - first_node_id)]; }
@@ -121,6 +124,7 @@ struct LidarOdometry::Impl {
   void AddMotionPrior(long id);
   void LinkWheel(long id);
   Status AddWheel(const WheelSample& sample);
+  void LinkGnss();
   Expected<ImuPreintegration> Preintegrate(Stamp from, Stamp to, const SpeedBiasArray& bias) const;
   Status AddImu(const ImuSample& sample);
   void TrimStreams();

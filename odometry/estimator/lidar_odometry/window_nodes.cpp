@@ -77,6 +77,16 @@ Status LidarOdometry::Impl::AddWheel(const WheelSample& sample) {
   return {};
 }
 
+// The GNSS fixes the nodes cover join the window (providers/gnss_provider.h); only once LIO is initialized:
+// the alignment is yaw and translation, so the world must be gravity-aligned.
+void LidarOdometry::Impl::LinkGnss() {
+  if (!gnss || !inertial) return;
+  std::vector<WindowNode> refs;
+  for (long id = first_node_id; id <= LastNodeId(); ++id)
+    refs.push_back({NodeAt(id).stamp, NodeAt(id).pose.data()});
+  gnss->Link(graph, refs, warnings);
+}
+
 void LidarOdometry::Impl::AddImuFactor(long id, std::unique_ptr<ImuFactor> factor) {
   graph.Add(FactorKind::kImu, id, std::move(factor), nullptr,
             {NodeAt(id - 1).pose.data(), NodeAt(id - 1).speed_bias.data(), NodeAt(id).pose.data(),
@@ -236,6 +246,7 @@ void LidarOdometry::Impl::Reset() {
   first_node_id = 0;
   graph.Clear();
   if (wheel) wheel->Attach(graph);
+  if (gnss) gnss->Reset();
   map.Clear();
   inertial = false;
   last_init_failure.clear();

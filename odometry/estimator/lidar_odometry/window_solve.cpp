@@ -28,6 +28,7 @@ bool LidarOdometry::Impl::Solve(int* iterations, bool new_scan_only) {
       request.free.push_back(node.speed_bias.data());
   }
   if (wheel && wheel->scale_free() && !new_scan_only) request.free.push_back(wheel->scale_block());
+  if (gnss && gnss->aligned() && !new_scan_only) request.free.push_back(gnss->alignment_block());
   if (new_scan_only) {
     const long scan = window.back().id;
     request.use = [scan](const Factor& f) { return f.kind != FactorKind::kLidar || f.tag == scan; };

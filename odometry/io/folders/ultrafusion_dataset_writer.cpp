@@ -63,6 +63,7 @@ struct UltrafusionDatasetWriter::State {
   fs::path folder;
   std::vector<StreamFile> streams;
   bool has_ground_truth = false;
+  std::optional<GeodeticOrigin> ground_truth_enu_origin;
   bool finished = false;
 
   Status Error(const std::string& what) const { return Status::Error(folder.string() + ": " + what); }
@@ -181,13 +182,15 @@ Status UltrafusionDatasetWriter::State::WriteCamera(StreamFile& stream, const Ca
   return {};
 }
 
-Status UltrafusionDatasetWriter::WriteGroundTruth(const Trajectory& trajectory) {
+Status UltrafusionDatasetWriter::WriteGroundTruth(const Trajectory& trajectory,
+                                                  const std::optional<GeodeticOrigin>& enu_origin) {
   if (state_->finished) return state_->Error("WriteGroundTruth() after Finish()");
   if (Status s =
           WriteTumTrajectory((state_->folder / ultrafusion_format::kGroundTruthFile).string(), trajectory);
       !s.ok())
     return s;
   state_->has_ground_truth = true;
+  state_->ground_truth_enu_origin = enu_origin;
   return {};
 }
 
@@ -231,6 +234,14 @@ Status UltrafusionDatasetWriter::State::WriteDescription() {
   yaml << YAML::EndSeq;
   if (has_ground_truth)
     yaml << YAML::Key << "ground_truth" << YAML::Value << std::string(ultrafusion_format::kGroundTruthFile);
+  if (has_ground_truth && ground_truth_enu_origin) {
+    const GeodeticOrigin& o = *ground_truth_enu_origin;
+    yaml << YAML::Key << "ground_truth_enu_origin" << YAML::Value << YAML::Flow << YAML::BeginMap;
+    yaml << YAML::Key << "latitude_deg" << YAML::Value << FormatNumber(o.latitude_deg);
+    yaml << YAML::Key << "longitude_deg" << YAML::Value << FormatNumber(o.longitude_deg);
+    yaml << YAML::Key << "height_m" << YAML::Value << FormatNumber(o.height_m);
+    yaml << YAML::EndMap;
+  }
   yaml << YAML::EndMap;
   if (!yaml.good()) return Error(std::string("cannot emit dataset.yaml: ") + yaml.GetLastError());
   AtomicFileWriter file((folder / ultrafusion_format::kDescriptionFile).string());

@@ -22,6 +22,8 @@
 //           distortion_coefficients: [k1, k2, p1, p2, k3]   # equidistant: [k1, k2, k3, k4]
 //           resolution: [width, height]
 //     ground_truth: groundtruth.tum  # optional
+//     ground_truth_enu_origin:       # optional: the ground truth's world is ENU at this WGS84 point
+//       {latitude_deg: 49.0069, longitude_deg: 8.4037, height_m: 115}
 //   Unknown keys are an error.
 //
 //   imu.csv      # stamp_ns,gx,gy,gz,ax,ay,az
@@ -48,10 +50,12 @@
 
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "odometry/io/dataset_reader.h"
 #include "odometry/io/measurement.h"
+#include "odometry/types/geodetic.h"
 #include "odometry/types/status.h"
 #include "odometry/types/trajectory.h"
 
@@ -75,7 +79,8 @@ class UltrafusionDatasetWriter {
   Status Write(const Measurement& measurement);
 
   // Writes groundtruth.tum (the trajectory needs stamps).
-  Status WriteGroundTruth(const Trajectory& trajectory);
+  // enu_origin: when the trajectory's world is ENU at that point (the simulator's), dataset.yaml says so.
+  Status WriteGroundTruth(const Trajectory& trajectory, const std::optional<GeodeticOrigin>& enu_origin = {});
 
   // Renames the stream files into place and writes dataset.yaml. Nothing can be written afterwards.
   Status Finish();

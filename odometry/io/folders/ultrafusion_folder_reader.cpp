@@ -139,6 +139,21 @@ Expected<StreamInfo> ParseStream(const YAML::Node& node, const std::string& wher
   return info;
 }
 
+// {latitude_deg, longitude_deg, height_m}, all three, finite and in range (ValidateGeodeticOrigin).
+Expected<GeodeticOrigin> ParseEnuOrigin(const YAML::Node& node, const std::string& where) {
+  if (!node.IsMap()) return Status::Error(where + ": expected {latitude_deg, longitude_deg, height_m}");
+  if (Status s = CheckKeys(node, {"latitude_deg", "longitude_deg", "height_m"}, where); !s.ok()) return s;
+  GeodeticOrigin origin;
+  for (auto [key, value] :
+       {std::pair{"latitude_deg", &origin.latitude_deg}, std::pair{"longitude_deg", &origin.longitude_deg},
+        std::pair{"height_m", &origin.height_m}}) {
+    if (!node[key]) return Status::Error(where + ": " + key + " missing");
+    *value = node[key].as<double>();
+  }
+  if (Status s = ValidateGeodeticOrigin(origin); !s.ok()) return Status::Error(where + ": " + s.message());
+  return origin;
+}
+
 }  // namespace
 
 Expected<std::unique_ptr<DatasetReader>> OpenUltrafusionFolder(const fs::path& path, const DatasetOptions&) {
@@ -154,7 +169,9 @@ Expected<std::unique_ptr<DatasetReader>> OpenUltrafusionFolder(const fs::path& p
   try {
     const YAML::Node root = YAML::LoadFile(yaml_path.string());
     if (!root.IsMap()) return Status::Error(where + ": not a YAML mapping");
-    if (Status s = CheckKeys(root, {"format", "version", "streams", "ground_truth"}, where); !s.ok())
+    if (Status s = CheckKeys(
+            root, {"format", "version", "streams", "ground_truth", "ground_truth_enu_origin"}, where);
+        !s.ok())
       return s;
     if (!root["format"] || root["format"].as<std::string>() != ultrafusion_format::kFormat)
       return Status::Error(where + ": format must be '" + std::string(ultrafusion_format::kFormat) + "'");
@@ -184,6 +201,11 @@ Expected<std::unique_ptr<DatasetReader>> OpenUltrafusionFolder(const fs::path& p
       if (!IsInsideFolder(file) || !fs::is_regular_file(path / file, error))
         return Status::Error(where + ": ground_truth '" + file.string() + "' is not a file in the folder");
       description.ground_truth = path / file;
+    }
+    if (const YAML::Node origin = root["ground_truth_enu_origin"]) {
+      Expected<GeodeticOrigin> parsed = ParseEnuOrigin(origin, where + ": ground_truth_enu_origin");
+      if (!parsed) return parsed.status();
+      description.ground_truth_enu_origin = *parsed;
     }
   } catch (const YAML::Exception& e) {
     return Status::Error(where + ": " + e.what());

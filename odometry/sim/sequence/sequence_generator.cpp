@@ -139,7 +139,8 @@ Expected<SimulationSummary> GenerateSequence(const SimulationConfig& config, con
     if (stream.kind == SensorKind::kLidar || stream.kind == SensorKind::kCamera)
       report("sensors", ++heavy_done, heavy_total);
   }
-  if (Status s = writer->WriteGroundTruth(GroundTruth(*motion, config.ground_truth_rate_hz)); !s.ok())
+  if (Status s = writer->WriteGroundTruth(GroundTruth(*motion, config.ground_truth_rate_hz), config.origin);
+      !s.ok())
     return s;
   summary.seconds_sensors = Seconds(sensors_start);
 

@@ -141,6 +141,19 @@ inline estimator::LidarOdometryConfig NonDefaultOdometry() {
              .time_offset_s = 0.01,
              .estimate_scale = false,
              .scale_prior_sigma = 0.03};
+  c.gnss.min_status = GnssFixStatus::kRtkFloat;
+  c.gnss.fix = {0.6, 1.5, 3.0, 6.0};
+  c.gnss.sbas = {0.4, 1.2, 1.5, 2.5};
+  c.gnss.rtk_float = {0.06, 1.1, 0.35, 0.6};
+  c.gnss.rtk_fixed = {0.02, 2.0, 0.04, 0.06};
+  c.gnss.use_nominal_for_unknown = true;
+  c.gnss.integrity_gate = 11.34;
+  c.gnss.prediction_sigma_m = 0.5;
+  c.gnss.min_alignment_baseline_m = 20;
+  c.gnss.min_alignment_fixes = 8;
+  c.gnss.max_alignment_rms_m = 5;
+  c.gnss.max_interpolation_gap_s = 0.5;
+  c.gnss.max_snap_s = 0.1;
   return c;
 }
 

@@ -207,6 +207,22 @@ inline void ExpectSameLio(const estimator::LidarOdometryConfig& a, const estimat
   EXPECT_FIELD(wheel.time_offset_s);
   EXPECT_FIELD(wheel.estimate_scale);
   EXPECT_FIELD(wheel.scale_prior_sigma);
+  EXPECT_FIELD(gnss.min_status);
+  for (const auto noise : {&estimator::GnssFactorConfig::fix, &estimator::GnssFactorConfig::sbas,
+                           &estimator::GnssFactorConfig::rtk_float, &estimator::GnssFactorConfig::rtk_fixed}) {
+    EXPECT_EQ((a.gnss.*noise).min_sigma_m, (b.gnss.*noise).min_sigma_m);
+    EXPECT_EQ((a.gnss.*noise).sigma_scale, (b.gnss.*noise).sigma_scale);
+    EXPECT_EQ((a.gnss.*noise).nominal_horizontal_sigma_m, (b.gnss.*noise).nominal_horizontal_sigma_m);
+    EXPECT_EQ((a.gnss.*noise).nominal_vertical_sigma_m, (b.gnss.*noise).nominal_vertical_sigma_m);
+  }
+  EXPECT_FIELD(gnss.use_nominal_for_unknown);
+  EXPECT_FIELD(gnss.integrity_gate);
+  EXPECT_FIELD(gnss.prediction_sigma_m);
+  EXPECT_FIELD(gnss.min_alignment_baseline_m);
+  EXPECT_FIELD(gnss.min_alignment_fixes);
+  EXPECT_FIELD(gnss.max_alignment_rms_m);
+  EXPECT_FIELD(gnss.max_interpolation_gap_s);
+  EXPECT_FIELD(gnss.max_snap_s);
 }
 
 inline void ExpectSameSplat(const SplatConfig& a, const SplatConfig& b) {

@@ -272,21 +272,21 @@ TEST(GnssFactorConfig, DefaultsAreValidAndBadFieldsAreNamed) {
     return config.Validate().message();
   };
   EXPECT_EQ(message([](GnssFactorConfig& c) { c.min_status = GnssFixStatus::kNoFix; }),
-            "gnss.min_status: must be fix, sbas, rtk_float or rtk_fixed, got no_fix");
+            "lio.gnss.min_status: must be fix, sbas, rtk_float or rtk_fixed, got no_fix");
   EXPECT_EQ(message([](GnssFactorConfig& c) { c.integrity_gate = -1; }),
-            "gnss.integrity_gate: must be > 0, got -1");
+            "lio.gnss.integrity_gate: must be > 0, got -1");
   EXPECT_EQ(message([](GnssFactorConfig& c) { c.rtk_fixed.min_sigma_m = 0; }),
-            "gnss.rtk_fixed.min_sigma_m: must be > 0, got 0");
+            "lio.gnss.rtk_fixed.min_sigma_m: must be > 0, got 0");
   EXPECT_EQ(message([](GnssFactorConfig& c) { c.fix.sigma_scale = 0.5; }),
-            "gnss.fix.sigma_scale: must be finite and >= 1, got 0.5");
+            "lio.gnss.fix.sigma_scale: must be finite and >= 1, got 0.5");
   EXPECT_EQ(message([](GnssFactorConfig& c) { c.prediction_sigma_m = -1; }),
-            "gnss.prediction_sigma_m: must be finite and >= 0, got -1");
+            "lio.gnss.prediction_sigma_m: must be finite and >= 0, got -1");
   EXPECT_EQ(message([](GnssFactorConfig& c) { c.min_alignment_baseline_m = 0; }),
-            "gnss.min_alignment_baseline_m: must be > 0, got 0");
+            "lio.gnss.min_alignment_baseline_m: must be > 0, got 0");
   EXPECT_EQ(message([](GnssFactorConfig& c) { c.min_alignment_fixes = 1; }),
-            "gnss.min_alignment_fixes: must be >= 2, got 1");
+            "lio.gnss.min_alignment_fixes: must be >= 2, got 1");
   EXPECT_EQ(message([](GnssFactorConfig& c) { c.max_snap_s = -0.1; }),
-            "gnss.max_snap_s: must be finite and >= 0, got -0.1");
+            "lio.gnss.max_snap_s: must be finite and >= 0, got -0.1");
 }
 
 }  // namespace

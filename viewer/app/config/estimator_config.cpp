@@ -6,8 +6,10 @@
 namespace uf::app {
 namespace {
 
+using config::Codec;
 using config::Schema;
 using estimator::ConstantVelocityNoise;
+using estimator::GnssFactorConfig;
 using estimator::ImuNoiseParams;
 using estimator::InertialInitConfig;
 using estimator::LidarOdometryConfig;
@@ -54,6 +56,56 @@ Schema<LidarOdometryConfig> MakeLoSchema() {
           "points needed in the 3x3x3 block for a plane");
   map.Key("min_plane_sigma_m", &VoxelMapConfig::min_plane_sigma_m, "m", "floor of a plane's sigma");
   s.Nest("map", &C::map, map);
+  return s;
+}
+
+Schema<estimator::GnssStatusNoise> GnssNoiseSchema(const std::string& status) {
+  using N = estimator::GnssStatusNoise;
+  Schema<N> s;
+  s.Key("min_sigma_m", &N::min_sigma_m, "m", status + " fixes: floor of the sigma along every axis");
+  s.Key("sigma_scale", &N::sigma_scale, "", "k >= 1: the reported covariance is multiplied by k^2");
+  s.Key("nominal_horizontal_sigma_m", &N::nominal_horizontal_sigma_m, "m",
+        "per horizontal axis, for an unknown (all-zero) covariance with use_nominal_for_unknown");
+  s.Key("nominal_vertical_sigma_m", &N::nominal_vertical_sigma_m, "m", "likewise, up");
+  return s;
+}
+
+Codec<GnssFixStatus> FixStatusCodec() {
+  return config::NamedCodec<GnssFixStatus>(
+      [](const std::string& name) -> Expected<GnssFixStatus> {
+        for (GnssFixStatus status : {GnssFixStatus::kNoFix, GnssFixStatus::kFix, GnssFixStatus::kSbas,
+                                     GnssFixStatus::kRtkFloat, GnssFixStatus::kRtkFixed})
+          if (name == estimator::GnssStatusName(status)) return status;
+        return Status::Error("unknown fix status '" + name + "' (fix, sbas, rtk_float, rtk_fixed)");
+      },
+      [](GnssFixStatus status) { return std::string(estimator::GnssStatusName(status)); });
+}
+
+Schema<GnssFactorConfig> GnssSchema() {
+  using G = GnssFactorConfig;
+  Schema<G> s;
+  s.Key("min_status", &G::min_status, FixStatusCodec(), "",
+        "GNSS factor (lio+g, lwgio): fixes of a lower status are not used (fix < sbas < rtk_float < "
+        "rtk_fixed)");
+  s.Key("use_nominal_for_unknown", &G::use_nominal_for_unknown, "",
+        "use the status' nominal sigmas for a fix with an all-zero covariance (false: skip it)");
+  s.Key("integrity_gate", &G::integrity_gate, "chi-square, 3 dof",
+        "a fix whose squared Mahalanobis innovation exceeds this is rejected (16.27: 99.9 %)");
+  s.Key("prediction_sigma_m", &G::prediction_sigma_m, "m",
+        "uncertainty of the predicted antenna position in the innovation test");
+  s.Key("min_alignment_baseline_m", &G::min_alignment_baseline_m, "m",
+        "the ENU alignment starts once the antenna moved this far horizontally");
+  s.Key("min_alignment_fixes", &G::min_alignment_fixes, "fixes", "and over at least this many fixes");
+  s.Key("max_alignment_rms_m", &G::max_alignment_rms_m, "m",
+        "an alignment start with a larger residual RMS is refused (the pairs are collected again)");
+  s.Key("max_interpolation_gap_s", &G::max_interpolation_gap_s, "s",
+        "a fix is interpolated between nodes at most this far apart");
+  s.Key("max_snap_s", &G::max_snap_s, "s",
+        "else it is attached to the nearest node within this, or not used");
+  for (const auto& [status, noise] :
+       {std::pair{"fix", &G::fix}, std::pair{"sbas", &G::sbas}, std::pair{"rtk_float", &G::rtk_float},
+        std::pair{"rtk_fixed", &G::rtk_fixed}})
+    s.Nest(status, noise, GnssNoiseSchema(status));
   return s;
 }
 
@@ -111,6 +163,7 @@ Schema<LidarOdometryConfig> MakeLioSchema() {
   wheel.Key("estimate_scale", &W::estimate_scale, "", "estimate the wheel scale (false: held at 1)");
   wheel.Key("scale_prior_sigma", &W::scale_prior_sigma, "", "prior of the wheel scale, relative to 1");
   s.Nest("wheel", &C::wheel, wheel);
+  s.Nest("gnss", &C::gnss, GnssSchema());
   return s;
 }
 

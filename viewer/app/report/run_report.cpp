@@ -105,6 +105,12 @@ std::string FormatRunReport(const pipeline::RunSummary& r) {
   md += "\n## Accuracy\n\n";
   if (r.accuracy.evaluated) {
     md += "ATE (APE translation RMSE, SE3-aligned): " + FormatValue("%.4f", r.accuracy.ape_rmse_m) + " m\n\n";
+    if (const std::optional<pipeline::EnuAccuracy>& enu = r.accuracy.enu)
+      md += "Position error in ENU without alignment (the estimator's georeference, " +
+            std::to_string(enu->matched_poses) + " poses): RMSE " + FormatValue("%.4f", enu->rmse_m) +
+            " m, horizontal " + FormatValue("%.4f", enu->horizontal_rmse_m) + " m, vertical " +
+            FormatValue("%.4f", enu->vertical_rmse_m) + " m\n\n";
+    if (!r.accuracy.enu_note.empty()) md += r.accuracy.enu_note + "\n\n";
     md += "As `ultrafusion eval GROUND_TRUTH trajectory.tum --align se3` reports it:\n\n```\n" +
           r.accuracy.table + "```\n\n";
     for (const std::string& plot : r.accuracy.plots) md += "![" + plot + "](" + plot + ")\n";

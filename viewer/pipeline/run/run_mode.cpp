@@ -6,15 +6,12 @@
 namespace uf::pipeline {
 namespace {
 
-// The modes that run. The GNSS factor (factors/gnss_factor.h) is not in the window yet: the G modes are
-// refused by ParseMode, and auto leaves GNSS to the map's georeference after the run.
+// The modes that run.
 constexpr std::array kModes = {
-    EstimatorMode{OdometryMode::kLo, false},
-    EstimatorMode{OdometryMode::kLio, false},
-    EstimatorMode{OdometryMode::kLio, true},
-    EstimatorMode{OdometryMode::kLo, true},
+    EstimatorMode{OdometryMode::kLo, false, false}, EstimatorMode{OdometryMode::kLio, false, false},
+    EstimatorMode{OdometryMode::kLio, true, false}, EstimatorMode{OdometryMode::kLo, true, false},
+    EstimatorMode{OdometryMode::kLio, false, true}, EstimatorMode{OdometryMode::kLio, true, true},
 };
-constexpr std::array<std::string_view, 4> kGnssModes = {"lio+g", "lwgio", "lo+g", "lwgo"};
 
 // What the dataset lacks for the mode ("" when it has everything).
 std::string MissingFor(const EstimatorMode& mode, const DatasetDescription& description,
@@ -32,6 +29,7 @@ std::string MissingFor(const EstimatorMode& mode, const DatasetDescription& desc
                       description.streams[sensors.wheel].name + ")");
   else if (mode.wheel && mode.core == OdometryMode::kLo && !sensors.T_imu_lidar)
     missing.push_back("no wheel-to-LiDAR transform (the LiDAR's T_body_sensor)");
+  if (mode.gnss && sensors.gnss < 0) missing.push_back("no GNSS stream");
   std::string text;
   for (const std::string& why : missing) text += (text.empty() ? "" : ", ") + why;
   return text;
@@ -47,7 +45,9 @@ std::string StreamList(const DatasetDescription& description) {
 }
 
 std::string ModeName(const EstimatorMode& mode) {
-  return std::string("l") + (mode.wheel ? "w" : "") + (mode.core == OdometryMode::kLio ? "io" : "o");
+  if (mode.gnss && !mode.wheel) return mode.core == OdometryMode::kLio ? "lio+g" : "lo+g";
+  return std::string("l") + (mode.wheel ? "w" : "") + (mode.gnss ? "g" : "") +
+         (mode.core == OdometryMode::kLio ? "io" : "o");
 }
 
 std::vector<std::string> ModeNames() {
@@ -60,11 +60,12 @@ Expected<std::optional<EstimatorMode>> ParseMode(std::string_view text) {
   if (text == "auto") return std::optional<EstimatorMode>();
   for (const EstimatorMode& mode : kModes)
     if (ModeName(mode) == text) return std::optional<EstimatorMode>(mode);
-  if (std::find(kGnssModes.begin(), kGnssModes.end(), text) != kGnssModes.end())
+  if (text == "lo+g" || text == "lwgo")
     return Status::Error(
         "--mode " + std::string(text) +
-        ": the GNSS factor is not in the estimator's window yet (GNSS fixes georeference the "
-        "map after the run); use the mode without G");
+        ": the GNSS factor needs the IMU (its alignment to ENU is a yaw and a translation of a "
+        "gravity-aligned world); use lio+g or lwgio, or lo and the map's georeference "
+        "after the run");
   if (text == "wio" || text == "wgio")
     return Status::Error(
         "--mode " + std::string(text) +
@@ -84,10 +85,24 @@ Expected<EstimatorMode> ChooseMode(const std::optional<EstimatorMode>& asked,
     return Status::Error("--mode " + ModeName(*asked) + ": " + description.path.string() + " has " + missing +
                          " (streams: " + StreamList(description) + ")");
   }
-  // Auto stays with the paper's modes: the wheel factors on the inertial core only.
-  const bool imu = MissingFor({OdometryMode::kLio, false}, description, sensors).empty();
-  const std::string why = MissingFor({OdometryMode::kLio, true}, description, sensors);
-  const EstimatorMode mode{imu ? OdometryMode::kLio : OdometryMode::kLo, imu && why.empty()};
+  // Auto stays with the paper's modes: the wheel and GNSS factors on the inertial core only.
+  const bool imu = MissingFor({OdometryMode::kLio, false, false}, description, sensors).empty();
+  EstimatorMode mode{imu ? OdometryMode::kLio : OdometryMode::kLo, false, false};
+  std::vector<std::string> left_out;
+  if (!imu && sensors.gnss >= 0)
+    left_out.push_back("GNSS factors need the IMU: the map is georeferenced after the run");
+  if (imu) {
+    const std::string no_wheel = MissingFor({OdometryMode::kLio, true, false}, description, sensors);
+    const std::string no_gnss = MissingFor({OdometryMode::kLio, false, true}, description, sensors);
+    mode.wheel = no_wheel.empty();
+    mode.gnss = no_gnss.empty();
+    for (const std::string* why : {&no_wheel, &no_gnss})
+      if (!why->empty()) left_out.push_back(*why);
+  } else {
+    left_out.insert(left_out.begin(), MissingFor({OdometryMode::kLio, false, false}, description, sensors));
+  }
+  std::string why;
+  for (const std::string& text : left_out) why += (why.empty() ? "" : ", ") + text;
   if (!why.empty()) notes.push_back("--mode auto: ran " + ModeName(mode) + " (" + why + ")");
   return mode;
 }

@@ -1,8 +1,8 @@
-// The estimator's mode (docs/METHOD.md "LO and LIO modes"): its core, LiDAR-only (LO) or LiDAR-inertial
-// (LIO), and the optional factors it adds (W: wheel odometry, G: GNSS), named as the paper names them: lo,
-// lio, lwio, lio+g, lwgio. `run --mode` takes a name or auto, which picks the richest mode the dataset
-// supports and says what it left out and why. The G modes are refused until the GNSS factor is in the
-// window.
+// The estimator's mode (docs/METHOD.md "Modes"): its core, LiDAR-only (LO) or LiDAR-inertial (LIO), and the
+// optional factors it adds (W: wheel odometry, G: GNSS), named as the paper names them: lo, lio, lwio,
+// lio+g, lwgio (and lwo, wheel factors on LO). `run --mode` takes a name or auto, which picks the richest
+// mode the dataset supports and says what it left out and why. GNSS needs the inertial core: its alignment
+// to ENU is a yaw and a translation of a gravity-aligned world.
 #pragma once
 
 #include <optional>
@@ -20,14 +20,16 @@ namespace uf::pipeline {
 struct EstimatorMode {
   OdometryMode core = OdometryMode::kLo;
   bool wheel = false;  // wheel odometry factors between the nodes
+  bool gnss = false;   // GNSS position factors (LIO only)
 
   bool operator==(const EstimatorMode&) const = default;
 };
 
-// "lo", "lio", "lwio", "lwo".
+// "lo", "lio", "lwio", "lwo", "lio+g", "lwgio".
 std::string ModeName(const EstimatorMode& mode);
-// "auto" (nullopt) or the name of a mode that runs: lo, lio, lwio, lwo. The G modes, and "wio" and "wgio"
-// (no LiDAR), are errors saying what is not implemented yet; anything else is an error listing the names.
+// "auto" (nullopt) or the name of a mode that runs: lo, lio, lwio, lwo, lio+g, lwgio. "lo+g" and "lwgo"
+// (GNSS without the IMU), "wio" and "wgio" (no LiDAR) are errors saying why they do not run; anything else
+// is an error listing the names.
 Expected<std::optional<EstimatorMode>> ParseMode(std::string_view text);
 // The names --mode accepts, for the command's help and check.
 std::vector<std::string> ModeNames();

@@ -53,9 +53,14 @@ void DescribeRun(RunPlan& plan) {
   std::string streams = lidar;
   if (plan.frames.mode == OdometryMode::kLio) streams += ", " + description.streams[plan.sensors.imu].name;
   if (plan.mode.wheel) streams += ", " + description.streams[plan.sensors.wheel].name;
+  if (plan.mode.gnss) streams += ", " + description.streams[plan.sensors.gnss].name;
+  const char* factors = plan.mode.wheel && plan.mode.gnss ? " with wheel and GNSS factors"
+                        : plan.mode.wheel                 ? " with wheel factors"
+                        : plan.mode.gnss                  ? " with GNSS factors"
+                                                          : "";
   summary.mode = ModeName(plan.mode) + " (" +
                  (plan.frames.mode == OdometryMode::kLio ? "LiDAR-inertial" : "LiDAR-only") + " odometry" +
-                 (plan.mode.wheel ? " with wheel factors" : "") + " on " + streams + ")";
+                 factors + " on " + streams + ")";
   summary.output_frame = plan.frames.trajectory_frame;
   for (const std::string& note : summary.notes) std::cerr << "ultrafusion: warning: " << note << "\n";
   if (r.no_splat) summary.notes.push_back("--no-splat: no splats trained");
@@ -123,6 +128,15 @@ Expected<RunPlan> PlanRun(RunRequest request, PlanErrorKind& kind) {
     plan.lo_config.T_body_wheel = mode->core == OdometryMode::kLio
                                       ? *plan.sensors.T_imu_wheel
                                       : plan.sensors.T_imu_lidar->inverse() * *plan.sensors.T_imu_wheel;
+  // The GNSS lever arm: T_imu_gnss (GNSS needs the inertial core); without an extrinsic, the antenna is
+  // taken at the IMU, and the report says so.
+  plan.lo_config.use_gnss = mode->gnss;
+  if (mode->gnss) {
+    plan.lo_config.T_body_gnss = plan.sensors.T_imu_gnss.value_or(SE3());
+    if (!plan.sensors.T_imu_gnss)
+      plan.summary.notes.push_back("GNSS: " + description.streams[plan.sensors.gnss].name +
+                                   " has no T_body_sensor: the antenna is taken at the IMU (no lever arm)");
+  }
   Expected<estimator::LidarOdometry> odometry = estimator::LidarOdometry::Create(plan.lo_config);
   if (!odometry) return odometry.status();
   plan.odometry = std::make_unique<estimator::LidarOdometry>(std::move(*odometry));

@@ -58,6 +58,7 @@ Status RunMap(RunPlan& plan, const fs::path& out, StageOutputs& o, StageContext&
   in.gnss_stream = plan.sensors.gnss;
   in.frames = plan.frames;
   in.out = out;
+  if (o.odometry) in.estimator_georef = o.odometry->georef;
   if (plan.request.from == RunFrom::kMap) {
     const MapFromTrajectoryInput from{.stream = plan.stream.get(),
                                       .mapper = plan.mapper.get(),
@@ -98,9 +99,14 @@ std::vector<Stage> RunStageList(RunPlan& plan, const fs::path& out, StageOutputs
                                 .mapper = plan.mapper.get(),
                                 .sensors = plan.sensors,
                                 .frames = plan.frames,
+                                .gnss_factors = plan.mode.gnss,
                                 .lidar_scans = o.dataset ? o.dataset->lidar_scans : 0,
                                 .out = out};
-    return Keep(o.odometry, RunOdometryStage(in, c));
+    if (Status s = Keep(o.odometry, RunOdometryStage(in, c)); !s.ok()) return s;
+    if (!o.odometry->georef) return Status();
+    // trajectory.tum is in ENU: run.json gets the map's new T_M_W, which the splat stage reads.
+    plan.frames = o.odometry->frames;
+    return WriteRunRecord(out, {fs::absolute(r.dataset).string(), plan.frames});
   };
   auto map = [&](StageContext& c) { return RunMap(plan, out, o, c); };
   auto exports = [&](StageContext& c) {
@@ -113,7 +119,7 @@ std::vector<Stage> RunStageList(RunPlan& plan, const fs::path& out, StageOutputs
     return Keep(o.views, RunViewsStage(out, o.splat->result, r.splat_config.training.render.background, c));
   };
   auto accuracy = [&](StageContext& c) {
-    o.accuracy = RunAccuracyStage(*description.ground_truth, out, c);
+    o.accuracy = RunAccuracyStage(description, out, o.odometry ? o.odometry->georef : std::nullopt, c);
     return Status();
   };
   return {
@@ -151,6 +157,12 @@ void Summarize(const RunPlan& plan, StageOutputs& o, RunSummary& summary) {
                               " skipped (no wheel samples over the interval); estimated wheel scale " +
                               scale);
     }
+    if (plan.mode.gnss)
+      summary.notes.push_back("GNSS factors: " + std::to_string(factors.gnss.added) + " added, " +
+                              std::to_string(factors.gnss.rejected) + " rejected by the integrity check, " +
+                              std::to_string(factors.gnss.skipped) +
+                              " fixes skipped (screening, time order, no node near); ENU alignment " +
+                              (factors.gnss_alignment.empty() ? "never tried" : factors.gnss_alignment));
   }
   if (o.from_trajectory) {
     for (std::string& note : o.from_trajectory->notes) summary.notes.push_back(std::move(note));

@@ -1,7 +1,10 @@
 #include "viewer/pipeline/stages/accuracy_stage.h"
 
+#include <algorithm>
+#include <cmath>
 #include <sstream>
 
+#include "odometry/io/geo_trajectory_file.h"
 #include "odometry/io/trajectory_file.h"
 
 namespace uf::pipeline {
@@ -51,9 +54,60 @@ GroundTruthCheck EvaluateAgainstGroundTruth(const fs::path& ground_truth, const 
   return check;
 }
 
-GroundTruthCheck RunAccuracyStage(const fs::path& ground_truth, const fs::path& out, StageContext& context) {
+Expected<EnuAccuracy> EvaluateInEnu(const Trajectory& ground_truth, const GeodeticOrigin& truth_origin,
+                                    const Trajectory& trajectory_enu, const GeodeticOrigin& run_origin) {
+  Expected<EnuFrame> truth_frame = EnuFrame::Create(truth_origin);
+  if (!truth_frame) return truth_frame.status();
+  Expected<EnuFrame> run_frame = EnuFrame::Create(run_origin);
+  if (!run_frame) return run_frame.status();
+  // p_run = EnuFromGeodetic_run(GeodeticFromEnu_truth(p_truth)); the orientation turns with the tangent
+  // plane (LocalEnuFromOriginEnu, about 1 deg per 111 km between the origins).
+  const Eigen::Matrix3d R_run_truth =
+      LocalEnuFromOriginEnu(truth_origin, run_origin.latitude_deg, run_origin.longitude_deg);
+  Trajectory truth_in_run = ground_truth;
+  for (SE3& pose : truth_in_run.poses)
+    pose = SE3(SO3(R_run_truth * pose.rotation()),
+               run_frame->EnuFromGeodetic(truth_frame->GeodeticFromEnu(pose.translation())));
+  EvalOptions options;
+  options.align = AlignMode::kNone;
+  Expected<EvalResult> result = Evaluate(truth_in_run, trajectory_enu, options);
+  if (!result) return result.status();
+  EnuAccuracy enu;
+  enu.matched_poses = result->estimate.size();
+  double all = 0, horizontal = 0, vertical = 0;
+  for (std::size_t i = 0; i < enu.matched_poses; ++i) {
+    const Eigen::Vector3d e = result->estimate[i].translation() - result->reference[i].translation();
+    all += e.squaredNorm();
+    horizontal += e.head<2>().squaredNorm();
+    vertical += e.z() * e.z();
+  }
+  const double n = static_cast<double>(std::max<std::size_t>(enu.matched_poses, 1));
+  enu.rmse_m = std::sqrt(all / n);
+  enu.horizontal_rmse_m = std::sqrt(horizontal / n);
+  enu.vertical_rmse_m = std::sqrt(vertical / n);
+  return enu;
+}
+
+GroundTruthCheck RunAccuracyStage(const DatasetDescription& description, const fs::path& out,
+                                  const std::optional<Georeference>& georef, StageContext& context) {
   context.SetUnit("poses");
-  GroundTruthCheck accuracy = EvaluateAgainstGroundTruth(ground_truth, out, "trajectory.tum");
+  GroundTruthCheck accuracy = EvaluateAgainstGroundTruth(*description.ground_truth, out, "trajectory.tum");
+  if (accuracy.evaluated && georef) {
+    if (!description.ground_truth_enu_origin) {
+      accuracy.enu_note = "the ground truth states no ENU origin: no unaligned ENU figures";
+    } else {
+      auto truth = ReadTrajectory(description.ground_truth->string());
+      auto estimate = ReadTrajectory((out / "trajectory.tum").string());
+      Expected<EnuAccuracy> enu =
+          truth && estimate
+              ? EvaluateInEnu(*truth, *description.ground_truth_enu_origin, *estimate, georef->origin)
+              : Expected<EnuAccuracy>(Status::Error(!truth ? truth.error() : estimate.error()));
+      if (enu)
+        accuracy.enu = *enu;
+      else
+        accuracy.enu_note = "no unaligned ENU figures: " + enu.error();
+    }
+  }
   if (!accuracy.evaluated) {
     context.SetMessage("not evaluated: " + accuracy.note);
     return accuracy;

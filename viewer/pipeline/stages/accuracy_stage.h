@@ -6,13 +6,23 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "odometry/eval/evaluation_report.h"
+#include "odometry/io/dataset_reader.h"
+#include "odometry/types/georeference.h"
 #include "viewer/pipeline/stage_runner.h"
 
 namespace uf::pipeline {
+
+// The georeferenced trajectory against a ground truth in a known ENU frame, without any alignment: the
+// ground truth's positions moved into the run's ENU frame through WGS84 (odometry/types/geodetic.h).
+struct EnuAccuracy {
+  double rmse_m = 0, horizontal_rmse_m = 0, vertical_rmse_m = 0;
+  std::size_t matched_poses = 0;
+};
 
 // The accuracy section: the eval table, the plots written, or why there is none.
 struct GroundTruthCheck {
@@ -22,6 +32,8 @@ struct GroundTruthCheck {
   std::string table;               // as `ultrafusion eval` prints it
   std::vector<std::string> plots;  // paths relative to the output folder
   std::string note;                // "no ground truth in the dataset", or the evaluation's error
+  std::optional<EnuAccuracy> enu;  // a run georeferenced by the estimator, a ground truth with an ENU origin
+  std::string enu_note;            // why there is no ENU figure for a georeferenced run
 };
 
 // Reads both trajectories, evaluates and writes the APE/RPE plots into out_folder/plots. Never fails:
@@ -30,8 +42,15 @@ GroundTruthCheck EvaluateAgainstGroundTruth(const std::filesystem::path& ground_
                                             const std::filesystem::path& out_folder,
                                             const std::string& estimate_file);
 
-// The stage on out/trajectory.tum; its message says why an evaluation was not possible.
-GroundTruthCheck RunAccuracyStage(const std::filesystem::path& ground_truth, const std::filesystem::path& out,
-                                  StageContext& context);
+// trajectory_enu (T_enu_F, ENU at run_origin) against the ground truth (its world ENU at truth_origin, same
+// body frame F), matched within 0.01 s.
+Expected<EnuAccuracy> EvaluateInEnu(const Trajectory& ground_truth, const GeodeticOrigin& truth_origin,
+                                    const Trajectory& trajectory_enu, const GeodeticOrigin& run_origin);
+
+// The stage on out/trajectory.tum; its message says why an evaluation was not possible. With the
+// estimator's georeference, trajectory.tum is in ENU: with the ground truth's ENU origin the check also has
+// the unaligned ENU figures.
+GroundTruthCheck RunAccuracyStage(const DatasetDescription& description, const std::filesystem::path& out,
+                                  const std::optional<Georeference>& georef, StageContext& context);
 
 }  // namespace uf::pipeline

@@ -28,6 +28,20 @@ Expected<MapSummary> SaveRunMap(const std::filesystem::path& out, const mapping:
   return summary;
 }
 
+// The fallback: the trajectory aligned to the fixes after the run.
+std::optional<mapping::MapGeoreference> PostHocGeoreference(const MapStageInput& in,
+                                                            std::vector<std::string>& notes) {
+  const std::optional<SE3> T_body_gnss =
+      in.gnss_stream < 0 ? std::nullopt
+                         : in.description->streams[static_cast<std::size_t>(in.gnss_stream)].T_body_sensor;
+  const GnssGeoreference found = GeoreferenceFromGnss(
+      *in.estimated, in.fixes, T_body_gnss, in.frames.T_estimator_body, in.frames.mode == OdometryMode::kLio);
+  if (!found.note.empty())
+    notes.push_back(found.note + " (post-hoc alignment of the trajectory to the fixes)");
+  if (!found.alignment) return std::nullopt;
+  return mapping::MapGeoreference{found.alignment->origin, found.alignment->T_enu_world};
+}
+
 }  // namespace
 
 Expected<MapStageOutput> RunMapStage(const MapStageInput& in, StageContext& context) {
@@ -36,14 +50,12 @@ Expected<MapStageOutput> RunMapStage(const MapStageInput& in, StageContext& cont
   if (Status s = in.mapper->Finish(); !s.ok()) return s;
   context.Progress(in.keyframes_mapped, in.keyframes_mapped);
   MapStageOutput out;
-  const std::optional<SE3> T_body_gnss =
-      in.gnss_stream < 0 ? std::nullopt
-                         : in.description->streams[static_cast<std::size_t>(in.gnss_stream)].T_body_sensor;
-  const GnssGeoreference found = GeoreferenceFromGnss(
-      *in.estimated, in.fixes, T_body_gnss, in.frames.T_estimator_body, in.frames.mode == OdometryMode::kLio);
-  if (!found.note.empty()) out.notes.push_back(found.note);
-  if (found.alignment)
-    out.georef = mapping::MapGeoreference{found.alignment->origin, found.alignment->T_enu_world};
+  if (in.estimator_georef) {
+    out.georef = mapping::MapGeoreference{in.estimator_georef->origin, in.estimator_georef->T_enu_world};
+    out.notes.push_back("map georeferenced by the estimator's GNSS alignment (trajectory.tum is in ENU)");
+  } else {
+    out.georef = PostHocGeoreference(in, out.notes);
+  }
   Expected<MapSummary> map = SaveRunMap(in.out, *in.mapper, out.georef);
   if (!map) return map.status();
   out.map = std::move(*map);

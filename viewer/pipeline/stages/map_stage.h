@@ -1,6 +1,7 @@
 // The map stage of `ultrafusion run`: the keyframes the odometry handed to the KeyframeMapper are all in once
-// the last ones are finished; the georeference comes from the GNSS fixes (odometry/eval/gnss_georeference.h;
-// none without them); map.vdb and its voxel attributes are saved. The exports of the map are the next stage's
+// the last ones are finished; the georeference is the estimator's own (G modes), else the post-hoc alignment
+// of the trajectory to the GNSS fixes (odometry/eval/gnss_georeference.h; none without fixes); the report's
+// note says which. map.vdb and its voxel attributes are saved. The exports of the map are the next stage's
 // (exports_stage.h).
 #pragma once
 
@@ -13,6 +14,7 @@
 #include "mapping/keyframe_mapper.h"
 #include "mapping/map_file.h"
 #include "odometry/io/dataset_reader.h"
+#include "odometry/types/georeference.h"
 #include "odometry/types/trajectory.h"
 #include "viewer/pipeline/run/run_frames.h"
 #include "viewer/pipeline/stage_runner.h"
@@ -33,6 +35,7 @@ struct MapStageInput {
   RunFrames frames;
   const Trajectory* estimated = nullptr;  // T_world_E
   std::span<const GnssFix> fixes;
+  std::optional<Georeference> estimator_georef;  // the map's georeference when set (T_enu_map = T_enu_world)
   std::int64_t keyframes_mapped = 0;
   std::filesystem::path out;
 };

@@ -1,6 +1,7 @@
 #include "viewer/pipeline/stages/odometry_stage.h"
 
 #include "odometry/io/for_each_measurement.h"
+#include "odometry/io/geo_trajectory_file.h"
 
 namespace uf::pipeline {
 namespace {
@@ -35,12 +36,39 @@ Status CollectFinished(const OdometryStageInput& in, OdometryStageOutput& out, S
   return {};
 }
 
-// trajectory.tum, trajectory_kitti.txt, timing.json and the timing plot.
+// T_enu_world applied to every pose: T_enu_F = T_enu_world T_world_F.
+Trajectory InEnu(Trajectory trajectory, const SE3& T_enu_world) {
+  for (SE3& pose : trajectory.poses) pose = T_enu_world * pose;
+  return trajectory;
+}
+
+// trajectory_wgs84.csv and trajectory.geojson of the ENU trajectory.
+Status WriteGeoTrajectory(const std::filesystem::path& folder, const Trajectory& enu,
+                          const Georeference& georef, StageContext& context) {
+  Expected<EnuFrame> frame = EnuFrame::Create(georef.origin);
+  if (!frame) return frame.status();
+  if (Status s = WriteWgs84TrajectoryCsv((folder / "trajectory_wgs84.csv").string(), enu, *frame); !s.ok())
+    return s;
+  context.AddOutput("trajectory_wgs84.csv");
+  if (enu.size() < 2) return {};  // a LineString needs two positions
+  if (Status s = WriteTrajectoryGeoJson((folder / "trajectory.geojson").string(), enu, *frame); !s.ok())
+    return s;
+  context.AddOutput("trajectory.geojson");
+  return {};
+}
+
+// trajectory.tum, trajectory_kitti.txt (in ENU, with the geographic files, when the estimator georeferenced
+// the run), timing.json and the timing plot.
 Status WriteOdometryFiles(const OdometryStageInput& in, const OdometryStageOutput& out,
                           const ScanTimes& times, OdometrySummary& summary, StageContext& context) {
   const std::int64_t warnings =
       static_cast<std::int64_t>(summary.reader_warnings.size() + summary.odometry_warnings.size());
-  if (Status s = WriteTrajectoryFiles(in.out, in.frames.OutputTrajectory(out.estimated)); !s.ok()) return s;
+  Trajectory written = in.frames.OutputTrajectory(out.estimated);
+  if (out.georef) {
+    written = InEnu(std::move(written), out.georef->T_enu_world);
+    if (Status s = WriteGeoTrajectory(in.out, written, *out.georef, context); !s.ok()) return s;
+  }
+  if (Status s = WriteTrajectoryFiles(in.out, written); !s.ok()) return s;
   if (Status s = WriteTimingJson(in.out / "timing.json", summary.timing, summary.skipped, warnings); !s.ok())
     return s;
   for (const char* file : {"trajectory.tum", "trajectory_kitti.txt", "timing.json"}) context.AddOutput(file);
@@ -79,7 +107,8 @@ Expected<OdometryStageOutput> RunOdometryStage(const OdometryStageInput& in, Sta
       return Status();
     } else if (const auto* fix = std::get_if<GnssFix>(&m.data); fix && m.stream == sensors.gnss) {
       out.fixes.push_back(*fix);
-      return Status();
+      if (!in.gnss_factors) return Status();
+      status = odometry.AddGnss(*fix);
     } else {
       return Status();
     }
@@ -100,6 +129,10 @@ Expected<OdometryStageOutput> RunOdometryStage(const OdometryStageInput& in, Sta
   summary.reader_warnings = in.stream->warnings();
   summary.odometry_warnings = odometry.warnings();
   summary.sensor_factors = odometry.sensor_factors();
+  out.frames = in.frames;
+  out.georef = odometry.georeference();
+  // trajectory.tum's world W is ENU now; the map stays in the estimator's: T_M_W = T_M_world T_world_enu.
+  if (out.georef) out.frames.T_map_world = in.frames.T_map_world * out.georef->T_enu_world.inverse();
   if (out.estimated.empty())
     return Status::Error(in.stream->description().path.string() + ": the odometry produced no pose (" +
                          std::to_string(scans) + " scans, " +

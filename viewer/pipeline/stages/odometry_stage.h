@@ -1,12 +1,15 @@
-// The odometry stage of `ultrafusion run`: LO or LIO over the dataset's measurement stream. The LiDAR scans,
-// IMU and wheel samples go to the estimator, the camera frames and the keyframes leaving its window go
-// straight to the map's KeyframeMapper (a scan is never held twice), the GNSS fixes are kept for the
-// georeference. Writes trajectory.tum and trajectory_kitti.txt (in the run's trajectory frame,
-// RunFrames::OutputTrajectory), timing.json and plots/timing_per_scan.png.
+// The odometry stage of `ultrafusion run`: the estimator in its mode over the dataset's measurement stream.
+// The LiDAR scans, IMU and wheel samples (and the GNSS fixes in a G mode) go to the estimator, the camera
+// frames and the keyframes leaving its window go straight to the map's KeyframeMapper (a scan is never held
+// twice), the GNSS fixes are kept for the georeference after the run. Writes trajectory.tum and
+// trajectory_kitti.txt (in the run's trajectory frame, RunFrames::OutputTrajectory; in ENU when the
+// estimator georeferenced the run, with trajectory_wgs84.csv and trajectory.geojson), timing.json and
+// plots/timing_per_scan.png.
 #pragma once
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,6 +29,7 @@ struct OdometryStageInput {
   mapping::KeyframeMapper* mapper = nullptr;  // none with --no-map
   DatasetSensors sensors;
   RunFrames frames;
+  bool gnss_factors = false;     // the fixes go to the estimator (a G mode)
   std::int64_t lidar_scans = 0;  // the total for the progress line; 0: unknown
   std::filesystem::path out;
 };
@@ -44,6 +48,10 @@ struct OdometrySummary {
 struct OdometryStageOutput {
   Trajectory estimated;  // T_world_E, the estimator's body
   std::vector<GnssFix> fixes;
+  // The estimator's own georeference (G modes, once its alignment started); trajectory.tum is then in ENU
+  // and frames.T_map_world maps it back into the map's (the estimator's) world.
+  std::optional<Georeference> georef;
+  RunFrames frames;
   std::int64_t keyframes_mapped = 0;
   OdometrySummary summary;
 };

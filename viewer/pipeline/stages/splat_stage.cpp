@@ -7,9 +7,9 @@
 #include "odometry/io/calibration_file.h"
 #include "odometry/io/trajectory_file.h"
 #include "splat/splat_renderer.h"
+#include "splat/views/camera_view_renderer.h"
 #include "viewer/pipeline/run_files.h"
 #include "viewer/pipeline/splat/splat_views.h"
-#include "splat/views/camera_view_renderer.h"
 
 namespace uf::pipeline {
 namespace {

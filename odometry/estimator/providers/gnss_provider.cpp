@@ -1,0 +1,169 @@
+#include "odometry/estimator/providers/gnss_provider.h"
+
+#include <cmath>
+#include <memory>
+#include <sstream>
+
+#include "odometry/estimator/gnss/fix_placement.h"
+#include "odometry/estimator/gnss/fix_screening.h"
+#include "odometry/estimator/gnss/integrity_check.h"
+#include "odometry/estimator/state/nav_state.h"
+
+namespace uf::estimator {
+namespace {
+
+// Every GNSS factor carries this tag: they leave the window only through the marginalization of their
+// nodes, never by tag.
+constexpr long kGnssTag = 0;
+
+std::vector<Stamp> Stamps(std::span<const WindowNode> nodes) {
+  std::vector<Stamp> stamps;
+  stamps.reserve(nodes.size());
+  for (const WindowNode& node : nodes) stamps.push_back(node.stamp);
+  return stamps;
+}
+
+// The antenna in the world at a placement: T(alpha) l with T slerped between the two nodes' poses.
+Eigen::Vector3d AntennaWorld(std::span<const WindowNode> nodes, const FixPlacement& at,
+                             const Eigen::Vector3d& lever_arm) {
+  const SE3 T =
+      Interpolate(PoseFromBlock(nodes[at.node_a].pose), PoseFromBlock(nodes[at.node_b].pose), at.alpha);
+  return T * lever_arm;
+}
+
+std::string Meters(double value) {
+  std::ostringstream text;
+  text.precision(3);
+  text << value << " m";
+  return text.str();
+}
+
+}  // namespace
+
+GnssProvider::GnssProvider(const GnssFactorConfig& config, const Eigen::Vector3d& lever_arm)
+    : config_(config), lever_arm_(lever_arm) {}
+
+std::optional<std::string> GnssProvider::Add(const GnssFix& fix) {
+  const std::string name = "GNSS fix at " + StampText(fix.stamp);
+  if (std::optional<std::string> why = ScreenFix(fix, config_)) {
+    ++counts_.screened_out;
+    return name + " skipped: " + *why;
+  }
+  if (has_last_ && fix.stamp <= last_stamp_) {
+    ++counts_.screened_out;
+    return name + " skipped: not after " + StampText(last_stamp_);
+  }
+  Expected<Eigen::Vector3d> enu = origin_.ToEnu(fix);
+  if (!enu) {
+    ++counts_.screened_out;
+    return name + " skipped: " + enu.error();
+  }
+  has_last_ = true;
+  last_stamp_ = fix.stamp;
+  queue_.push_back({fix.stamp, *enu, FixCovariance(fix, config_)});
+  return std::nullopt;
+}
+
+void GnssProvider::Link(FactorGraph& graph, std::span<const WindowNode> nodes,
+                        std::vector<std::string>& warnings) {
+  if (nodes.empty()) return;
+  const std::vector<Stamp> stamps = Stamps(nodes);
+  const Stamp covered = stamps.back() + FromSeconds(config_.max_snap_s);
+  bool new_pairs = false;
+  while (!queue_.empty() && queue_.front().stamp <= covered) {
+    const QueuedFix fix = queue_.front();
+    queue_.pop_front();
+    const std::optional<FixPlacement> at = PlaceFix(fix.stamp, stamps, config_);
+    if (!at) {
+      ++counts_.unplaced;
+      warnings.push_back("GNSS fix at " + StampText(fix.stamp) + " skipped: no window node within " +
+                         std::to_string(config_.max_snap_s) + " s or an interpolation gap");
+      continue;
+    }
+    if (aligned_) {
+      AddFactor(graph, nodes, fix, warnings);
+    } else {
+      pairs_.push_back({AntennaWorld(nodes, *at, lever_arm_), fix.enu, HorizontalWeight(fix.covariance)});
+      paired_.push_back(fix);
+      new_pairs = true;
+    }
+  }
+  if (new_pairs) TryStartAlignment(graph, nodes, warnings);
+}
+
+// The closed-form start (gnss/alignment_init.h). A start refused for its residual RMS (a jump among the
+// pairs, or odometry that drifted while the antenna covered the baseline) begins the collection again; a
+// start refused for a short baseline or too few fixes waits for more.
+void GnssProvider::TryStartAlignment(FactorGraph& graph, std::span<const WindowNode> nodes,
+                                     std::vector<std::string>& warnings) {
+  Expected<AlignmentInit> start = InitializeAlignment(pairs_, config_);
+  if (!start) {
+    alignment_summary_ = "not started: " + start.error();
+    const bool enough = static_cast<int>(pairs_.size()) >= config_.min_alignment_fixes &&
+                        HorizontalBaseline(pairs_) >= config_.min_alignment_baseline_m;
+    if (enough) {
+      warnings.push_back(start.error() + "; collecting the pairs again");
+      pairs_.clear();
+      paired_.clear();
+    }
+    return;
+  }
+  aligned_ = true;
+  alignment_ = AlignmentBlock(start->alignment);
+  graph.AddEuclideanBlock(alignment_.data(), kGnssAlignmentSize);
+  counts_.alignment_pairs += start->pairs;
+  std::ostringstream summary;
+  summary << "started at " << StampText(paired_.back().stamp) << " from " << start->pairs << " fixes over "
+          << Meters(start->baseline_m) << ", RMS " << Meters(start->rms_m) << ", yaw "
+          << start->alignment.yaw_rad * 180.0 / M_PI << " deg";
+  alignment_summary_ = summary.str();
+  // The pairs whose nodes are still in the window become factors (the integrity test uses the start).
+  for (const QueuedFix& fix : paired_)
+    if (fix.stamp >= nodes.front().stamp) AddFactor(graph, nodes, fix, warnings);
+  pairs_.clear();
+  paired_.clear();
+}
+
+void GnssProvider::AddFactor(FactorGraph& graph, std::span<const WindowNode> nodes, const QueuedFix& fix,
+                             std::vector<std::string>& warnings) {
+  const std::vector<Stamp> stamps = Stamps(nodes);
+  const std::optional<FixPlacement> at = PlaceFix(fix.stamp, stamps, config_);
+  if (!at) return;  // placed before: only pairs that left the window come here, and they are filtered out
+  const EnuAlignment alignment = AlignmentFromBlock(alignment_.data());
+  const IntegrityResult check =
+      CheckIntegrity(AntennaWorld(nodes, *at, lever_arm_), alignment, fix.enu, fix.covariance, config_);
+  if (!check.accepted) {
+    ++counts_.integrity_rejected;
+    std::ostringstream why;
+    why << "GNSS fix at " << StampText(fix.stamp) << " rejected by the integrity check: innovation "
+        << Meters(check.innovation.norm()) << ", d^2 " << check.d2 << " > " << config_.integrity_gate;
+    warnings.push_back(why.str());
+    return;
+  }
+  std::unique_ptr<ceres::CostFunction> cost;
+  std::vector<double*> blocks;
+  if (at->single_node()) {
+    cost = std::make_unique<GnssFactorSinglePose>(fix.enu, fix.covariance, lever_arm_);
+    blocks = {nodes[at->node_a].pose, alignment_.data()};
+  } else {
+    cost = std::make_unique<GnssFactor>(fix.enu, fix.covariance, lever_arm_, at->alpha);
+    blocks = {nodes[at->node_a].pose, nodes[at->node_b].pose, alignment_.data()};
+  }
+  graph.Add(FactorKind::kGnss, kGnssTag, std::move(cost), nullptr, std::move(blocks), /*anchors=*/true);
+  ++counts_.added;
+}
+
+void GnssProvider::Reset() {
+  aligned_ = false;
+  alignment_ = {};
+  pairs_.clear();
+  paired_.clear();
+  alignment_summary_ = "restarting after a re-initialization of the window";
+}
+
+std::optional<Georeference> GnssProvider::georeference() const {
+  if (!aligned_ || !origin_.frame()) return std::nullopt;
+  return Georeference{origin_.frame()->origin(), AlignmentFromBlock(alignment_.data()).T_enu_world()};
+}
+
+}  // namespace uf::estimator

@@ -1,0 +1,106 @@
+// The GNSS receiver's part of the window (docs/METHOD.md "GNSS factor"): it screens the fixes, places the
+// ENU origin at the first good one, starts the world -> ENU alignment once the antenna has moved far enough,
+// then links every later fix to the nodes around its stamp by a GnssFactor, after the innovation test
+// against the window's prediction. Used by any window whose world is gravity-aligned (LIO, LWIO); nothing in
+// it depends on the LiDAR.
+//
+// A fix's life:
+//   Add:  ScreenFix (status, finite, ranges, covariance) -> ENU at the origin -> queued
+//   Link (after the window's nodes cover the fix's stamp, once per solve of the window):
+//     PlaceFix among the nodes (none: dropped, counted as skipped)
+//     not aligned yet: the pair (antenna at the interpolated pose, fix) joins the alignment start; once
+//       InitializeAlignment accepts the pairs, the alignment block joins the graph and the pairs whose
+//       nodes are still in the window become factors;
+//     aligned: CheckIntegrity (rejected: counted, a warning with the innovation), else a GnssFactor
+//       (anchors: it ties the window to the Earth, so marginalization keeps it in the prior).
+// A re-initialization of the window's world (Reset) forgets the alignment and the pairs; the ENU origin
+// stays, so the run keeps one georeference frame.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <deque>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "odometry/estimator/config/gnss_factor_config.h"
+#include "odometry/estimator/factors/gnss_factor.h"
+#include "odometry/estimator/gnss/alignment_init.h"
+#include "odometry/estimator/gnss/gnss_enu_origin.h"
+#include "odometry/estimator/window/factor_graph.h"
+#include "odometry/types/georeference.h"
+#include "odometry/types/measurements.h"
+
+namespace uf::estimator {
+
+// A node of the window as a provider sees it: its stamp and its pose block (T_world_body, 7 wide).
+struct WindowNode {
+  Stamp stamp = 0;
+  double* pose = nullptr;
+};
+
+struct GnssCounts {
+  int added = 0;               // factors in the window (or already marginalized)
+  int screened_out = 0;        // rejected by ScreenFix (status, NaN, ranges, covariance)
+  int integrity_rejected = 0;  // rejected by the innovation test
+  int unplaced = 0;            // no node near the fix's stamp (before the window, in a long gap)
+  int alignment_pairs = 0;     // used for the alignment start only (before it was accepted)
+};
+
+class GnssProvider {
+ public:
+  // lever_arm: the antenna in the window's body frame (m).
+  GnssProvider(const GnssFactorConfig& config, const Eigen::Vector3d& lever_arm);
+  GnssProvider(const GnssProvider&) = delete;  // the graph refers to alignment_
+  GnssProvider& operator=(const GnssProvider&) = delete;
+
+  // Screens the fix and queues it; returns why it was not used (a warning), nothing when queued. Fixes out
+  // of time order are refused likewise.
+  std::optional<std::string> Add(const GnssFix& fix);
+
+  // Links the queued fixes up to the last node's stamp to `nodes` (the window's, increasing stamps; their
+  // poses are the current estimate), appending a warning per rejected or unplaced fix and one when the
+  // alignment starts.
+  void Link(FactorGraph& graph, std::span<const WindowNode> nodes, std::vector<std::string>& warnings);
+
+  // The window's world changed (re-initialization): the alignment and its pairs are forgotten. Call after
+  // the graph was cleared.
+  void Reset();
+
+  bool aligned() const { return aligned_; }
+  double* alignment_block() { return alignment_.data(); }
+  // Once aligned: the ENU origin (the first good fix) and the current world -> ENU transform.
+  std::optional<Georeference> georeference() const;
+  const GnssCounts& counts() const { return counts_; }
+  // "started at 12.3 s: 8 fixes over 14.2 m, RMS 0.8 m" once aligned, else why not yet ("" before any).
+  const std::string& alignment_summary() const { return alignment_summary_; }
+
+ private:
+  struct QueuedFix {
+    Stamp stamp = 0;
+    Eigen::Vector3d enu;
+    Eigen::Matrix3d covariance;
+  };
+  void TryStartAlignment(FactorGraph& graph, std::span<const WindowNode> nodes,
+                         std::vector<std::string>& warnings);
+  void AddFactor(FactorGraph& graph, std::span<const WindowNode> nodes, const QueuedFix& fix,
+                 std::vector<std::string>& warnings);
+
+  GnssFactorConfig config_;
+  Eigen::Vector3d lever_arm_;
+  GnssEnuOrigin origin_;
+  std::deque<QueuedFix> queue_;  // screened, not linked yet
+  Stamp last_stamp_ = 0;
+  bool has_last_ = false;
+  // The alignment start: the pairs so far and their fixes (to become factors once aligned).
+  std::vector<AlignmentPair> pairs_;
+  std::vector<QueuedFix> paired_;
+  bool aligned_ = false;
+  std::array<double, kGnssAlignmentSize> alignment_{};
+  GnssCounts counts_;
+  std::string alignment_summary_;
+};
+
+}  // namespace uf::estimator
