@@ -37,6 +37,8 @@ Status InertialOdometryConfig::Validate() const {
   InertialInitConfig init_nodes = init;
   init_nodes.window_scans = init_window_nodes;
   if (Status s = init_nodes.Validate(); !s.ok()) return UnderWio(s);
+  if (!Positive(init_accel_bias_sigma)) return Bad("init_accel_bias_sigma", "> 0", init_accel_bias_sigma);
+  if (!Positive(init_gyro_bias_sigma)) return Bad("init_gyro_bias_sigma", "> 0", init_gyro_bias_sigma);
   if (!Positive(imu_max_gap_s)) return Bad("imu_max_gap_s", "> 0", imu_max_gap_s);
   if (!Positive(max_speed_mps)) return Bad("max_speed_mps", "> 0", max_speed_mps);
   if (Status s = wheel.Validate(); !s.ok()) return UnderWio(s);

@@ -1,6 +1,7 @@
 // Initialization of the wheel-inertial window and its restarts (see inertial_window.h).
 #include <sstream>
 
+#include "odometry/estimator/factors/bias_prior_factor.h"
 #include "odometry/estimator/factors/imu_factor.h"
 #include "odometry/estimator/inertial_odometry/inertial_window.h"
 
@@ -76,10 +77,15 @@ Status InertialOdometry::Impl::Start(const InertialAlignment& alignment, const s
     node.pose = PoseBlock(T_gravity_lo * poses[k]);
     node.speed_bias = SpeedBiasBlock(state);
     const long id = PushNode(node);
-    if (k == 0)
+    if (k == 0) {
       AddGaugePrior();
-    else
+      graph.Add(FactorKind::kStatePrior, id,
+                MakeBiasPriorFactor(alignment.accel_bias, alignment.gyro_bias, config.init_accel_bias_sigma,
+                                    config.init_gyro_bias_sigma),
+                nullptr, {nodes.front().speed_bias.data()}, /*anchors=*/true);
+    } else {
       LinkNode(id, std::move(preintegrations[k - 1]));
+    }
   }
   inertial = true;
   init_stamps.clear();

@@ -44,7 +44,7 @@ void InertialOdometry::Impl::LinkNode(long id, ImuPreintegration imu_preintegrat
 // The gauge of the window (gauge_prior_factor.h): the oldest node's position and yaw, anchoring, so the
 // marginalization folds it into the prior when the node leaves.
 void InertialOdometry::Impl::AddGaugePrior() {
-  graph.Add(FactorKind::kGaugePrior, first_node_id,
+  graph.Add(FactorKind::kStatePrior, first_node_id,
             MakeGaugePriorFactor(NodePose(first_node_id), kGaugeSigmaPosition, kGaugeSigmaYaw), nullptr,
             {nodes.front().pose.data()}, /*anchors=*/true);
 }

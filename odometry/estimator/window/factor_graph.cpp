@@ -32,8 +32,8 @@ const char* FactorKindName(FactorKind kind) {
       return "gnss";
     case FactorKind::kLidar:
       return "lidar";
-    case FactorKind::kGaugePrior:
-      return "gauge_prior";
+    case FactorKind::kStatePrior:
+      return "state_prior";
   }
   return "?";
 }
