@@ -55,7 +55,8 @@ void InertialOdometry::Impl::AddNodeAt(Stamp stamp) {
   node.speed_bias = SpeedBiasBlock(predicted);
   LinkNode(PushNode(node), std::move(*pre));
   SolveAndSlide(stats);
-  stats.solve_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  stats.solve_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   processed.push_back(stats);
 }
 

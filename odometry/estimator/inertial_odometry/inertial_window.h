@@ -43,9 +43,9 @@ struct InertialOdometry::Impl {
   WheelProvider wheel;
   std::deque<WindowNode> nodes;  // ids first_node_id ...; the factors ending at node id carry tag id
   long first_node_id = 0;
-  std::optional<Stamp> next_stamp;  // the grid's next node, once both streams have begun
-  std::vector<Stamp> init_stamps;   // before initialization: the waiting nodes
-  SE3 restart_pose;                 // T_world_imu where the next initialization starts ...
+  std::optional<Stamp> next_stamp;     // the grid's next node, once both streams have begun
+  std::vector<Stamp> init_stamps;      // before initialization: the waiting nodes
+  SE3 restart_pose;                    // T_world_imu where the next initialization starts ...
   std::optional<Stamp> restart_stamp;  // ... and when (none at the very start: the first node's)
   bool inertial = false;
   std::string init_summary, last_init_failure;

@@ -21,9 +21,9 @@ void InertialOdometry::Impl::TryInitialize() {
     if (failure.ok()) {
       std::ostringstream summary;
       // LidarAidedAlignment is generic on the poses: here they are the wheel's.
-      summary << (alignment->mode == "static" ? "static" : "wheel-aided") << " at " << ToSeconds(nodes.back().stamp) << " s (gravity estimate "
-              << alignment->gravity_estimate << " m/s^2, gyro bias " << alignment->gyro_bias.transpose()
-              << ")";
+      summary << (alignment->mode == "static" ? "static" : "wheel-aided") << " at "
+              << ToSeconds(nodes.back().stamp) << " s (gravity estimate " << alignment->gravity_estimate
+              << " m/s^2, gyro bias " << alignment->gyro_bias.transpose() << ")";
       init_summary = summary.str();
       return;
     }
@@ -62,8 +62,8 @@ Status InertialOdometry::Impl::Start(const InertialAlignment& alignment, const s
   biases.gyro_bias = alignment.gyro_bias;
   std::vector<ImuPreintegration> preintegrations;
   for (std::size_t k = 1; k < init_stamps.size(); ++k) {
-    Expected<ImuPreintegration> pre = imu.Preintegrate(init_stamps[k - 1], init_stamps[k],
-                                                       SpeedBiasBlock(biases).data());
+    Expected<ImuPreintegration> pre =
+        imu.Preintegrate(init_stamps[k - 1], init_stamps[k], SpeedBiasBlock(biases).data());
     if (!pre) return pre.status();
     preintegrations.push_back(std::move(*pre));
   }

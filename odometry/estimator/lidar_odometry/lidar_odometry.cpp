@@ -33,8 +33,8 @@ Status LidarOdometry::Impl::AddScan(const LidarScan& input) {
 void LidarOdometry::Impl::ProcessReady(bool flush) {
   while (!pending.empty()) {
     const LidarScan& scan = pending.front();
-    const bool covered = (!config.use_imu || imu.CoveredUntil() >= scan.end) &&
-                         (!wheel || wheel->CoveredUntil() >= scan.end);
+    const bool covered =
+        (!config.use_imu || imu.CoveredUntil() >= scan.end) && (!wheel || wheel->CoveredUntil() >= scan.end);
     const bool stalled = pending.back().stamp - scan.end > FromSeconds(config.imu_max_wait_s);
     if (!flush && !covered && !stalled) return;
     ProcessScan(scan);

@@ -29,7 +29,8 @@ long LidarOdometry::Impl::AddNode(Stamp stamp) {
   std::unique_ptr<ImuFactor> imu_factor;
   if (inertial && !nodes.empty()) {
     node.speed_bias = nodes.back().speed_bias;
-    Expected<ImuPreintegration> pre = imu.Preintegrate(nodes.back().stamp, stamp, nodes.back().speed_bias.data());
+    Expected<ImuPreintegration> pre =
+        imu.Preintegrate(nodes.back().stamp, stamp, nodes.back().speed_bias.data());
     if (pre) {
       NavState predicted = pre->Predict(NodeState(LastNodeId()));
       node.pose = PoseBlock(predicted.T_world_imu);
@@ -114,7 +115,8 @@ void LidarOdometry::Impl::TryInitializeInertial() {
       AlignStaticOrMoving(imu, stamps, poses, config.init, config.imu.gravity);
   if (!alignment) {
     if (last_init_failure.empty())
-      warnings.push_back("LIO initialization deferred at " + StampText(to) + ": " + alignment.status().message());
+      warnings.push_back("LIO initialization deferred at " + StampText(to) + ": " +
+                         alignment.status().message());
     last_init_failure = alignment.status().message();
     return;
   }
@@ -141,7 +143,8 @@ void LidarOdometry::Impl::ApplyInertialAlignment(const InertialAlignment& alignm
     state.gyro_bias = alignment.gyro_bias;
     node.speed_bias = SpeedBiasBlock(state);
     if (id == first_node_id) continue;
-    Expected<ImuPreintegration> pre = imu.Preintegrate(NodeAt(id - 1).stamp, node.stamp, node.speed_bias.data());
+    Expected<ImuPreintegration> pre =
+        imu.Preintegrate(NodeAt(id - 1).stamp, node.stamp, node.speed_bias.data());
     if (!pre) continue;  // keeps its constant-velocity prior
     graph.Remove(FactorKind::kMotionPrior, id);
     AddImuFactor(id, std::make_unique<ImuFactor>(std::move(*pre)));

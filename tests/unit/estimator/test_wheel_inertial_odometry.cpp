@@ -55,12 +55,15 @@ WioRun RunWio(
   InertialOdometryConfig config;
   config.max_solver_time_s = 10;  // only the iteration budget: the results do not depend on the load
   for (const StreamInfo& stream : (*reader)->description().streams)
-    if (stream.kind == SensorKind::kWheel && stream.T_body_sensor) config.T_body_wheel = *stream.T_body_sensor;
+    if (stream.kind == SensorKind::kWheel && stream.T_body_sensor)
+      config.T_body_wheel = *stream.T_body_sensor;
   auto wio = InertialOdometry::Create(config);
   EXPECT_TRUE(wio.ok()) << wio.error();
   const Status read = ForEachMeasurement(**reader, [&](Measurement& m) {
-    if (auto* sample = std::get_if<ImuSample>(&m.data); sample && edit_imu(*sample)) return wio->AddImu(*sample);
-    if (auto* wheel = std::get_if<WheelSample>(&m.data); wheel && edit_wheel(*wheel)) return wio->AddWheel(*wheel);
+    if (auto* sample = std::get_if<ImuSample>(&m.data); sample && edit_imu(*sample))
+      return wio->AddImu(*sample);
+    if (auto* wheel = std::get_if<WheelSample>(&m.data); wheel && edit_wheel(*wheel))
+      return wio->AddWheel(*wheel);
     return Status();
   });
   EXPECT_TRUE(read.ok()) << read.message();
@@ -169,7 +172,7 @@ TEST(WheelInertialOdometry, BadInputGivesWarningsAndFinitePoses) {
         if (first_imu == 0) first_imu = s.stamp;
         const double t = ToSeconds(s.stamp - first_imu);
         if (std::abs(t - 4.0) < 1e-3) s.gyro.z() = std::nan("");  // one NaN sample
-        if (t > 7.0 && t < 7.3) return false;                      // a 0.3 s IMU gap while driving
+        if (t > 7.0 && t < 7.3) return false;                     // a 0.3 s IMU gap while driving
         return true;
       },
       [&](WheelSample& w) {
@@ -185,8 +188,8 @@ TEST(WheelInertialOdometry, BadInputGivesWarningsAndFinitePoses) {
   EXPECT_NE(text.find("not finite"), std::string::npos) << text;
   EXPECT_NE(text.find("not after"), std::string::npos) << text;
   EXPECT_NE(text.find("IMU sample at"), std::string::npos) << text;
-  EXPECT_NE(text.find("wheel factor at"), std::string::npos) << text;           // inside the wheel gap
-  EXPECT_NE(text.find("initializes again"), std::string::npos) << text;         // after the IMU gap
+  EXPECT_NE(text.find("wheel factor at"), std::string::npos) << text;               // inside the wheel gap
+  EXPECT_NE(text.find("initializes again"), std::string::npos) << text;             // after the IMU gap
   EXPECT_EQ(run.initialization.rfind("wheel-aided", 0), 0u) << run.initialization;  // the restart moves
   EXPECT_GT(run.factors.wheel.skipped, 0);
   // The nodes of the restart's initialization window are all reported: only the IMU gap is missing.
@@ -210,8 +213,9 @@ TEST(WheelInertialOdometry, ConfigValidateNamesTheField) {
             std::string::npos);
   EXPECT_NE(message([](auto& c) { c.init.max_gravity_error = 2; }).find("wio.init.max_gravity_error"),
             std::string::npos);
-  EXPECT_NE(message([](auto& c) { c.marginalization.eigenvalue_threshold = -1; })
-                .find("wio.marginalization.eigenvalue_threshold"),
+  EXPECT_NE(message([](auto& c) {
+              c.marginalization.eigenvalue_threshold = -1;
+            }).find("wio.marginalization.eigenvalue_threshold"),
             std::string::npos);
   EXPECT_NE(message([](auto& c) { c.imu_max_gap_s = 0; }).find("wio.imu_max_gap_s"), std::string::npos);
   EXPECT_NE(message([](auto& c) { c.wheel_max_wait_s = std::nan(""); }).find("wio.wheel_max_wait_s"),
