@@ -148,4 +148,22 @@ Expected<InertialAlignment> LidarAidedAlignment(std::span<const SE3> poses,
   return alignment;
 }
 
+Expected<InertialAlignment> AlignStaticOrMoving(const ImuBuffer& imu, std::span<const Stamp> stamps,
+                                                std::span<const SE3> poses, const InertialInitConfig& config,
+                                                double gravity) {
+  const std::vector<ImuSample> samples = imu.Between(stamps.front(), stamps.back());
+  Expected<InertialAlignment> alignment = StaticAlignment(samples, poses, config, gravity);
+  if (alignment) return alignment;
+  const std::string static_failure = alignment.status().message();
+  std::vector<ImuPreintegration> preintegrations;
+  for (std::size_t k = 1; k < stamps.size(); ++k) {
+    Expected<ImuPreintegration> pre = imu.Preintegrate(stamps[k - 1], stamps[k], nullptr);
+    if (!pre) return Status::Error(static_failure + "; " + pre.status().message());
+    preintegrations.push_back(std::move(*pre));
+  }
+  alignment = LidarAidedAlignment(poses, std::move(preintegrations), config);
+  if (!alignment) return Status::Error(static_failure + "; " + alignment.status().message());
+  return alignment;
+}
+
 }  // namespace uf::estimator

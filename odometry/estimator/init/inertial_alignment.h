@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "odometry/estimator/config/inertial_init_config.h"
+#include "odometry/estimator/preintegration/imu_buffer.h"
 #include "odometry/estimator/preintegration/imu_preintegration.h"
 #include "odometry/types/measurements.h"
 #include "odometry/types/se3.h"
@@ -52,5 +53,12 @@ Expected<InertialAlignment> StaticAlignment(std::span<const ImuSample> samples, 
 Expected<InertialAlignment> LidarAidedAlignment(std::span<const SE3> poses,
                                                 std::vector<ImuPreintegration> preintegrations,
                                                 const InertialInitConfig& config);
+
+// S, else M, over the nodes at `stamps` with the poses T_lo_imu from another sensor (LiDAR odometry, wheel
+// dead reckoning) and the IMU samples of `imu` (preintegrated between the nodes for M). Fails with the
+// reasons of both (the caller retries with a later window).
+Expected<InertialAlignment> AlignStaticOrMoving(const ImuBuffer& imu, std::span<const Stamp> stamps,
+                                                std::span<const SE3> poses, const InertialInitConfig& config,
+                                                double gravity);
 
 }  // namespace uf::estimator

@@ -13,36 +13,6 @@ namespace {
 constexpr double kConvergedTranslation = 0.005;  // m, registration converged when a round moves less
 constexpr double kConvergedRotation = 0.001;     // rad
 
-struct SavedStates {
-  std::vector<PoseArray> poses;
-  std::vector<SpeedBiasArray> speed_biases;
-};
-
-SavedStates Save(const std::deque<Node>& nodes) {
-  SavedStates saved;
-  for (const Node& node : nodes) {
-    saved.poses.push_back(node.pose);
-    saved.speed_biases.push_back(node.speed_bias);
-  }
-  return saved;
-}
-
-void Restore(const SavedStates& saved, std::deque<Node>& nodes) {
-  for (std::size_t i = 0; i < nodes.size(); ++i) {
-    nodes[i].pose = saved.poses[i];
-    nodes[i].speed_bias = saved.speed_biases[i];
-  }
-}
-
-bool AllFinite(const std::deque<Node>& nodes) {
-  for (const Node& node : nodes) {
-    if (!Eigen::Map<const Eigen::Matrix<double, 7, 1>>(node.pose.data()).allFinite() ||
-        !Eigen::Map<const Eigen::Matrix<double, 9, 1>>(node.speed_bias.data()).allFinite())
-      return false;
-  }
-  return true;
-}
-
 }  // namespace
 
 Status LidarOdometry::Impl::AddScan(const LidarScan& input) {
@@ -63,8 +33,8 @@ Status LidarOdometry::Impl::AddScan(const LidarScan& input) {
 void LidarOdometry::Impl::ProcessReady(bool flush) {
   while (!pending.empty()) {
     const LidarScan& scan = pending.front();
-    const bool covered = (!config.use_imu || (!imu.empty() && imu.back().stamp >= scan.end)) &&
-                         (!wheel || wheel->CoveredUntil() >= scan.end);
+    const bool covered =
+        (!config.use_imu || imu.CoveredUntil() >= scan.end) && (!wheel || wheel->CoveredUntil() >= scan.end);
     const bool stalled = pending.back().stamp - scan.end > FromSeconds(config.imu_max_wait_s);
     if (!flush && !covered && !stalled) return;
     ProcessScan(scan);
@@ -128,9 +98,10 @@ void LidarOdometry::Impl::ProcessScan(const LidarScan& input) {
     if (RegisterNewScan(window.back())) InsertIntoMap(window.back());
     if (config.use_imu && !inertial) TryInitializeInertial();
   }
-  if (std::string why; config.use_imu && Diverged(&why)) {
+  if (std::optional<std::string> why;
+      config.use_imu && (why = DivergenceReason(nodes, inertial, config.max_speed_mps))) {
     // The window's states are not trusted: its scans are dropped, not emitted as keyframes.
-    warnings.push_back("LIO diverged (" + why + "): re-initializing at " + StampText(input.end) + ", " +
+    warnings.push_back("LIO diverged (" + *why + "): re-initializing at " + StampText(input.end) + ", " +
                        std::to_string(window.size()) + " scans of the window dropped");
     Reset();
   }
@@ -254,11 +225,7 @@ SensorFactorStats LidarOdometry::sensor_factors() const {
     stats.wheel = {wheel->factors_added(), wheel->factors_skipped()};
     stats.wheel_scale = wheel->scale();
   }
-  if (const GnssProvider* gnss = impl_->gnss.get()) {
-    const GnssCounts& counts = gnss->counts();
-    stats.gnss = {counts.added, counts.screened_out + counts.unplaced, counts.integrity_rejected};
-    stats.gnss_alignment = gnss->alignment_summary();
-  }
+  if (impl_->gnss) impl_->gnss->Report(stats);
   return stats;
 }
 

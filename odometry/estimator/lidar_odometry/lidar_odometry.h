@@ -46,6 +46,7 @@
 #include <vector>
 
 #include "odometry/estimator/config/lidar_odometry_config.h"
+#include "odometry/estimator/providers/sensor_factor_stats.h"
 #include "odometry/types/georeference.h"
 #include "odometry/types/keyframe.h"
 #include "odometry/types/measurements.h"
@@ -61,18 +62,6 @@ struct OdometryStats {
   // Where solve_ms went, ms: scan preparation (range filter, downsampling), plane association, the new
   // scan's registration solves, the window solve, map insertion, marginalization.
   double prepare_ms = 0, associate_ms = 0, register_ms = 0, window_ms = 0, map_ms = 0, marginalize_ms = 0;
-};
-
-// What the optional factors did over the run so far: factors added, measurements skipped (bad values, no
-// data over the interval, no node near), and rejected by an integrity check.
-struct FactorCount {
-  int added = 0, skipped = 0, rejected = 0;
-};
-struct SensorFactorStats {
-  FactorCount wheel;
-  double wheel_scale = 1;  // the estimated wheel scale (1 without wheel factors or with it fixed)
-  FactorCount gnss;
-  std::string gnss_alignment;  // how the world -> ENU alignment started, or why not yet ("" without GNSS)
 };
 
 class LidarOdometry {

@@ -21,29 +21,23 @@
 #include "odometry/estimator/lidar_odometry/lidar_odometry.h"
 #include "odometry/estimator/lidar_odometry/scan_preparation.h"
 #include "odometry/estimator/lidar_odometry/sweep_poses.h"
+#include "odometry/estimator/preintegration/imu_buffer.h"
 #include "odometry/estimator/providers/gnss_provider.h"
 #include "odometry/estimator/providers/wheel_provider.h"
 #include "odometry/estimator/state/nav_state.h"
 #include "odometry/estimator/state/pose_manifold.h"
+#include "odometry/estimator/state/window_node.h"
 #include "odometry/estimator/window/factor_graph.h"
 
 namespace uf::estimator {
 
-using PoseArray = std::array<double, kPoseSize>;
-using SpeedBiasArray = std::array<double, kSpeedBiasSize>;
-
 constexpr Stamp kSharedNodeTolerance = 1'000'000;  // 1 ms: a scan starting this close to the last node
                                                    // shares that node
 
-// A state of the window. Nodes live in a deque: their blocks keep their addresses while the window grows
-// and shrinks at the ends, which the factor graph and the marginalization prior rely on. The factors that
-// end at a node carry its id as their tag: the constant-velocity prior on (id - 2, id - 1, id) (LO, LIO
-// before its initialization, LIO across an IMU gap) or the IMU factor on (id - 1, id).
-struct Node {
-  Stamp stamp = 0;
-  PoseArray pose{};             // T_world_body
-  SpeedBiasArray speed_bias{};  // LIO: [v, b_a, b_g] (nav_state.h); unused in LO
-};
+// A state of the window (state/window_node.h). The factors that end at a node carry its id as their tag:
+// the constant-velocity prior on (id - 2, id - 1, id) (LO, LIO before its initialization, LIO across an
+// IMU gap) or the IMU factor on (id - 1, id).
+using Node = WindowNode;
 
 struct ScanState {
   long id = 0;  // the tag of its point-to-plane factors in the graph
@@ -82,7 +76,7 @@ class StageTimer {
 };
 
 struct LidarOdometry::Impl {
-  explicit Impl(const LidarOdometryConfig& c) : config(c), map(c.map) {
+  explicit Impl(const LidarOdometryConfig& c) : config(c), map(c.map), imu(c.imu, c.imu_max_gap_s) {
     if (config.use_wheel) {
       wheel = std::make_unique<WheelProvider>(config.wheel, config.T_body_wheel);
       wheel->Attach(graph);
@@ -105,7 +99,7 @@ struct LidarOdometry::Impl {
   bool has_last = false;
   Stamp last_stamp = 0, last_end = 0;
   // LIO.
-  std::vector<ImuSample> imu;     // time-ordered, from before the oldest node on
+  ImuBuffer imu;                  // from before the oldest node on
   std::deque<LidarScan> pending;  // scans waiting for the IMU (and the wheel) to cover their end
   bool inertial = false;          // initialized: IMU factors active
   std::string init_summary, last_init_failure;
@@ -117,7 +111,7 @@ struct LidarOdometry::Impl {
   Node& NodeAt(long id) { return nodes[static_cast<std::size_t>(id - first_node_id)]; }
   long LastNodeId() const { return first_node_id + static_cast<long>(nodes.size()) - 1; }
   SE3 NodePose(long id) { return PoseFromBlock(NodeAt(id).pose.data()); }
-  NavState NodeState(long id);
+  NavState NodeState(long id) { return NodeNavState(NodeAt(id)); }
   SE3 Extrapolate(Stamp stamp);
   long AddNode(Stamp stamp);
   void AddImuFactor(long id, std::unique_ptr<ImuFactor> factor);
@@ -125,12 +119,10 @@ struct LidarOdometry::Impl {
   void LinkWheel(long id);
   Status AddWheel(const WheelSample& sample);
   void LinkGnss();
-  Expected<ImuPreintegration> Preintegrate(Stamp from, Stamp to, const SpeedBiasArray& bias) const;
   Status AddImu(const ImuSample& sample);
   void TrimStreams();
   void TryInitializeInertial();
   void ApplyInertialAlignment(const InertialAlignment& alignment);
-  bool Diverged(std::string* why);
   void Reset();
 
   // Scans (window_scans.cpp).

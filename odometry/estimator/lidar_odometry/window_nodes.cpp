@@ -8,14 +8,6 @@
 
 namespace uf::estimator {
 
-NavState LidarOdometry::Impl::NodeState(long id) {
-  NavState state;
-  state.stamp = NodeAt(id).stamp;
-  state.T_world_imu = NodePose(id);
-  SetSpeedBias(NodeAt(id).speed_bias.data(), state);
-  return state;
-}
-
 // Constant-velocity extrapolation from the last two nodes to `stamp` (identity before any node):
 // xi = Log(T_{n-1}^-1 T_n) / (t_n - t_{n-1}),  T(stamp) = T_n Exp(xi (stamp - t_n)).
 SE3 LidarOdometry::Impl::Extrapolate(Stamp stamp) {
@@ -37,7 +29,8 @@ long LidarOdometry::Impl::AddNode(Stamp stamp) {
   std::unique_ptr<ImuFactor> imu_factor;
   if (inertial && !nodes.empty()) {
     node.speed_bias = nodes.back().speed_bias;
-    Expected<ImuPreintegration> pre = Preintegrate(nodes.back().stamp, stamp, nodes.back().speed_bias);
+    Expected<ImuPreintegration> pre =
+        imu.Preintegrate(nodes.back().stamp, stamp, nodes.back().speed_bias.data());
     if (pre) {
       NavState predicted = pre->Predict(NodeState(LastNodeId()));
       node.pose = PoseBlock(predicted.T_world_imu);
@@ -81,10 +74,7 @@ Status LidarOdometry::Impl::AddWheel(const WheelSample& sample) {
 // the alignment is yaw and translation, so the world must be gravity-aligned.
 void LidarOdometry::Impl::LinkGnss() {
   if (!gnss || !inertial) return;
-  std::vector<WindowNode> refs;
-  for (long id = first_node_id; id <= LastNodeId(); ++id)
-    refs.push_back({NodeAt(id).stamp, NodeAt(id).pose.data()});
-  gnss->Link(graph, refs, warnings);
+  gnss->Link(graph, NodeViews(nodes), warnings);
 }
 
 void LidarOdometry::Impl::AddImuFactor(long id, std::unique_ptr<ImuFactor> factor) {
@@ -101,39 +91,11 @@ void LidarOdometry::Impl::AddMotionPrior(long id) {
             {NodeAt(id - 2).pose.data(), NodeAt(id - 1).pose.data(), NodeAt(id).pose.data()});
 }
 
-// The preintegration over [from, to] at the biases of `bias`; an error when the samples do not cover the
-// interval or leave a gap longer than imu_max_gap_s in it.
-Expected<ImuPreintegration> LidarOdometry::Impl::Preintegrate(Stamp from, Stamp to,
-                                                              const SpeedBiasArray& bias) const {
-  const auto after = [](const ImuSample& s, Stamp t) { return s.stamp < t; };
-  auto first = std::lower_bound(imu.begin(), imu.end(), from, after);
-  if (imu.empty() || imu.front().stamp > from || imu.back().stamp < to)
-    return Status::Error("no IMU samples cover " + StampText(from) + " .. " + StampText(to));
-  if (first != imu.begin()) --first;
-  const Stamp max_gap = FromSeconds(config.imu_max_gap_s);
-  for (auto it = first; it + 1 != imu.end() && it->stamp < to; ++it) {
-    if ((it + 1)->stamp - it->stamp > max_gap)
-      return Status::Error("gap of " + std::to_string(ToSeconds((it + 1)->stamp - it->stamp)) +
-                           " s between IMU samples at " + StampText(it->stamp));
-  }
-  const Eigen::Vector3d accel_bias(bias[3], bias[4], bias[5]), gyro_bias(bias[6], bias[7], bias[8]);
-  auto last = std::lower_bound(first, imu.end(), to, after);
-  if (last != imu.end()) ++last;
-  return ImuPreintegration::Between(std::vector<ImuSample>(first, last), from, to, accel_bias, gyro_bias,
-                                    config.imu);
-}
-
 Status LidarOdometry::Impl::AddImu(const ImuSample& sample) {
-  if (!sample.acc.allFinite() || !sample.gyro.allFinite()) {
-    warnings.push_back("IMU sample at " + StampText(sample.stamp) + " skipped: not finite");
+  if (std::optional<std::string> skipped = imu.Add(sample)) {
+    warnings.push_back(*skipped);
     return {};
   }
-  if (!imu.empty() && sample.stamp <= imu.back().stamp) {
-    warnings.push_back("IMU sample at " + StampText(sample.stamp) + " skipped: not after " +
-                       StampText(imu.back().stamp));
-    return {};
-  }
-  imu.push_back(sample);
   ProcessReady(/*flush=*/false);
   return {};
 }
@@ -142,12 +104,7 @@ Status LidarOdometry::Impl::AddImu(const ImuSample& sample) {
 void LidarOdometry::Impl::TrimStreams() {
   if (nodes.empty()) return;
   if (wheel) wheel->Trim(nodes.front().stamp);
-  if (imu.size() < 2) return;
-  const Stamp oldest = nodes.front().stamp;
-  auto keep = std::lower_bound(imu.begin(), imu.end(), oldest,
-                               [](const ImuSample& s, Stamp t) { return s.stamp < t; });
-  if (keep != imu.begin()) --keep;
-  imu.erase(imu.begin(), keep);
+  imu.Trim(nodes.front().stamp);
 }
 
 // LIO before initialization: once init.window_scans scans are solved as LO, try the static alignment, then
@@ -155,32 +112,20 @@ void LidarOdometry::Impl::TrimStreams() {
 void LidarOdometry::Impl::TryInitializeInertial() {
   if (inertial || static_cast<int>(window.size()) < config.init.window_scans) return;
   std::vector<SE3> poses;
-  for (long id = first_node_id; id <= LastNodeId(); ++id) poses.push_back(NodePose(id));
-  const Stamp from = nodes.front().stamp, to = nodes.back().stamp;
-  std::vector<ImuSample> samples;
-  for (const ImuSample& s : imu)
-    if (s.stamp >= from && s.stamp <= to) samples.push_back(s);
-  Expected<InertialAlignment> alignment = StaticAlignment(samples, poses, config.init, config.imu.gravity);
-  std::string failure;
+  std::vector<Stamp> stamps;
+  for (long id = first_node_id; id <= LastNodeId(); ++id) {
+    poses.push_back(NodePose(id));
+    stamps.push_back(NodeAt(id).stamp);
+  }
+  const Stamp to = nodes.back().stamp;
+  Expected<InertialAlignment> alignment =
+      AlignStaticOrMoving(imu, stamps, poses, config.init, config.imu.gravity);
   if (!alignment) {
-    failure = alignment.status().message();
-    std::vector<ImuPreintegration> preintegrations;
-    for (long id = first_node_id + 1; id <= LastNodeId(); ++id) {
-      Expected<ImuPreintegration> pre = Preintegrate(NodeAt(id - 1).stamp, NodeAt(id).stamp, {});
-      if (!pre) {
-        last_init_failure = pre.status().message();
-        return;
-      }
-      preintegrations.push_back(std::move(*pre));
-    }
-    alignment = LidarAidedAlignment(poses, std::move(preintegrations), config.init);
-    if (!alignment) {
-      if (last_init_failure.empty())
-        warnings.push_back("LIO initialization deferred at " + StampText(to) + ": " + failure + "; " +
-                           alignment.status().message());
-      last_init_failure = alignment.status().message();
-      return;
-    }
+    if (last_init_failure.empty())
+      warnings.push_back("LIO initialization deferred at " + StampText(to) + ": " +
+                         alignment.status().message());
+    last_init_failure = alignment.status().message();
+    return;
   }
   ApplyInertialAlignment(*alignment);
   std::ostringstream summary;
@@ -205,7 +150,8 @@ void LidarOdometry::Impl::ApplyInertialAlignment(const InertialAlignment& alignm
     state.gyro_bias = alignment.gyro_bias;
     node.speed_bias = SpeedBiasBlock(state);
     if (id == first_node_id) continue;
-    Expected<ImuPreintegration> pre = Preintegrate(NodeAt(id - 1).stamp, node.stamp, node.speed_bias);
+    Expected<ImuPreintegration> pre =
+        imu.Preintegrate(NodeAt(id - 1).stamp, node.stamp, node.speed_bias.data());
     if (!pre) continue;  // keeps its constant-velocity prior
     graph.Remove(FactorKind::kMotionPrior, id);
     AddImuFactor(id, std::make_unique<ImuFactor>(std::move(*pre)));
@@ -216,24 +162,6 @@ void LidarOdometry::Impl::ApplyInertialAlignment(const InertialAlignment& alignm
     if (scan.in_map) InsertIntoMap(scan);
   for (ScanState& scan : window)
     if (scan.in_map && scan.begin_node != scan.end_node) Associate(scan);
-}
-
-// Divergence of LIO: a non-finite or implausibly fast state.
-bool LidarOdometry::Impl::Diverged(std::string* why) {
-  for (long id = first_node_id; id <= LastNodeId(); ++id) {
-    const Node& node = NodeAt(id);
-    const Eigen::Map<const Eigen::Matrix<double, 7, 1>> pose(node.pose.data());
-    const Eigen::Map<const Eigen::Matrix<double, 9, 1>> speed_bias(node.speed_bias.data());
-    if (!pose.allFinite() || !speed_bias.allFinite()) {
-      *why = "non-finite state at " + StampText(node.stamp);
-      return true;
-    }
-    if (inertial && speed_bias.head<3>().norm() > config.max_speed_mps) {
-      *why = "speed " + std::to_string(speed_bias.head<3>().norm()) + " m/s at " + StampText(node.stamp);
-      return true;
-    }
-  }
-  return false;
 }
 
 // Re-initialization: the window, the prior and the map start over (the next scan is a first scan), at the

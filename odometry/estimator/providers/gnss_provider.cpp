@@ -16,15 +16,15 @@ namespace {
 // nodes, never by tag.
 constexpr long kGnssTag = 0;
 
-std::vector<Stamp> Stamps(std::span<const WindowNode> nodes) {
+std::vector<Stamp> Stamps(std::span<const NodeView> nodes) {
   std::vector<Stamp> stamps;
   stamps.reserve(nodes.size());
-  for (const WindowNode& node : nodes) stamps.push_back(node.stamp);
+  for (const NodeView& node : nodes) stamps.push_back(node.stamp);
   return stamps;
 }
 
 // The antenna in the world at a placement: T(alpha) l with T slerped between the two nodes' poses.
-Eigen::Vector3d AntennaWorld(std::span<const WindowNode> nodes, const FixPlacement& at,
+Eigen::Vector3d AntennaWorld(std::span<const NodeView> nodes, const FixPlacement& at,
                              const Eigen::Vector3d& lever_arm) {
   const SE3 T =
       Interpolate(PoseFromBlock(nodes[at.node_a].pose), PoseFromBlock(nodes[at.node_b].pose), at.alpha);
@@ -64,7 +64,7 @@ std::optional<std::string> GnssProvider::Add(const GnssFix& fix) {
   return std::nullopt;
 }
 
-void GnssProvider::Link(FactorGraph& graph, std::span<const WindowNode> nodes,
+void GnssProvider::Link(FactorGraph& graph, std::span<const NodeView> nodes,
                         std::vector<std::string>& warnings) {
   if (nodes.empty()) return;
   const std::vector<Stamp> stamps = Stamps(nodes);
@@ -94,7 +94,7 @@ void GnssProvider::Link(FactorGraph& graph, std::span<const WindowNode> nodes,
 // The closed-form start (gnss/alignment_init.h). A start refused for its residual RMS (a jump among the
 // pairs, or odometry that drifted while the antenna covered the baseline) begins the collection again; a
 // start refused for a short baseline or too few fixes waits for more.
-void GnssProvider::TryStartAlignment(FactorGraph& graph, std::span<const WindowNode> nodes,
+void GnssProvider::TryStartAlignment(FactorGraph& graph, std::span<const NodeView> nodes,
                                      std::vector<std::string>& warnings) {
   Expected<AlignmentInit> start = InitializeAlignment(pairs_, config_);
   if (!start) {
@@ -124,7 +124,7 @@ void GnssProvider::TryStartAlignment(FactorGraph& graph, std::span<const WindowN
   paired_.clear();
 }
 
-void GnssProvider::AddFactor(FactorGraph& graph, std::span<const WindowNode> nodes, const QueuedFix& fix,
+void GnssProvider::AddFactor(FactorGraph& graph, std::span<const NodeView> nodes, const QueuedFix& fix,
                              std::vector<std::string>& warnings) {
   const std::vector<Stamp> stamps = Stamps(nodes);
   const std::optional<FixPlacement> at = PlaceFix(fix.stamp, stamps, config_);
@@ -154,16 +154,23 @@ void GnssProvider::AddFactor(FactorGraph& graph, std::span<const WindowNode> nod
 }
 
 void GnssProvider::Reset() {
+  if (aligned_) last_alignment_ = alignment_;
   aligned_ = false;
   alignment_ = {};
   pairs_.clear();
   paired_.clear();
-  alignment_summary_ = "restarting after a re-initialization of the window";
+  if (last_alignment_) alignment_summary_ += "; restarted after a re-initialization of the window";
+}
+
+void GnssProvider::Report(SensorFactorStats& stats) const {
+  stats.gnss = {counts_.added, counts_.screened_out + counts_.unplaced, counts_.integrity_rejected};
+  stats.gnss_alignment = alignment_summary_;
 }
 
 std::optional<Georeference> GnssProvider::georeference() const {
-  if (!aligned_ || !origin_.frame()) return std::nullopt;
-  return Georeference{origin_.frame()->origin(), AlignmentFromBlock(alignment_.data()).T_enu_world()};
+  if (!origin_.frame() || (!aligned_ && !last_alignment_)) return std::nullopt;
+  const double* block = aligned_ ? alignment_.data() : last_alignment_->data();
+  return Georeference{origin_.frame()->origin(), AlignmentFromBlock(block).T_enu_world()};
 }
 
 }  // namespace uf::estimator

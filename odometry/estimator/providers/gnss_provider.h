@@ -13,8 +13,9 @@
 //       nodes are still in the window become factors;
 //     aligned: CheckIntegrity (rejected: counted, a warning with the innovation), else a GnssFactor
 //       (anchors: it ties the window to the Earth, so marginalization keeps it in the prior).
-// A re-initialization of the window's world (Reset) forgets the alignment and the pairs; the ENU origin
-// stays, so the run keeps one georeference frame.
+// A re-initialization of the window (Reset: the graph cleared, the world continuing from the last pose)
+// starts the alignment again from new pairs; until it is accepted, the last alignment stands for the
+// georeference. The ENU origin stays, so the run keeps one georeference frame.
 #pragma once
 
 #include <Eigen/Core>
@@ -29,17 +30,13 @@
 #include "odometry/estimator/factors/gnss_factor.h"
 #include "odometry/estimator/gnss/alignment_init.h"
 #include "odometry/estimator/gnss/gnss_enu_origin.h"
+#include "odometry/estimator/providers/sensor_factor_stats.h"
+#include "odometry/estimator/state/window_node.h"
 #include "odometry/estimator/window/factor_graph.h"
 #include "odometry/types/georeference.h"
 #include "odometry/types/measurements.h"
 
 namespace uf::estimator {
-
-// A node of the window as a provider sees it: its stamp and its pose block (T_world_body, 7 wide).
-struct WindowNode {
-  Stamp stamp = 0;
-  double* pose = nullptr;
-};
 
 struct GnssCounts {
   int added = 0;               // factors in the window (or already marginalized)
@@ -63,17 +60,20 @@ class GnssProvider {
   // Links the queued fixes up to the last node's stamp to `nodes` (the window's, increasing stamps; their
   // poses are the current estimate), appending a warning per rejected or unplaced fix and one when the
   // alignment starts.
-  void Link(FactorGraph& graph, std::span<const WindowNode> nodes, std::vector<std::string>& warnings);
+  void Link(FactorGraph& graph, std::span<const NodeView> nodes, std::vector<std::string>& warnings);
 
-  // The window's world changed (re-initialization): the alignment and its pairs are forgotten. Call after
-  // the graph was cleared.
+  // The window restarted (its graph cleared): the alignment leaves the graph and starts again from new pairs
+  // (a restart may follow a divergence, so the old value is not trusted for the innovation test).
   void Reset();
 
   bool aligned() const { return aligned_; }
   double* alignment_block() { return alignment_.data(); }
-  // Once aligned: the ENU origin (the first good fix) and the current world -> ENU transform.
+  // Once aligned: the ENU origin (the first good fix) and the current world -> ENU transform (after a Reset,
+  // the last one until the alignment starts again).
   std::optional<Georeference> georeference() const;
   const GnssCounts& counts() const { return counts_; }
+  // Its part of the window's report: the counts (skipped = screened out + unplaced) and the alignment.
+  void Report(SensorFactorStats& stats) const;
   // "started at 12.3 s: 8 fixes over 14.2 m, RMS 0.8 m" once aligned, else why not yet ("" before any).
   const std::string& alignment_summary() const { return alignment_summary_; }
 
@@ -83,9 +83,9 @@ class GnssProvider {
     Eigen::Vector3d enu;
     Eigen::Matrix3d covariance;
   };
-  void TryStartAlignment(FactorGraph& graph, std::span<const WindowNode> nodes,
+  void TryStartAlignment(FactorGraph& graph, std::span<const NodeView> nodes,
                          std::vector<std::string>& warnings);
-  void AddFactor(FactorGraph& graph, std::span<const WindowNode> nodes, const QueuedFix& fix,
+  void AddFactor(FactorGraph& graph, std::span<const NodeView> nodes, const QueuedFix& fix,
                  std::vector<std::string>& warnings);
 
   GnssFactorConfig config_;
@@ -99,6 +99,7 @@ class GnssProvider {
   std::vector<QueuedFix> paired_;
   bool aligned_ = false;
   std::array<double, kGnssAlignmentSize> alignment_{};
+  std::optional<std::array<double, kGnssAlignmentSize>> last_alignment_;  // before the last Reset
   GnssCounts counts_;
   std::string alignment_summary_;
 };

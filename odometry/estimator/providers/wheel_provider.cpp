@@ -50,6 +50,12 @@ Status WheelProvider::Link(FactorGraph& graph, long tag, double* pose_from, doub
   return {};
 }
 
+Expected<SE3> WheelProvider::Motion(Stamp from, Stamp to) const {
+  Expected<WheelPreintegration> pre = WheelPreintegration::Between(samples_, from, to, config_);
+  if (!pre) return pre.status();
+  return T_body_wheel_ * SE3(pre->delta_R(), pre->delta_p()) * T_body_wheel_.inverse();
+}
+
 void WheelProvider::Trim(Stamp oldest) {
   const Stamp wheel_clock = oldest - FromSeconds(config_.time_offset_s);
   auto keep = std::lower_bound(samples_.begin(), samples_.end(), wheel_clock,

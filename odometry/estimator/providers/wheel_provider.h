@@ -32,6 +32,10 @@ class WheelProvider {
   // Adds the wheel factor between the poses at `from` and `to` (tagged `tag`); an error, and no factor,
   // when the samples do not cover the interval (see WheelPreintegration::Between).
   Status Link(FactorGraph& graph, long tag, double* pose_from, double* pose_to, Stamp from, Stamp to);
+  // The body's motion over [from, to] dead-reckoned from the wheel alone at unit scale,
+  // T_body(from)^-1 T_body(to) = T_body_wheel dT_wheel T_body_wheel^-1 (dT_wheel: the preintegrated
+  // motion); an error when the samples do not cover the interval. For an initialization without the window.
+  Expected<SE3> Motion(Stamp from, Stamp to) const;
   // Drops the samples no interval from `oldest` on needs (one before it is kept).
   void Trim(Stamp oldest);
 

@@ -32,6 +32,8 @@ const char* FactorKindName(FactorKind kind) {
       return "gnss";
     case FactorKind::kLidar:
       return "lidar";
+    case FactorKind::kStatePrior:
+      return "state_prior";
   }
   return "?";
 }

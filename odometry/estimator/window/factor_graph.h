@@ -30,8 +30,8 @@
 namespace uf::estimator {
 
 // Solve order. Adding a kind: one line here and its name in factor_graph.cpp.
-enum class FactorKind { kMotionPrior, kImu, kWheel, kGnss, kLidar };
-constexpr int kFactorKinds = 5;
+enum class FactorKind { kMotionPrior, kImu, kWheel, kGnss, kLidar, kStatePrior };
+constexpr int kFactorKinds = 6;
 const char* FactorKindName(FactorKind kind);
 
 struct Factor {

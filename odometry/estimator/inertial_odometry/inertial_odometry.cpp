@@ -1,0 +1,168 @@
+#include "odometry/estimator/inertial_odometry/inertial_odometry.h"
+
+#include <algorithm>
+#include <chrono>
+#include <limits>
+
+#include "odometry/estimator/inertial_odometry/inertial_window.h"
+
+namespace uf::estimator {
+
+// Nodes on the grid of IMU time: each once the IMU covers it and the wheel does too, or once the IMU is
+// wheel_max_wait_s past it (the wheel stalled), or at the end of the data (flush). The grid starts where
+// both streams have begun, so that both cover its first node.
+void InertialOdometry::Impl::ProcessReady(bool flush) {
+  if (!next_stamp) {
+    if (imu.empty() || wheel.CoveredUntil() == std::numeric_limits<Stamp>::min()) return;
+    next_stamp = std::max(imu.CoveredUntil(), wheel.CoveredUntil());
+  }
+  while (imu.CoveredUntil() >= *next_stamp) {
+    const Stamp stamp = *next_stamp;
+    const bool wheel_covers = wheel.CoveredUntil() >= stamp;
+    const bool stalled = imu.CoveredUntil() - stamp > FromSeconds(config.wheel_max_wait_s);
+    if (!wheel_covers && !stalled && !flush) return;
+    *next_stamp += FromSeconds(config.node_interval_s);
+    AddNodeAt(stamp);
+  }
+}
+
+// One node, as the method reads: before initialization it only waits in the initialization window; then
+// the IMU predicts it from the last node, the IMU and wheel factors link the two, the window is solved, and
+// the oldest node leaves when the window is full. An IMU gap ends the window (its nodes are final) and
+// starts a new initialization with this node.
+void InertialOdometry::Impl::AddNodeAt(Stamp stamp) {
+  if (!inertial) {
+    init_stamps.push_back(stamp);
+    TryInitialize();
+    return;
+  }
+  const auto start = std::chrono::steady_clock::now();
+  InertialOdometryStats stats;
+  stats.stamp = stamp;
+  const WindowNode& last = nodes.back();
+  Expected<ImuPreintegration> pre = imu.Preintegrate(last.stamp, stamp, last.speed_bias.data());
+  if (!pre) {
+    warnings.push_back("IMU at " + StampText(stamp) + ": " + pre.status().message() +
+                       "; the window ends there and WIO initializes again");
+    Restart(/*keep_window=*/true);
+    init_stamps.push_back(stamp);
+    return;
+  }
+  const NavState predicted = pre->Predict(NodeNavState(last));
+  WindowNode node;
+  node.stamp = stamp;
+  node.pose = PoseBlock(predicted.T_world_imu);
+  node.speed_bias = SpeedBiasBlock(predicted);
+  LinkNode(PushNode(node), std::move(*pre));
+  SolveAndSlide(stats);
+  stats.solve_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  processed.push_back(stats);
+}
+
+// Solves the window; a failed solve keeps the prediction, a diverged window is dropped and initializes
+// again; then the oldest nodes leave while the window is over its size.
+void InertialOdometry::Impl::SolveAndSlide(InertialOdometryStats& stats) {
+  const SavedStates saved = Save(nodes);
+  if (!Solve(&stats.iterations)) {
+    Restore(saved, nodes);
+    warnings.push_back("WIO solve at " + StampText(nodes.back().stamp) + " failed; kept the prediction");
+  }
+  if (std::optional<std::string> why = DivergenceReason(nodes, true, config.max_speed_mps)) {
+    warnings.push_back("WIO diverged (" + *why + "): re-initializing at " + StampText(nodes.back().stamp) +
+                       ", " + std::to_string(nodes.size()) + " nodes of the window dropped");
+    Restart(/*keep_window=*/false);
+    return;
+  }
+  while (static_cast<int>(nodes.size()) > config.window_size) MarginalizeOldest(&stats.marginalize_ms);
+}
+
+// Drops the IMU and wheel samples that neither the window nor a waiting initialization needs.
+void InertialOdometry::Impl::TrimStreams() {
+  Stamp oldest = std::numeric_limits<Stamp>::max();
+  if (!nodes.empty()) oldest = nodes.front().stamp;
+  if (!init_stamps.empty()) oldest = std::min(oldest, init_stamps.front());
+  if (restart_stamp) oldest = std::min(oldest, *restart_stamp);
+  if (oldest == std::numeric_limits<Stamp>::max()) return;
+  imu.Trim(oldest);
+  wheel.Trim(oldest);
+}
+
+InertialOdometry::InertialOdometry(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+InertialOdometry::InertialOdometry(InertialOdometry&&) noexcept = default;
+InertialOdometry& InertialOdometry::operator=(InertialOdometry&&) noexcept = default;
+InertialOdometry::~InertialOdometry() = default;
+
+Expected<InertialOdometry> InertialOdometry::Create(const InertialOdometryConfig& config) {
+  if (Status status = config.Validate(); !status.ok()) return status;
+  return InertialOdometry(std::make_unique<Impl>(config));
+}
+
+Status InertialOdometry::AddImu(const ImuSample& sample) {
+  if (std::optional<std::string> skipped = impl_->imu.Add(sample)) {
+    impl_->warnings.push_back(*skipped);
+    return {};
+  }
+  impl_->ProcessReady(/*flush=*/false);
+  return {};
+}
+
+Status InertialOdometry::AddWheel(const WheelSample& sample) {
+  if (std::optional<std::string> skipped = impl_->wheel.Add(sample)) {
+    impl_->warnings.push_back(*skipped);
+    return {};
+  }
+  impl_->ProcessReady(/*flush=*/false);
+  return {};
+}
+
+std::vector<Keyframe> InertialOdometry::TakeFinished() {
+  std::vector<Keyframe> out = std::move(impl_->finished);
+  impl_->finished.clear();
+  return out;
+}
+
+std::vector<InertialOdometryStats> InertialOdometry::TakeProcessedStats() {
+  std::vector<InertialOdometryStats> out = std::move(impl_->processed);
+  impl_->processed.clear();
+  return out;
+}
+
+void InertialOdometry::Finish() {
+  Impl& w = *impl_;
+  w.ProcessReady(/*flush=*/true);
+  if (w.inertial) {
+    // Every node is final (solved when it was added); the GNSS alignment stays as it is.
+    while (!w.nodes.empty()) w.ReleaseOldest();
+    w.graph.Clear();  // nothing is solved after the end of the data
+  } else if (!w.init_stamps.empty()) {
+    w.warnings.push_back("WIO ended before initializing: " + std::to_string(w.init_stamps.size()) +
+                         " nodes waited (" + (w.last_init_failure.empty() ? "too few" : w.last_init_failure) +
+                         ")");
+  }
+}
+
+const std::vector<std::string>& InertialOdometry::warnings() const { return impl_->warnings; }
+bool InertialOdometry::inertial() const { return impl_->inertial; }
+const std::string& InertialOdometry::initialization() const { return impl_->init_summary; }
+
+SensorFactorStats InertialOdometry::sensor_factors() const {
+  SensorFactorStats stats;
+  stats.wheel = {impl_->wheel.factors_added(), impl_->wheel.factors_skipped()};
+  stats.wheel_scale = impl_->wheel.scale();
+  if (impl_->gnss) impl_->gnss->Report(stats);
+  return stats;
+}
+
+Status InertialOdometry::AddGnss(const GnssFix& fix) {
+  if (!impl_->gnss) return {};
+  if (std::optional<std::string> skipped = impl_->gnss->Add(fix)) impl_->warnings.push_back(*skipped);
+  return {};
+}
+
+std::optional<Georeference> InertialOdometry::georeference() const {
+  if (!impl_->gnss) return std::nullopt;
+  return impl_->gnss->georeference();
+}
+
+}  // namespace uf::estimator

@@ -1,0 +1,83 @@
+// Wheel-inertial odometry (WIO) of the sliding-window estimator (docs/METHOD.md "Wheel-inertial odometry";
+// paper Section III-B with the LiDAR absent): a window driven by time, not by scans.
+//
+// Design:
+// - Nodes: one every node_interval_s of IMU time, on a grid starting where both the IMU and the wheel
+//   streams have begun; a node is added once the IMU and the wheel cover its stamp. If the IMU runs more than
+//   wheel_max_wait_s past a node the wheel does not cover, the node goes ahead with the IMU alone (the wheel
+//   factor of that interval is skipped, a warning). State per node: T_world_imu and [v, b_a, b_g].
+// - Factors: ImuFactor between consecutive nodes (preintegration over the IMU samples, refused across a gap
+//   longer than imu_max_gap_s); WheelFactor between them through the WheelProvider, which owns the wheel
+//   scale block and its prior; the gauge prior (factors/gauge_prior_factor.h: position and yaw of the first
+//   node, the four directions IMU and wheel cannot observe) until the first marginalization carries it.
+// - Initialization: no node is created before it; the first init_window_nodes node stamps wait (only
+//   their stamps). The static alignment (IMU at rest, wheel not moving), else the moving one
+//   (LidarAidedAlignment on poses dead-reckoned from the wheel: T_lo_imu = T_lo_wheel T_body_wheel^-1),
+//   gives gravity, velocities and biases; then the window is built. A failed window slides by one node.
+// - Solve: after each node, dense Levenberg-Marquardt on every node and the wheel scale (max_iterations).
+//   When the window holds more than window_size nodes, the oldest leaves into the marginalization prior and
+//   becomes a keyframe.
+// - Divergence: a non-finite state, a speed above max_speed_mps or a failed solve leaves the window's
+//   nodes unreported (not trusted) and starts a new initialization at the last good pose (a warning). An IMU
+//   gap between two nodes ends the window instead: its nodes are final (reported), and a new
+//   initialization starts after the gap at the pose the wheel dead-reckons across it.
+// - Threads: none beyond the dense solver's evaluation.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "odometry/estimator/config/inertial_odometry_config.h"
+#include "odometry/estimator/providers/sensor_factor_stats.h"
+#include "odometry/types/georeference.h"
+#include "odometry/types/keyframe.h"
+#include "odometry/types/measurements.h"
+#include "odometry/types/status.h"
+
+namespace uf::estimator {
+
+struct InertialOdometryStats {
+  Stamp stamp = 0;            // of the node
+  double solve_ms = 0;        // wall time of the node: its factors, the solve and the marginalization
+  double marginalize_ms = 0;  // of which the marginalization
+  int iterations = 0;         // LM iterations of the node's solve
+};
+
+class InertialOdometry {
+ public:
+  static Expected<InertialOdometry> Create(const InertialOdometryConfig& config);
+  InertialOdometry(InertialOdometry&&) noexcept;
+  InertialOdometry& operator=(InertialOdometry&&) noexcept;
+  ~InertialOdometry();
+
+  // Feed the samples in time order (as a MeasurementStream delivers them). Non-finite or not-increasing
+  // samples are skipped with a warning (warnings()); nodes are added, solved and marginalized inside.
+  Status AddImu(const ImuSample& sample);
+  Status AddWheel(const WheelSample& sample);
+  // Feeds one GNSS fix (config.use_gnss, WGIO; ignored otherwise): screened, then linked to the nodes
+  // around its stamp once they exist and the ENU alignment has started (providers/gnss_provider.h). Bad
+  // fixes are skipped with a warning.
+  Status AddGnss(const GnssFix& fix);
+  // Keyframes of the nodes that have left the window (final) since the last call: stamp, T_world_body
+  // (body = IMU), velocity (world), biases; no scan.
+  std::vector<Keyframe> TakeFinished();
+  // End of data: adds the nodes the IMU covers (without waiting for the wheel) and releases every node
+  // (each was solved when it was added).
+  void Finish();
+  std::vector<InertialOdometryStats> TakeProcessedStats();  // per node since the last call
+  const std::vector<std::string>& warnings() const;
+  bool inertial() const;                      // initialized: nodes in the window
+  const std::string& initialization() const;  // how it last initialized ("static at 0.9 s ..."), or empty
+  SensorFactorStats sensor_factors() const;
+  // WGIO, once the ENU alignment has started: the ENU origin and T_enu_world as estimated now.
+  std::optional<Georeference> georeference() const;
+
+ private:
+  struct Impl;
+  explicit InertialOdometry(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace uf::estimator

@@ -1,0 +1,121 @@
+// Initialization of the wheel-inertial window and its restarts (see inertial_window.h).
+#include <sstream>
+
+#include "odometry/estimator/factors/bias_prior_factor.h"
+#include "odometry/estimator/factors/imu_factor.h"
+#include "odometry/estimator/inertial_odometry/inertial_window.h"
+
+namespace uf::estimator {
+
+// Once init_window_nodes nodes wait: their poses dead-reckoned from the wheel, then the static alignment,
+// else the moving one (init/inertial_alignment.h). A failed window drops its oldest node and waits for the
+// next; the first failure is logged.
+void InertialOdometry::Impl::TryInitialize() {
+  if (static_cast<int>(init_stamps.size()) < config.init_window_nodes) return;
+  Expected<std::vector<SE3>> poses = DeadReckon(init_stamps);
+  Status failure = poses ? Status() : poses.status();
+  if (poses) {
+    Expected<InertialAlignment> alignment =
+        AlignStaticOrMoving(imu, init_stamps, *poses, config.init, config.imu.gravity);
+    failure = alignment ? Start(*alignment, *poses) : alignment.status();
+    if (failure.ok()) {
+      std::ostringstream summary;
+      // LidarAidedAlignment is generic on the poses: here they are the wheel's.
+      summary << (alignment->mode == "static" ? "static" : "wheel-aided") << " at "
+              << ToSeconds(nodes.back().stamp) << " s (gravity estimate " << alignment->gravity_estimate
+              << " m/s^2, gyro bias " << alignment->gyro_bias.transpose() << ")";
+      init_summary = summary.str();
+      return;
+    }
+  }
+  if (last_init_failure.empty())
+    warnings.push_back("WIO initialization deferred at " + StampText(init_stamps.back()) + ": " +
+                       failure.message());
+  last_init_failure = failure.message();
+  init_stamps.erase(init_stamps.begin());
+  TrimStreams();
+}
+
+// Poses T_lo_imu of the IMU at `stamps` from the wheel alone: T_lo_imu(t_k+1) = T_lo_imu(t_k) T_body_wheel
+// dT_wheel T_body_wheel^-1 (WheelProvider::Motion), starting at restart_pose, carried from restart_stamp to
+// the first stamp when the wheel covers that (after an IMU gap: the position continues across it).
+Expected<std::vector<SE3>> InertialOdometry::Impl::DeadReckon(const std::vector<Stamp>& stamps) const {
+  SE3 pose = restart_pose;
+  if (restart_stamp)
+    if (Expected<SE3> across = wheel.Motion(*restart_stamp, stamps.front())) pose = pose * *across;
+  std::vector<SE3> poses = {pose};
+  for (std::size_t k = 1; k < stamps.size(); ++k) {
+    Expected<SE3> motion = wheel.Motion(stamps[k - 1], stamps[k]);
+    if (!motion) return Status::Error("wheel dead reckoning: " + motion.status().message());
+    poses.push_back(poses.back() * *motion);
+  }
+  return poses;
+}
+
+// Builds the window from an alignment: the poses rotated into the gravity-aligned world about the first
+// one's position (so a restart continues where the last window ended), the velocities and biases of the
+// alignment, IMU and wheel factors between consecutive nodes and the gauge prior on the first; then the
+// first solve. Fails, leaving no node, when the IMU does not cover an interval.
+Status InertialOdometry::Impl::Start(const InertialAlignment& alignment, const std::vector<SE3>& poses) {
+  NavState biases;
+  biases.accel_bias = alignment.accel_bias;
+  biases.gyro_bias = alignment.gyro_bias;
+  std::vector<ImuPreintegration> preintegrations;
+  for (std::size_t k = 1; k < init_stamps.size(); ++k) {
+    Expected<ImuPreintegration> pre =
+        imu.Preintegrate(init_stamps[k - 1], init_stamps[k], SpeedBiasBlock(biases).data());
+    if (!pre) return pre.status();
+    preintegrations.push_back(std::move(*pre));
+  }
+  const Eigen::Vector3d p0 = poses.front().translation();
+  const SE3 T_gravity_lo(alignment.R_gravity_lo, p0 - alignment.R_gravity_lo * p0);
+  for (std::size_t k = 0; k < init_stamps.size(); ++k) {
+    NavState state = biases;
+    state.velocity = alignment.velocities[k];
+    WindowNode node;
+    node.stamp = init_stamps[k];
+    node.pose = PoseBlock(T_gravity_lo * poses[k]);
+    node.speed_bias = SpeedBiasBlock(state);
+    const long id = PushNode(node);
+    if (k == 0) {
+      AddGaugePrior();
+      graph.Add(FactorKind::kStatePrior, id,
+                MakeBiasPriorFactor(alignment.accel_bias, alignment.gyro_bias, config.init_accel_bias_sigma,
+                                    config.init_gyro_bias_sigma),
+                nullptr, {nodes.front().speed_bias.data()}, /*anchors=*/true);
+    } else {
+      LinkNode(id, std::move(preintegrations[k - 1]));
+    }
+  }
+  inertial = true;
+  init_stamps.clear();
+  restart_stamp.reset();
+  last_init_failure.clear();
+  InertialOdometryStats stats;  // the first solve is not a node's: not in the per-node figures
+  SolveAndSlide(stats);
+  return {};
+}
+
+// Ends the window. keep_window: its nodes are final and become keyframes (the end of the data, an IMU
+// gap); otherwise they are dropped (divergence). The next initialization starts at the last node's pose
+// (the last keyframe's when that is not finite, else the identity).
+void InertialOdometry::Impl::Restart(bool keep_window) {
+  if (!nodes.empty()) {
+    restart_pose = NodePose(LastNodeId());
+    restart_stamp = nodes.back().stamp;
+  }
+  if (!restart_pose.matrix().allFinite())
+    restart_pose = finished.empty() ? SE3() : finished.back().T_world_body;
+  if (keep_window)
+    while (!nodes.empty()) ReleaseOldest();
+  nodes.clear();
+  first_node_id = 0;
+  graph.Clear();
+  wheel.Attach(graph);
+  if (gnss) gnss->Reset();
+  inertial = false;
+  init_stamps.clear();
+  last_init_failure.clear();
+}
+
+}  // namespace uf::estimator

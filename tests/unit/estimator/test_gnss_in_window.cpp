@@ -1,0 +1,251 @@
+// GNSS factors inside the windows (providers/gnss_provider.h) end to end on short simulated urban sequences:
+// WGIO (wheel-inertial) and LWGIO (LiDAR-inertial with wheel) against the simulator's ground truth in ENU,
+// without any alignment after the run (the estimator's own georeference); injected 20 m multipath jumps
+// rejected by the integrity check; bad fixes (no fix, NaN, unknown covariance, kilometre jumps, stamps going
+// back) counted and skipped, never a NaN pose.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+
+#include "odometry/estimator/inertial_odometry/inertial_odometry.h"
+#include "odometry/estimator/lidar_odometry/lidar_odometry.h"
+#include "odometry/io/dataset_reader.h"
+#include "odometry/io/for_each_measurement.h"
+#include "odometry/io/geo_trajectory_file.h"
+#include "odometry/io/trajectory_file.h"
+#include "odometry/sim/sequence/sequence_generator.h"
+#include "tests/support/temp_dir.h"
+
+namespace uf::estimator {
+namespace {
+
+const GeodeticOrigin kSimOrigin = sim::SimulationConfig{}.origin;
+
+// The default urban drive (1 s at rest, then off at ~8 m/s) with the IMU, the wheel and 5 Hz GNSS of the
+// given quality; the 16-beam LiDAR only when asked.
+std::filesystem::path Simulate(const uf::testing::TempDir& dir, double duration_s, sim::GnssQuality quality,
+                               bool lidar) {
+  sim::SimulationConfig config;
+  config.duration_s = duration_s;
+  config.camera.enabled = false;
+  config.lidar.enabled = lidar;
+  config.lidar.model.model = "spinning16";
+  config.lidar.model.horizontal_resolution_deg = 0.4;
+  config.gnss.model.quality = quality;
+  const std::filesystem::path out = dir.path() / "sequence";
+  auto summary = sim::GenerateSequence(config, out);
+  EXPECT_TRUE(summary.ok()) << summary.error();
+  return out;
+}
+
+const StreamInfo* FindStream(const DatasetDescription& description, SensorKind kind) {
+  for (const StreamInfo& stream : description.streams)
+    if (stream.kind == kind) return &stream;
+  return nullptr;
+}
+
+struct GeoRun {
+  Trajectory estimate;  // T_world_imu
+  std::vector<std::string> warnings;
+  SensorFactorStats factors;
+  std::optional<Georeference> georef;
+};
+
+// Feeds every measurement to `window` (InertialOdometry or LidarOdometry); `edit_fix` may change or drop
+// (return false) each fix first.
+template <typename Window>
+GeoRun Run(Window& window, DatasetReader& reader, const std::function<bool(GnssFix&)>& edit_fix) {
+  const Status read = ForEachMeasurement(reader, [&](Measurement& m) {
+    if (const auto* scan = std::get_if<LidarScan>(&m.data)) {
+      if constexpr (std::is_same_v<Window, LidarOdometry>) return window.AddScan(*scan);
+    }
+    if (const auto* sample = std::get_if<ImuSample>(&m.data)) return window.AddImu(*sample);
+    if (const auto* wheel = std::get_if<WheelSample>(&m.data)) return window.AddWheel(*wheel);
+    if (auto* fix = std::get_if<GnssFix>(&m.data); fix && edit_fix(*fix)) return window.AddGnss(*fix);
+    return Status();
+  });
+  EXPECT_TRUE(read.ok()) << read.message();
+  window.Finish();
+  GeoRun run;
+  for (const Keyframe& k : window.TakeFinished()) {
+    EXPECT_TRUE(k.T_world_body.matrix().allFinite()) << ToSeconds(k.stamp);
+    run.estimate.stamps.push_back(k.stamp);
+    run.estimate.poses.push_back(k.T_world_body);
+  }
+  run.warnings = window.warnings();
+  run.factors = window.sensor_factors();
+  run.georef = window.georeference();
+  return run;
+}
+
+GeoRun RunWgio(
+    const std::filesystem::path& folder,
+    const std::function<bool(GnssFix&)>& edit_fix = [](GnssFix&) { return true; }) {
+  auto reader = OpenDataset(folder.string());
+  EXPECT_TRUE(reader.ok()) << reader.error();
+  const DatasetDescription& description = (*reader)->description();
+  InertialOdometryConfig config;
+  config.max_solver_time_s = 10;  // only the iteration budget: the results do not depend on the load
+  config.T_body_wheel = *FindStream(description, SensorKind::kWheel)->T_body_sensor;
+  config.use_gnss = true;
+  config.T_body_gnss = *FindStream(description, SensorKind::kGnss)->T_body_sensor;
+  auto wgio = InertialOdometry::Create(config);
+  EXPECT_TRUE(wgio.ok()) << wgio.error();
+  return Run(*wgio, **reader, edit_fix);
+}
+
+GeoRun RunLwgio(
+    const std::filesystem::path& folder,
+    const std::function<bool(GnssFix&)>& edit_fix = [](GnssFix&) { return true; }) {
+  auto reader = OpenDataset(folder.string());
+  EXPECT_TRUE(reader.ok()) << reader.error();
+  const DatasetDescription& description = (*reader)->description();
+  LidarOdometryConfig config;
+  config.use_imu = config.use_wheel = config.use_gnss = true;
+  config.T_body_lidar = *FindStream(description, SensorKind::kLidar)->T_body_sensor;
+  config.T_body_wheel = *FindStream(description, SensorKind::kWheel)->T_body_sensor;
+  config.T_body_gnss = *FindStream(description, SensorKind::kGnss)->T_body_sensor;
+  config.input_voxel_m = 0.5;
+  config.max_solver_time_s = 10;
+  auto lwgio = LidarOdometry::Create(config);
+  EXPECT_TRUE(lwgio.ok()) << lwgio.error();
+  return Run(*lwgio, **reader, edit_fix);
+}
+
+struct EnuError {
+  double horizontal_rmse = 0, vertical_rmse = 0, max_horizontal = 0;
+  int poses = 0;
+};
+
+// The estimate in the estimator's ENU frame (T_enu_world p) against the truth moved from the simulator's ENU
+// frame into it through WGS84, without any alignment; poses after `from_s` of the sequence.
+EnuError ErrorInEnu(const GeoRun& run, const std::filesystem::path& folder, double from_s) {
+  auto truth = ReadTrajectory((folder / "groundtruth.tum").string());
+  EXPECT_TRUE(truth.ok());
+  auto truth_frame = EnuFrame::Create(kSimOrigin);
+  auto run_frame = EnuFrame::Create(run.georef->origin);
+  EXPECT_TRUE(truth_frame.ok() && run_frame.ok());
+  EnuError error;
+  double horizontal = 0, vertical = 0;
+  for (std::size_t k = 0; k < run.estimate.size(); ++k) {
+    const Stamp t = run.estimate.stamps[k];
+    const std::optional<SE3> true_pose = truth->PoseAt(t);
+    if (!true_pose || ToSeconds(t - truth->stamps.front()) < from_s) continue;
+    const Eigen::Vector3d truth_enu =
+        run_frame->EnuFromGeodetic(truth_frame->GeodeticFromEnu(true_pose->translation()));
+    const Eigen::Vector3d e = run.georef->T_enu_world * run.estimate.poses[k].translation() - truth_enu;
+    horizontal += e.head<2>().squaredNorm();
+    vertical += e.z() * e.z();
+    error.max_horizontal = std::max(error.max_horizontal, e.head<2>().norm());
+    ++error.poses;
+  }
+  error.horizontal_rmse = std::sqrt(horizontal / std::max(error.poses, 1));
+  error.vertical_rmse = std::sqrt(vertical / std::max(error.poses, 1));
+  return error;
+}
+
+std::string Joined(const std::vector<std::string>& lines) {
+  std::string text;
+  for (const std::string& line : lines) text += line + "\n";
+  return text;
+}
+
+int Count(const std::vector<std::string>& lines, const std::string& part) {
+  return static_cast<int>(std::count_if(
+      lines.begin(), lines.end(), [&](const std::string& l) { return l.find(part) != std::string::npos; }));
+}
+
+TEST(GnssInWindow, WgioWithRtkFixesFollowsTheTruthInEnuWithoutAlignment) {
+  uf::testing::TempDir dir;
+  const auto folder = Simulate(dir, 25.0, sim::GnssQuality::kRtkFixed, /*lidar=*/false);
+  const GeoRun run = RunWgio(folder);
+  ASSERT_TRUE(run.georef) << run.factors.gnss_alignment << "\n" << Joined(run.warnings);
+  EXPECT_GT(run.factors.gnss.added, 80) << run.factors.gnss_alignment;
+  EXPECT_EQ(run.factors.gnss.rejected, 0) << Joined(run.warnings);
+  // After the alignment has started (10 m of driving, ~5 s): the RTK fixes (2 cm horizontal, 4 cm vertical,
+  // 2 s correlation) hold the trajectory in ENU; the bound for WGIO with RTK is 0.05 m.
+  const EnuError error = ErrorInEnu(run, folder, 6.0);
+  EXPECT_GT(error.poses, 150);
+  EXPECT_LT(error.horizontal_rmse, 0.05) << "max " << error.max_horizontal;
+  EXPECT_LT(error.vertical_rmse, 0.1);
+}
+
+TEST(GnssInWindow, WgioWithSingleFixesStaysWithinTheirAccuracy) {
+  uf::testing::TempDir dir;
+  const auto folder = Simulate(dir, 25.0, sim::GnssQuality::kSingle, /*lidar=*/false);
+  const GeoRun run = RunWgio(folder);
+  ASSERT_TRUE(run.georef) << run.factors.gnss_alignment;
+  // Single fixes: 1.5 m horizontal, 3 m vertical, wandering with a 30 s correlation time; the bound
+  // for the ENU position error is 1.5 m.
+  const EnuError error = ErrorInEnu(run, folder, 6.0);
+  EXPECT_LT(error.horizontal_rmse, 1.5);
+}
+
+TEST(GnssInWindow, IntegrityCheckRejectsMultipathJumpsInLwgio) {
+  uf::testing::TempDir dir;
+  const auto folder = Simulate(dir, 15.0, sim::GnssQuality::kRtkFixed, /*lidar=*/true);
+  const GeoRun clean = RunLwgio(folder);
+  ASSERT_TRUE(clean.georef) << clean.factors.gnss_alignment;
+  // Every fix from 10 s to 11 s jumps 20 m north (a multipath reflection, well after the alignment
+  // started): its innovation is ~20 m against a gate of a few cm + 1 m prediction sigma.
+  int jumped = 0;
+  Stamp first_stamp = 0;
+  const GeoRun run = RunLwgio(folder, [&](GnssFix& fix) {
+    if (first_stamp == 0) first_stamp = fix.stamp;
+    const double t = ToSeconds(fix.stamp - first_stamp);
+    if (t >= 10.0 && t < 11.0) {
+      fix.latitude_deg += 20.0 / 111'200.0;
+      ++jumped;
+    }
+    return true;
+  });
+  ASSERT_TRUE(run.georef);
+  EXPECT_EQ(jumped, 5);
+  EXPECT_EQ(run.factors.gnss.rejected, jumped) << Joined(run.warnings);
+  EXPECT_EQ(Count(run.warnings, "rejected by the integrity check"), jumped);
+  // The trajectory does not move: the same ENU error as without the jumps, to the millimetre.
+  const EnuError a = ErrorInEnu(clean, folder, 6.0), b = ErrorInEnu(run, folder, 6.0);
+  EXPECT_LT(b.horizontal_rmse, 0.05);
+  EXPECT_NEAR(a.horizontal_rmse, b.horizontal_rmse, 0.005);
+}
+
+TEST(GnssInWindow, BadFixesAreCountedAndSkippedNeverANanPose) {
+  uf::testing::TempDir dir;
+  const auto folder = Simulate(dir, 20.0, sim::GnssQuality::kRtkFixed, /*lidar=*/false);
+  int index = 0;
+  const GeoRun run = RunWgio(folder, [&](GnssFix& fix) {
+    switch (index++ % 10) {
+      case 1:
+        fix.status = GnssFixStatus::kNoFix;
+        break;
+      case 3:
+        fix.latitude_deg = std::numeric_limits<double>::quiet_NaN();
+        break;
+      case 5:
+        fix.covariance_enu.setZero();  // COVARIANCE_TYPE_UNKNOWN: rejected by default
+        break;
+      case 7:
+        if (index > 60) fix.longitude_deg += 0.05;  // ~3.6 km east, once the alignment runs
+        break;
+      case 9:
+        fix.stamp -= kNanosecondsPerSecond;  // before the previous fix
+        break;
+      default:
+        break;
+    }
+    return true;
+  });
+  ASSERT_TRUE(run.georef) << run.factors.gnss_alignment << "\n" << Joined(run.warnings);
+  EXPECT_EQ(Count(run.warnings, "skipped: no fix"), 10) << Joined(run.warnings);
+  EXPECT_EQ(Count(run.warnings, "skipped: non-finite position"), 10) << Joined(run.warnings);
+  EXPECT_EQ(Count(run.warnings, "skipped: all-zero covariance"), 10) << Joined(run.warnings);
+  EXPECT_EQ(Count(run.warnings, "skipped: not after"), 10) << Joined(run.warnings);
+  EXPECT_GE(run.factors.gnss.skipped, 40);
+  EXPECT_GE(run.factors.gnss.rejected, 3);  // the kilometre jumps after the alignment started
+  const EnuError error = ErrorInEnu(run, folder, 6.0);
+  EXPECT_LT(error.horizontal_rmse, 0.1);
+}
+
+}  // namespace
+}  // namespace uf::estimator

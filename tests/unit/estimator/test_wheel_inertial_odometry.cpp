@@ -1,0 +1,234 @@
+// Wheel-inertial odometry (WIO) end to end on short simulated urban sequences (IMU and wheel only): the
+// static and the moving initialization, accuracy, velocity and wheel scale against the simulator's ground
+// truth, bad IMU and wheel input (NaN, stamps going back, gaps) that must give warnings and finite poses,
+// and the config's field names.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <functional>
+
+#include "odometry/estimator/inertial_odometry/inertial_odometry.h"
+#include "odometry/eval/evaluation.h"
+#include "odometry/io/dataset_reader.h"
+#include "odometry/io/for_each_measurement.h"
+#include "odometry/io/trajectory_file.h"
+#include "odometry/sim/sequence/sequence_generator.h"
+#include "tests/support/temp_dir.h"
+
+namespace uf::estimator {
+namespace {
+
+// The scene's default urban drive (1 s at rest, then off; ~7.5 m/s cruising) or `trajectory` (TUM), with
+// the IMU (ADIS16448 noise) and the 50 Hz wheel odometry (ideal encoder) only.
+std::filesystem::path Simulate(const uf::testing::TempDir& dir, double duration_s,
+                               const std::string& trajectory = "") {
+  sim::SimulationConfig config;
+  config.duration_s = duration_s;
+  config.lidar.enabled = config.camera.enabled = config.gnss.enabled = false;
+  config.trajectory.file = trajectory;
+  const std::filesystem::path out = dir.path() / "sequence";
+  auto summary = sim::GenerateSequence(config, out);
+  EXPECT_TRUE(summary.ok()) << summary.error();
+  return out;
+}
+
+struct WioRun {
+  Trajectory estimate;
+  std::vector<Eigen::Vector3d> velocities;
+  std::vector<std::string> warnings;
+  std::string initialization;
+  SensorFactorStats factors;
+  Trajectory truth;
+  double ate_m = std::numeric_limits<double>::infinity();
+  KittiDrift drift;
+};
+
+// Runs WIO over the folder; `edit_imu` and `edit_wheel` may change or drop (return false) each sample.
+WioRun RunWio(
+    const std::filesystem::path& folder,
+    const std::function<bool(ImuSample&)>& edit_imu = [](ImuSample&) { return true; },
+    const std::function<bool(WheelSample&)>& edit_wheel = [](WheelSample&) { return true; }) {
+  WioRun run;
+  auto reader = OpenDataset(folder.string());
+  EXPECT_TRUE(reader.ok()) << reader.error();
+  InertialOdometryConfig config;
+  config.max_solver_time_s = 10;  // only the iteration budget: the results do not depend on the load
+  for (const StreamInfo& stream : (*reader)->description().streams)
+    if (stream.kind == SensorKind::kWheel && stream.T_body_sensor)
+      config.T_body_wheel = *stream.T_body_sensor;
+  auto wio = InertialOdometry::Create(config);
+  EXPECT_TRUE(wio.ok()) << wio.error();
+  const Status read = ForEachMeasurement(**reader, [&](Measurement& m) {
+    if (auto* sample = std::get_if<ImuSample>(&m.data); sample && edit_imu(*sample))
+      return wio->AddImu(*sample);
+    if (auto* wheel = std::get_if<WheelSample>(&m.data); wheel && edit_wheel(*wheel))
+      return wio->AddWheel(*wheel);
+    return Status();
+  });
+  EXPECT_TRUE(read.ok()) << read.message();
+  wio->Finish();
+  for (const Keyframe& k : wio->TakeFinished()) {
+    EXPECT_TRUE(k.T_world_body.matrix().allFinite() && k.velocity.allFinite()) << ToSeconds(k.stamp);
+    run.estimate.stamps.push_back(k.stamp);
+    run.estimate.poses.push_back(k.T_world_body);
+    run.velocities.push_back(k.velocity);
+  }
+  run.warnings = wio->warnings();
+  run.initialization = wio->initialization();
+  run.factors = wio->sensor_factors();
+  auto truth = ReadTrajectory((folder / "groundtruth.tum").string());
+  EXPECT_TRUE(truth.ok());
+  run.truth = *truth;
+  EvalOptions options;
+  options.kitti_drift = true;
+  auto result = Evaluate(*truth, run.estimate, options);
+  EXPECT_TRUE(result.ok()) << result.error();
+  if (result.ok()) {
+    run.ate_m = result->ape.rmse;
+    run.drift = result->kitti_drift.value_or(KittiDrift{});
+  }
+  return run;
+}
+
+std::string Joined(const std::vector<std::string>& lines) {
+  std::string text;
+  for (const std::string& line : lines) text += line + "\n";
+  return text;
+}
+
+// The truth's velocity at each keyframe (central difference over +-5 ms of the 200 Hz ground truth) against
+// the estimate's, rotated by the yaw of the SE3 alignment of the first keyframe: RMS of the difference.
+double VelocityRms(const WioRun& run) {
+  const auto truth_at = [&](Stamp t) {
+    auto it = std::lower_bound(run.truth.stamps.begin(), run.truth.stamps.end(), t);
+    const std::size_t i = std::clamp<std::size_t>(it - run.truth.stamps.begin(), 1, run.truth.size() - 2);
+    return (run.truth.poses[i + 1].translation() - run.truth.poses[i - 1].translation()) /
+           ToSeconds(run.truth.stamps[i + 1] - run.truth.stamps[i - 1]);
+  };
+  const auto pose_at = [&](Stamp t) {
+    auto it = std::lower_bound(run.truth.stamps.begin(), run.truth.stamps.end(), t);
+    return run.truth.poses[std::min<std::size_t>(it - run.truth.stamps.begin(), run.truth.size() - 1)];
+  };
+  const Eigen::Matrix3d R_truth_world =
+      pose_at(run.estimate.stamps.front()).rotation() * run.estimate.poses.front().rotation().transpose();
+  double sum = 0;
+  for (std::size_t k = 0; k < run.estimate.size(); ++k)
+    sum += (R_truth_world * run.velocities[k] - truth_at(run.estimate.stamps[k])).squaredNorm();
+  return std::sqrt(sum / static_cast<double>(run.estimate.size()));
+}
+
+TEST(WheelInertialOdometry, StaticStartTracksTheTruth) {
+  // 25 s of the urban drive (~150 m: one 100 m KITTI segment start and more), an ideal encoder.
+  uf::testing::TempDir dir;
+  const WioRun run = RunWio(Simulate(dir, 25.0));
+  EXPECT_EQ(run.initialization.rfind("static", 0), 0u) << run.initialization << "\n" << Joined(run.warnings);
+  EXPECT_TRUE(run.warnings.empty()) << Joined(run.warnings);
+  // A node every 0.1 s from the first IMU sample: 250 (one fewer when the last stamp misses the data).
+  EXPECT_GE(run.estimate.size(), 249u);
+  EXPECT_EQ(run.factors.wheel.skipped, 0);
+  // The encoder is ideal: the scale stays at 1 within a percent (as LWIO's test).
+  EXPECT_NEAR(run.factors.wheel_scale, 1.0, 0.01);
+  // Bounds. The drift: the target for WIO, 1 % (on 60 s; here on the first 25 s). What limits it is
+  // the wheel model, not the IMU: the simulated body pitches and rolls on its suspension (waves of ~0.01
+  // rad, squat under acceleration) and the wheel frame is rigid to it, so the soft non-holonomic terms
+  // (v_y = v_z = 0) are violated by ~v 0.01 = 0.08 m/s, and while driving straight the tilt is only bounded
+  // by the accelerometer bias prior (bias_prior_factor.h): the height drifts most (measured 0.86 %, ATE
+  // 0.24 m, most of it in z). ATE: about a third of the end error of a 1 % drift over 150 m. Velocity: 2 %
+  // of the cruising speed, the drift's rate.
+  ASSERT_GT(run.drift.segments, 0u);
+  EXPECT_LT(run.drift.t_pct, 1.0) << "rotation " << run.drift.r_deg_per_100m << " deg/100 m";
+  EXPECT_LT(run.ate_m, 0.5);
+  EXPECT_LT(VelocityRms(run), 0.15);
+}
+
+TEST(WheelInertialOdometry, MovingStartInitializesFromTheWheel) {
+  // ~5 m/s along a flat S-curve from the first instant, heading along the path as a wheeled vehicle does
+  // (the wheel's dead reckoning is planar and non-holonomic).
+  uf::testing::TempDir dir;
+  std::ofstream tum(dir.File("moving.tum"));
+  for (int k = 0; k <= 100; ++k) {
+    const double t = 0.1 * k, yaw = std::atan2(1.2 * std::cos(0.4 * t), 5.0);
+    const Eigen::Quaterniond q(Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()));
+    tum << 100 + t << " " << 5 * t << " " << 3 * std::sin(0.4 * t) << " 0 " << q.x() << " " << q.y() << " "
+        << q.z() << " " << q.w() << "\n";
+  }
+  tum.close();
+  const WioRun run = RunWio(Simulate(dir, 8.0, dir.File("moving.tum")));
+  EXPECT_EQ(run.initialization.rfind("wheel-aided", 0), 0u) << run.initialization << "\n"
+                                                            << Joined(run.warnings);
+  // Measured 0.015 m and 0.024 m/s: a flat path the non-holonomic model fits; the bounds are 3x and 2x.
+  EXPECT_LT(run.ate_m, 0.05);
+  EXPECT_LT(VelocityRms(run), 0.05);
+}
+
+TEST(WheelInertialOdometry, BadInputGivesWarningsAndFinitePoses) {
+  uf::testing::TempDir dir;
+  int wheel_count = 0;
+  Stamp last_wheel = 0, first_imu = 0;
+  const WioRun run = RunWio(
+      Simulate(dir, 12.0),
+      [&](ImuSample& s) {
+        if (first_imu == 0) first_imu = s.stamp;
+        const double t = ToSeconds(s.stamp - first_imu);
+        if (std::abs(t - 4.0) < 1e-3) s.gyro.z() = std::nan("");  // one NaN sample
+        if (t > 7.0 && t < 7.3) return false;                     // a 0.3 s IMU gap while driving
+        return true;
+      },
+      [&](WheelSample& w) {
+        ++wheel_count;
+        if (wheel_count == 150) w.linear_velocity.x() = std::nan("");  // NaN at 3 s
+        if (wheel_count == 200) w.stamp = last_wheel - 1'000'000;      // back in time at 4 s
+        if (wheel_count >= 250 && wheel_count < 270) return false;     // a 0.4 s gap at 5 s (50 Hz)
+        last_wheel = w.stamp;
+        return true;
+      });
+  const std::string text = Joined(run.warnings);
+  EXPECT_NE(text.find("wheel sample at"), std::string::npos) << text;
+  EXPECT_NE(text.find("not finite"), std::string::npos) << text;
+  EXPECT_NE(text.find("not after"), std::string::npos) << text;
+  EXPECT_NE(text.find("IMU sample at"), std::string::npos) << text;
+  EXPECT_NE(text.find("wheel factor at"), std::string::npos) << text;               // inside the wheel gap
+  EXPECT_NE(text.find("initializes again"), std::string::npos) << text;             // after the IMU gap
+  EXPECT_EQ(run.initialization.rfind("wheel-aided", 0), 0u) << run.initialization;  // the restart moves
+  EXPECT_GT(run.factors.wheel.skipped, 0);
+  // The nodes of the restart's initialization window are all reported: only the IMU gap is missing.
+  EXPECT_GE(run.estimate.size(), 115u);
+  EXPECT_LT(run.ate_m, 0.5);
+}
+
+TEST(WheelInertialOdometry, ConfigValidateNamesTheField) {
+  const auto message = [](const std::function<void(InertialOdometryConfig&)>& edit) {
+    InertialOdometryConfig config;
+    edit(config);
+    return config.Validate().message();
+  };
+  EXPECT_TRUE(InertialOdometryConfig{}.Validate().ok());
+  EXPECT_NE(message([](auto& c) { c.node_interval_s = -1; }).find("wio.node_interval_s: must be > 0, got -1"),
+            std::string::npos);
+  EXPECT_NE(message([](auto& c) { c.window_size = 5; }).find("wio.window_size"), std::string::npos);
+  EXPECT_NE(message([](auto& c) { c.wheel.scale_prior_sigma = -1; }).find("wio.wheel.scale_prior_sigma"),
+            std::string::npos);
+  EXPECT_NE(message([](auto& c) { c.imu.accel_noise_density = 0; }).find("wio.imu.accel_noise_density"),
+            std::string::npos);
+  EXPECT_NE(message([](auto& c) { c.init.max_gravity_error = 2; }).find("wio.init.max_gravity_error"),
+            std::string::npos);
+  EXPECT_NE(message([](auto& c) {
+              c.marginalization.eigenvalue_threshold = -1;
+            }).find("wio.marginalization.eigenvalue_threshold"),
+            std::string::npos);
+  EXPECT_NE(message([](auto& c) { c.imu_max_gap_s = 0; }).find("wio.imu_max_gap_s"), std::string::npos);
+  EXPECT_NE(message([](auto& c) { c.wheel_max_wait_s = std::nan(""); }).find("wio.wheel_max_wait_s"),
+            std::string::npos);
+}
+
+TEST(WheelInertialOdometry, CreateRefusesABadConfig) {
+  InertialOdometryConfig config;
+  config.max_speed_mps = 0;
+  auto wio = InertialOdometry::Create(config);
+  ASSERT_FALSE(wio.ok());
+  EXPECT_NE(wio.error().find("wio.max_speed_mps"), std::string::npos) << wio.error();
+}
+
+}  // namespace
+}  // namespace uf::estimator
