@@ -95,16 +95,22 @@ TEST_F(CliRun, LidarOdometryOnASimulatedSequenceWritesEveryOutput) {
   EXPECT_NE(again.output.find("not an empty folder"), std::string::npos) << again.output;
 }
 
-TEST_F(CliRun, AutoModeRunsLidarInertialOdometryWithWheelFactorsInTheImuFrame) {
+TEST_F(CliRun, AutoModeRunsLidarInertialOdometryWithWheelAndGnssFactorsInTheImuFrame) {
   TempDir out;
   const std::string run = out.File("run");
   const auto result = Ultrafusion("run " + Sequence() + " --out " + run);
   ASSERT_EQ(result.code, 0) << result.output;
-  // The sequence has an IMU, a wheel stream and their extrinsics: auto takes the richest mode.
-  EXPECT_NE(result.output.find("run: lwio (LiDAR-inertial odometry with wheel factors"), std::string::npos)
+  // The sequence has an IMU, wheel and GNSS streams and their extrinsics: auto takes the richest mode.
+  EXPECT_NE(result.output.find("run: lwgio (LiDAR-inertial odometry with wheel and GNSS factors"),
+            std::string::npos)
       << result.output;
   const std::string report = testing::ReadText(run + "/report.md");
   EXPECT_NE(report.find("wheel factors: 40 added, 0 skipped"), std::string::npos) << report;
+  // 4 s from rest: the antenna moves less than the 10 m the ENU alignment needs, so no GNSS factor yet, no
+  // georeference, and the trajectory stays in the estimator's world.
+  EXPECT_NE(report.find("GNSS factors: 0 added"), std::string::npos) << report;
+  EXPECT_NE(report.find("horizontal baseline"), std::string::npos) << report;
+  EXPECT_FALSE(fs::exists(run + "/trajectory_wgs84.csv"));
   EXPECT_NE(report.find("LIO initialized: static"), std::string::npos) << report;  // 1 s at rest first
   EXPECT_NE(report.find("lio:"), std::string::npos) << report;                     // the resolved config
   // LIO writes the IMU (body) frame by default, the frame of the ground truth.

@@ -22,7 +22,7 @@ void InertialOdometry::Impl::TryInitialize() {
       std::ostringstream summary;
       // LidarAidedAlignment is generic on the poses: here they are the wheel's.
       summary << (alignment->mode == "static" ? "static" : "wheel-aided") << " at "
-              << ToSeconds(nodes.back().stamp) << " s (gravity estimate " << alignment->gravity_estimate
+              << StampText(nodes.back().stamp) << " (gravity estimate " << alignment->gravity_estimate
               << " m/s^2, gyro bias " << alignment->gyro_bias.transpose() << ")";
       init_summary = summary.str();
       return;

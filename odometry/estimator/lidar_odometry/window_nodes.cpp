@@ -129,7 +129,7 @@ void LidarOdometry::Impl::TryInitializeInertial() {
   }
   ApplyInertialAlignment(*alignment);
   std::ostringstream summary;
-  summary << alignment->mode << " at " << ToSeconds(to) << " s (gravity estimate "
+  summary << alignment->mode << " at " << StampText(to) << " (gravity estimate "
           << alignment->gravity_estimate << " m/s^2, gyro bias " << alignment->gyro_bias.transpose() << ")";
   init_summary = summary.str();
 }

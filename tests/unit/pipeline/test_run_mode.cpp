@@ -35,13 +35,14 @@ TEST(RunMode, NamesParseBack) {
       EXPECT_EQ(ModeName(**mode), name);
     }
   }
-  EXPECT_EQ(ModeName({OdometryMode::kLio, true}), "lwio");
-  EXPECT_EQ(ModeName({OdometryMode::kLo, false}), "lo");
-  EXPECT_NE(ParseMode("lwgio").error().find("GNSS factor is not in the estimator's window yet"),
-            std::string::npos);
+  EXPECT_EQ(ModeName({OdometryMode::kLio, true, false}), "lwio");
+  EXPECT_EQ(ModeName({OdometryMode::kLo, false, false}), "lo");
+  EXPECT_EQ(ModeName({OdometryMode::kLio, false, true}), "lio+g");
+  EXPECT_EQ(ModeName({OdometryMode::kLio, true, true}), "lwgio");
+  EXPECT_EQ(**ParseMode("lwgio"), (EstimatorMode{OdometryMode::kLio, true, true}));
   EXPECT_NE(ParseMode("wgio").error().find("not implemented yet"), std::string::npos);
-  EXPECT_NE(ParseMode("lio+g").error().find("GNSS factor is not in the estimator's window yet"),
-            std::string::npos);
+  EXPECT_NE(ParseMode("lo+g").error().find("needs the IMU"), std::string::npos);
+  EXPECT_NE(ParseMode("lwgo").error().find("needs the IMU"), std::string::npos);
   EXPECT_NE(ParseMode("lvio").error().find("unknown mode"), std::string::npos);
 }
 
@@ -50,21 +51,22 @@ TEST(RunMode, AutoPicksTheRichestTheDataSupports) {
   const Dataset all({Stream("lidar", SensorKind::kLidar), Stream("imu", SensorKind::kImu),
                      Stream("wheel", SensorKind::kWheel), Stream("gnss", SensorKind::kGnss)});
   EXPECT_EQ(*ChooseMode(std::nullopt, all.description, all.sensors, notes),
-            (EstimatorMode{OdometryMode::kLio, true}));  // GNSS: the map's georeference
+            (EstimatorMode{OdometryMode::kLio, true, true}));
   EXPECT_TRUE(notes.empty());
 
   const Dataset no_wheel_extrinsic({Stream("lidar", SensorKind::kLidar), Stream("imu", SensorKind::kImu),
                                     Stream("odom", SensorKind::kWheel, false)});
   EXPECT_EQ(*ChooseMode(std::nullopt, no_wheel_extrinsic.description, no_wheel_extrinsic.sensors, notes),
-            (EstimatorMode{OdometryMode::kLio, false}));
+            (EstimatorMode{OdometryMode::kLio, false, false}));
   ASSERT_EQ(notes.size(), 1u);
-  EXPECT_NE(notes[0].find("ran lio (no wheel-to-IMU transform (T_body_sensor of odom))"), std::string::npos)
+  EXPECT_NE(notes[0].find("ran lio (no wheel-to-IMU transform (T_body_sensor of odom), no GNSS stream)"),
+            std::string::npos)
       << notes[0];
 
   notes.clear();
   const Dataset lidar_wheel({Stream("lidar", SensorKind::kLidar), Stream("wheel", SensorKind::kWheel)});
   EXPECT_EQ(*ChooseMode(std::nullopt, lidar_wheel.description, lidar_wheel.sensors, notes),
-            (EstimatorMode{OdometryMode::kLo, false}));  // the factors need the inertial core
+            (EstimatorMode{OdometryMode::kLo, false, false}));  // the factors need the inertial core
 }
 
 TEST(RunMode, AnExplicitModeNamesWhatIsMissing) {
@@ -77,6 +79,12 @@ TEST(RunMode, AnExplicitModeNamesWhatIsMissing) {
       lwio.error().find("--mode lwio: data has no wheel odometry stream (streams: lidar (lidar), imu (imu))"),
       std::string::npos)
       << lwio.error();
+  const Expected<EstimatorMode> lwgio =
+      ChooseMode(EstimatorMode{OdometryMode::kLio, true, true}, lio.description, lio.sensors, notes);
+  ASSERT_FALSE(lwgio.ok());
+  EXPECT_NE(lwgio.error().find("--mode lwgio: data has no wheel odometry stream, no GNSS stream"),
+            std::string::npos)
+      << lwgio.error();
   const Dataset lidar_wheel({Stream("lidar", SensorKind::kLidar), Stream("wheel", SensorKind::kWheel)});
   EXPECT_TRUE(
       ChooseMode(EstimatorMode{OdometryMode::kLo, true}, lidar_wheel.description, lidar_wheel.sensors, notes)
