@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/bench_figures.h"
 #include "odometry/estimator/lidar_odometry/lidar_odometry.h"
 #include "odometry/eval/evaluation.h"
 #include "odometry/io/dataset_reader.h"
@@ -28,12 +29,6 @@ double ProcessCpuMs() {
   timespec t{};
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
   return 1e3 * static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_nsec);
-}
-
-double Percentile(std::vector<double> values, double q) {
-  if (values.empty()) return 0;
-  std::sort(values.begin(), values.end());
-  return values[static_cast<std::size_t>(q * (values.size() - 1) + 0.5)];
 }
 
 }  // namespace
@@ -163,8 +158,6 @@ int main(int argc, char** argv) {
   double mean = 0;
   for (double v : ms) mean += v;
   mean /= std::max<std::size_t>(1, ms.size());
-  double load[3] = {0, 0, 0};
-  std::ifstream("/proc/loadavg") >> load[0] >> load[1] >> load[2];
   std::printf("bench_lidar_odometry: %zu scans of %s, %zu keyframes matched\n", scans.size(), folder.c_str(),
               result->ape_errors.size());
   std::printf("  config: window %d, input voxel %.2f m, residuals <= %d, LM iterations %d, rounds %d\n",
@@ -182,14 +175,14 @@ int main(int argc, char** argv) {
   std::printf(
       "  time per scan: mean %.1f ms, median %.1f ms, p95 %.1f ms, max %.1f ms (mean residuals %.0f, LM "
       "iterations %.1f)\n",
-      mean, Percentile(ms, 0.5), Percentile(ms, 0.95), Percentile(ms, 1.0),
+      mean, uf::bench::Percentile(ms, 0.5), uf::bench::Percentile(ms, 0.95), uf::bench::Percentile(ms, 1.0),
       static_cast<double>(residuals) / std::max<std::size_t>(1, scans.size()),
       static_cast<double>(iterations) / std::max<std::size_t>(1, scans.size()));
   double cpu_mean = 0;
   for (double v : cpu_ms) cpu_mean += v;
   cpu_mean /= std::max<std::size_t>(1, cpu_ms.size());
   std::printf("  CPU time per scan (all threads): mean %.1f ms, median %.1f ms, p95 %.1f ms\n", cpu_mean,
-              Percentile(cpu_ms, 0.5), Percentile(cpu_ms, 0.95));
+              uf::bench::Percentile(cpu_ms, 0.5), uf::bench::Percentile(cpu_ms, 0.95));
   const double n = static_cast<double>(std::max<std::size_t>(1, scans.size()));
   std::printf(
       "  per scan by stage: prepare %.1f ms, associate %.1f ms, register solves %.1f ms, window solve %.1f "
@@ -197,6 +190,6 @@ int main(int argc, char** argv) {
       "map %.1f ms, marginalize %.1f ms\n",
       stages.prepare_ms / n, stages.associate_ms / n, stages.register_ms / n, stages.window_ms / n,
       stages.map_ms / n, stages.marginalize_ms / n);
-  std::printf("  machine load average (1/5/15 min): %.2f %.2f %.2f on 2 cores\n", load[0], load[1], load[2]);
+  std::printf("  machine load average (1/5/15 min): %s on 2 cores\n", uf::bench::LoadAverage().c_str());
   return 0;
 }

@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/bench_figures.h"
 #include "odometry/io/rosbag/rosbag_reader.h"
 
 namespace {
@@ -193,13 +194,6 @@ int ReadInChild(const std::string& path, bool cold) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : 1;
 }
 
-std::string LoadAverage() {
-  std::ifstream in("/proc/loadavg");
-  std::string one, five, fifteen;
-  in >> one >> five >> fifteen;
-  return one + " " + five + " " + fifteen;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -241,7 +235,8 @@ int main(int argc, char** argv) {
   std::filesystem::create_directories(folder);
   std::printf("ROS bag read benchmark: PointCloud2, %d points x 22 bytes, %s chunks, %s page cache\n",
               kRings * kColumns, compression_name.c_str(), cold ? "cold" : "warm");
-  std::printf("load average before: %s (%ld CPUs)\n", LoadAverage().c_str(), ::sysconf(_SC_NPROCESSORS_ONLN));
+  std::printf("load average before: %s (%ld CPUs)\n", uf::bench::LoadAverage().c_str(),
+              ::sysconf(_SC_NPROCESSORS_ONLN));
   int failures = 0;
   for (const double gigabytes : {size_gb, small_gb}) {
     const std::string path =
@@ -254,6 +249,6 @@ int main(int argc, char** argv) {
     if (!keep) std::filesystem::remove(path);
   }
   if (!keep && dir.empty()) std::filesystem::remove(folder);
-  std::printf("load average after: %s\n", LoadAverage().c_str());
+  std::printf("load average after: %s\n", uf::bench::LoadAverage().c_str());
   return failures == 0 ? 0 : 1;
 }

@@ -10,31 +10,17 @@
 #include <string>
 #include <vector>
 
+#include "bench/bench_figures.h"
 #include "odometry/estimator/inertial_odometry/inertial_odometry.h"
 #include "odometry/eval/evaluation.h"
 #include "odometry/io/dataset_reader.h"
 #include "odometry/io/for_each_measurement.h"
 #include "odometry/io/trajectory_file.h"
 
-namespace {
-
-double Percentile(std::vector<double> values, double q) {
-  if (values.empty()) return 0;
-  std::sort(values.begin(), values.end());
-  return values[static_cast<std::size_t>(q * static_cast<double>(values.size() - 1) + 0.5)];
-}
-
-std::string LoadAverage() {
-  std::ifstream in("/proc/loadavg");
-  std::string a, b, c;
-  in >> a >> b >> c;
-  return a + " " + b + " " + c;
-}
-
-}  // namespace
-
 int main(int argc, char** argv) {
   using namespace uf;
+  using uf::bench::LoadAverage;
+  using uf::bench::Percentile;
   if (argc < 2) {
     std::fprintf(stderr, "usage: bench_wio FOLDER [--out EST.tum]\n");
     return 2;

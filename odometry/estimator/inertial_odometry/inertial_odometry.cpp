@@ -148,8 +148,7 @@ const std::string& InertialOdometry::initialization() const { return impl_->init
 
 SensorFactorStats InertialOdometry::sensor_factors() const {
   SensorFactorStats stats;
-  stats.wheel = {impl_->wheel.factors_added(), impl_->wheel.factors_skipped()};
-  stats.wheel_scale = impl_->wheel.scale();
+  impl_->wheel.Report(stats);
   if (impl_->gnss) impl_->gnss->Report(stats);
   return stats;
 }

@@ -24,8 +24,6 @@
 
 namespace uf::estimator {
 
-// What another provider needs of a node: its time and its blocks (addresses stable while it is in the
-// window).
 struct InertialOdometry::Impl {
   explicit Impl(const InertialOdometryConfig& c)
       : config(c), imu(c.imu, c.imu_max_gap_s), wheel(c.wheel, c.T_body_wheel) {
@@ -46,7 +44,6 @@ struct InertialOdometry::Impl {
   std::optional<Stamp> restart_stamp;  // ... and when (none at the very start: the first node's)
   bool inertial = false;
   std::string init_summary, last_init_failure;
-  long solve_count = 0;
   std::vector<Keyframe> finished;
   std::vector<std::string> warnings;
   std::vector<InertialOdometryStats> processed;

@@ -64,7 +64,6 @@ bool InertialOdometry::Impl::Solve(int* iterations) {
   request.max_time_s = config.max_solver_time_s;
   const WindowSolveResult result = graph.Solve(request);
   *iterations += result.iterations;
-  if (result.usable) ++solve_count;
   return result.usable;
 }
 

@@ -221,10 +221,7 @@ const std::string& LidarOdometry::initialization() const { return impl_->init_su
 
 SensorFactorStats LidarOdometry::sensor_factors() const {
   SensorFactorStats stats;
-  if (const WheelProvider* wheel = impl_->wheel.get()) {
-    stats.wheel = {wheel->factors_added(), wheel->factors_skipped()};
-    stats.wheel_scale = wheel->scale();
-  }
+  if (impl_->wheel) impl_->wheel->Report(stats);
   if (impl_->gnss) impl_->gnss->Report(stats);
   return stats;
 }

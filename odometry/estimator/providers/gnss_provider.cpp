@@ -4,7 +4,6 @@
 #include <memory>
 #include <sstream>
 
-#include "odometry/estimator/gnss/fix_placement.h"
 #include "odometry/estimator/gnss/fix_screening.h"
 #include "odometry/estimator/gnss/integrity_check.h"
 #include "odometry/estimator/state/nav_state.h"
@@ -46,16 +45,16 @@ GnssProvider::GnssProvider(const GnssFactorConfig& config, const Eigen::Vector3d
 std::optional<std::string> GnssProvider::Add(const GnssFix& fix) {
   const std::string name = "GNSS fix at " + StampText(fix.stamp);
   if (std::optional<std::string> why = ScreenFix(fix, config_)) {
-    ++counts_.screened_out;
+    ++counts_.skipped;
     return name + " skipped: " + *why;
   }
   if (has_last_ && fix.stamp <= last_stamp_) {
-    ++counts_.screened_out;
+    ++counts_.skipped;
     return name + " skipped: not after " + StampText(last_stamp_);
   }
   Expected<Eigen::Vector3d> enu = origin_.ToEnu(fix);
   if (!enu) {
-    ++counts_.screened_out;
+    ++counts_.skipped;
     return name + " skipped: " + enu.error();
   }
   has_last_ = true;
@@ -75,13 +74,13 @@ void GnssProvider::Link(FactorGraph& graph, std::span<const NodeView> nodes,
     queue_.pop_front();
     const std::optional<FixPlacement> at = PlaceFix(fix.stamp, stamps, config_);
     if (!at) {
-      ++counts_.unplaced;
+      ++counts_.skipped;
       warnings.push_back("GNSS fix at " + StampText(fix.stamp) + " skipped: no window node within " +
                          std::to_string(config_.max_snap_s) + " s or an interpolation gap");
       continue;
     }
     if (aligned_) {
-      AddFactor(graph, nodes, fix, warnings);
+      AddFactor(graph, nodes, *at, fix, warnings);
     } else {
       pairs_.push_back({AntennaWorld(nodes, *at, lever_arm_), fix.enu, HorizontalWeight(fix.covariance)});
       paired_.push_back(fix);
@@ -111,29 +110,28 @@ void GnssProvider::TryStartAlignment(FactorGraph& graph, std::span<const NodeVie
   aligned_ = true;
   alignment_ = AlignmentBlock(start->alignment);
   graph.AddEuclideanBlock(alignment_.data(), kGnssAlignmentSize);
-  counts_.alignment_pairs += start->pairs;
   std::ostringstream summary;
   summary << "started at " << StampText(paired_.back().stamp) << " from " << start->pairs << " fixes over "
           << Meters(start->baseline_m) << ", RMS " << Meters(start->rms_m) << ", yaw "
           << start->alignment.yaw_rad * 180.0 / M_PI << " deg";
   alignment_summary_ = summary.str();
   // The pairs whose nodes are still in the window become factors (the integrity test uses the start).
+  const std::vector<Stamp> stamps = Stamps(nodes);
   for (const QueuedFix& fix : paired_)
-    if (fix.stamp >= nodes.front().stamp) AddFactor(graph, nodes, fix, warnings);
+    if (fix.stamp >= nodes.front().stamp)
+      if (const std::optional<FixPlacement> at = PlaceFix(fix.stamp, stamps, config_))
+        AddFactor(graph, nodes, *at, fix, warnings);
   pairs_.clear();
   paired_.clear();
 }
 
-void GnssProvider::AddFactor(FactorGraph& graph, std::span<const NodeView> nodes, const QueuedFix& fix,
-                             std::vector<std::string>& warnings) {
-  const std::vector<Stamp> stamps = Stamps(nodes);
-  const std::optional<FixPlacement> at = PlaceFix(fix.stamp, stamps, config_);
-  if (!at) return;  // placed before: only pairs that left the window come here, and they are filtered out
+void GnssProvider::AddFactor(FactorGraph& graph, std::span<const NodeView> nodes, const FixPlacement& at,
+                             const QueuedFix& fix, std::vector<std::string>& warnings) {
   const EnuAlignment alignment = AlignmentFromBlock(alignment_.data());
   const IntegrityResult check =
-      CheckIntegrity(AntennaWorld(nodes, *at, lever_arm_), alignment, fix.enu, fix.covariance, config_);
+      CheckIntegrity(AntennaWorld(nodes, at, lever_arm_), alignment, fix.enu, fix.covariance, config_);
   if (!check.accepted) {
-    ++counts_.integrity_rejected;
+    ++counts_.rejected;
     std::ostringstream why;
     why << "GNSS fix at " << StampText(fix.stamp) << " rejected by the integrity check: innovation "
         << Meters(check.innovation.norm()) << ", d^2 " << check.d2 << " > " << config_.integrity_gate;
@@ -142,12 +140,12 @@ void GnssProvider::AddFactor(FactorGraph& graph, std::span<const NodeView> nodes
   }
   std::unique_ptr<ceres::CostFunction> cost;
   std::vector<double*> blocks;
-  if (at->single_node()) {
+  if (at.single_node()) {
     cost = std::make_unique<GnssFactorSinglePose>(fix.enu, fix.covariance, lever_arm_);
-    blocks = {nodes[at->node_a].pose, alignment_.data()};
+    blocks = {nodes[at.node_a].pose, alignment_.data()};
   } else {
-    cost = std::make_unique<GnssFactor>(fix.enu, fix.covariance, lever_arm_, at->alpha);
-    blocks = {nodes[at->node_a].pose, nodes[at->node_b].pose, alignment_.data()};
+    cost = std::make_unique<GnssFactor>(fix.enu, fix.covariance, lever_arm_, at.alpha);
+    blocks = {nodes[at.node_a].pose, nodes[at.node_b].pose, alignment_.data()};
   }
   graph.Add(FactorKind::kGnss, kGnssTag, std::move(cost), nullptr, std::move(blocks), /*anchors=*/true);
   ++counts_.added;
@@ -163,7 +161,7 @@ void GnssProvider::Reset() {
 }
 
 void GnssProvider::Report(SensorFactorStats& stats) const {
-  stats.gnss = {counts_.added, counts_.screened_out + counts_.unplaced, counts_.integrity_rejected};
+  stats.gnss = counts_;
   stats.gnss_alignment = alignment_summary_;
 }
 

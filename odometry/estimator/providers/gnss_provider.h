@@ -1,8 +1,8 @@
 // The GNSS receiver's part of the window (docs/METHOD.md "GNSS factor"): it screens the fixes, places the
 // ENU origin at the first good one, starts the world -> ENU alignment once the antenna has moved far enough,
 // then links every later fix to the nodes around its stamp by a GnssFactor, after the innovation test
-// against the window's prediction. Used by any window whose world is gravity-aligned (LIO, LWIO); nothing in
-// it depends on the LiDAR.
+// against the window's prediction. Used by the windows whose world is gravity-aligned (LIO+G, LWGIO, WGIO);
+// nothing in it depends on the LiDAR.
 //
 // A fix's life:
 //   Add:  ScreenFix (status, finite, ranges, covariance) -> ENU at the origin -> queued
@@ -29,6 +29,7 @@
 #include "odometry/estimator/config/gnss_factor_config.h"
 #include "odometry/estimator/factors/gnss_factor.h"
 #include "odometry/estimator/gnss/alignment_init.h"
+#include "odometry/estimator/gnss/fix_placement.h"
 #include "odometry/estimator/gnss/gnss_enu_origin.h"
 #include "odometry/estimator/providers/sensor_factor_stats.h"
 #include "odometry/estimator/state/window_node.h"
@@ -37,14 +38,6 @@
 #include "odometry/types/measurements.h"
 
 namespace uf::estimator {
-
-struct GnssCounts {
-  int added = 0;               // factors in the window (or already marginalized)
-  int screened_out = 0;        // rejected by ScreenFix (status, NaN, ranges, covariance)
-  int integrity_rejected = 0;  // rejected by the innovation test
-  int unplaced = 0;            // no node near the fix's stamp (before the window, in a long gap)
-  int alignment_pairs = 0;     // used for the alignment start only (before it was accepted)
-};
 
 class GnssProvider {
  public:
@@ -71,11 +64,9 @@ class GnssProvider {
   // Once aligned: the ENU origin (the first good fix) and the current world -> ENU transform (after a Reset,
   // the last one until the alignment starts again).
   std::optional<Georeference> georeference() const;
-  const GnssCounts& counts() const { return counts_; }
-  // Its part of the window's report: the counts (skipped = screened out + unplaced) and the alignment.
+  // Its part of the window's report: factors added, fixes skipped (screened out, out of order, no node
+  // near), rejected by the innovation test; how the alignment started.
   void Report(SensorFactorStats& stats) const;
-  // "started at 12.3 s: 8 fixes over 14.2 m, RMS 0.8 m" once aligned, else why not yet ("" before any).
-  const std::string& alignment_summary() const { return alignment_summary_; }
 
  private:
   struct QueuedFix {
@@ -85,8 +76,8 @@ class GnssProvider {
   };
   void TryStartAlignment(FactorGraph& graph, std::span<const NodeView> nodes,
                          std::vector<std::string>& warnings);
-  void AddFactor(FactorGraph& graph, std::span<const NodeView> nodes, const QueuedFix& fix,
-                 std::vector<std::string>& warnings);
+  void AddFactor(FactorGraph& graph, std::span<const NodeView> nodes, const FixPlacement& at,
+                 const QueuedFix& fix, std::vector<std::string>& warnings);
 
   GnssFactorConfig config_;
   Eigen::Vector3d lever_arm_;
@@ -100,8 +91,9 @@ class GnssProvider {
   bool aligned_ = false;
   std::array<double, kGnssAlignmentSize> alignment_{};
   std::optional<std::array<double, kGnssAlignmentSize>> last_alignment_;  // before the last Reset
-  GnssCounts counts_;
-  std::string alignment_summary_;
+  FactorCount counts_;
+  std::string
+      alignment_summary_;  // "started at ... from 8 fixes over 14.2 m, RMS 0.8 m, yaw ...", or why not
 };
 
 }  // namespace uf::estimator

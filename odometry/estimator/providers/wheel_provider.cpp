@@ -56,6 +56,11 @@ Expected<SE3> WheelProvider::Motion(Stamp from, Stamp to) const {
   return T_body_wheel_ * SE3(pre->delta_R(), pre->delta_p()) * T_body_wheel_.inverse();
 }
 
+void WheelProvider::Report(SensorFactorStats& stats) const {
+  stats.wheel = {added_, skipped_};
+  stats.wheel_scale = scale_;
+}
+
 void WheelProvider::Trim(Stamp oldest) {
   const Stamp wheel_clock = oldest - FromSeconds(config_.time_offset_s);
   auto keep = std::lower_bound(samples_.begin(), samples_.end(), wheel_clock,

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "odometry/estimator/config/wheel_factor_config.h"
+#include "odometry/estimator/providers/sensor_factor_stats.h"
 #include "odometry/estimator/window/factor_graph.h"
 #include "odometry/types/measurements.h"
 #include "odometry/types/se3.h"
@@ -41,9 +42,8 @@ class WheelProvider {
 
   double* scale_block() { return &scale_; }
   bool scale_free() const { return config_.estimate_scale; }
-  double scale() const { return scale_; }
-  int factors_added() const { return added_; }
-  int factors_skipped() const { return skipped_; }
+  // Its part of the window's report: factors added and skipped, the scale.
+  void Report(SensorFactorStats& stats) const;
 
  private:
   WheelFactorConfig config_;

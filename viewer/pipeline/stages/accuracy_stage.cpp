@@ -12,7 +12,8 @@ namespace uf::pipeline {
 namespace fs = std::filesystem;
 
 GroundTruthCheck EvaluateAgainstGroundTruth(const fs::path& ground_truth, const fs::path& out_folder,
-                                            const std::string& estimate_file) {
+                                            const std::string& estimate_file,
+                                            const std::optional<EnuOrigins>& enu) {
   GroundTruthCheck check;
   // The same steps and defaults as `ultrafusion eval REF EST --align se3` (eval_command.cpp).
   auto reference = ReadTrajectory(ground_truth.string());
@@ -45,6 +46,13 @@ GroundTruthCheck EvaluateAgainstGroundTruth(const fs::path& ground_truth, const 
   check.evaluated = true;
   check.ape_rmse_m = result->ape.rmse;
   check.matched_poses = result->estimate.size();
+  if (enu) {
+    Expected<EnuAccuracy> in_enu = EvaluateInEnu(*reference, enu->truth, *estimate, enu->run);
+    if (in_enu)
+      check.enu = *in_enu;
+    else
+      check.enu_note = "no unaligned ENU figures: " + in_enu.error();
+  }
   if (Status s = WriteEvalPlots((out_folder / "plots").string(), context, *result); !s.ok()) {
     check.note = "plots not written: " + s.message();
     return check;
@@ -91,23 +99,13 @@ Expected<EnuAccuracy> EvaluateInEnu(const Trajectory& ground_truth, const Geodet
 GroundTruthCheck RunAccuracyStage(const DatasetDescription& description, const fs::path& out,
                                   const std::optional<Georeference>& georef, StageContext& context) {
   context.SetUnit("poses");
-  GroundTruthCheck accuracy = EvaluateAgainstGroundTruth(*description.ground_truth, out, "trajectory.tum");
-  if (accuracy.evaluated && georef) {
-    if (!description.ground_truth_enu_origin) {
-      accuracy.enu_note = "the ground truth states no ENU origin: no unaligned ENU figures";
-    } else {
-      auto truth = ReadTrajectory(description.ground_truth->string());
-      auto estimate = ReadTrajectory((out / "trajectory.tum").string());
-      Expected<EnuAccuracy> enu =
-          truth && estimate
-              ? EvaluateInEnu(*truth, *description.ground_truth_enu_origin, *estimate, georef->origin)
-              : Expected<EnuAccuracy>(Status::Error(!truth ? truth.error() : estimate.error()));
-      if (enu)
-        accuracy.enu = *enu;
-      else
-        accuracy.enu_note = "no unaligned ENU figures: " + enu.error();
-    }
-  }
+  std::optional<EnuOrigins> enu;
+  if (georef && description.ground_truth_enu_origin)
+    enu = EnuOrigins{*description.ground_truth_enu_origin, georef->origin};
+  GroundTruthCheck accuracy =
+      EvaluateAgainstGroundTruth(*description.ground_truth, out, "trajectory.tum", enu);
+  if (accuracy.evaluated && georef && !enu)
+    accuracy.enu_note = "the ground truth states no ENU origin: no unaligned ENU figures";
   if (!accuracy.evaluated) {
     context.SetMessage("not evaluated: " + accuracy.note);
     return accuracy;

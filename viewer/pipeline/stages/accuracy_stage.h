@@ -36,11 +36,17 @@ struct GroundTruthCheck {
   std::string enu_note;            // why there is no ENU figure for a georeferenced run
 };
 
-// Reads both trajectories, evaluates and writes the APE/RPE plots into out_folder/plots. Never fails:
-// problems end up in `note`.
+// The ENU frames of a georeferenced estimate and of its ground truth (EvaluateInEnu).
+struct EnuOrigins {
+  GeodeticOrigin truth, run;
+};
+
+// Reads both trajectories, evaluates and writes the APE/RPE plots into out_folder/plots; with `enu`, the
+// unaligned ENU figures too (EvaluateInEnu). Never fails: problems end up in `note` / `enu_note`.
 GroundTruthCheck EvaluateAgainstGroundTruth(const std::filesystem::path& ground_truth,
                                             const std::filesystem::path& out_folder,
-                                            const std::string& estimate_file);
+                                            const std::string& estimate_file,
+                                            const std::optional<EnuOrigins>& enu = std::nullopt);
 
 // trajectory_enu (T_enu_F, ENU at run_origin) against the ground truth (its world ENU at truth_origin, same
 // body frame F), matched within 0.01 s.
