@@ -2,10 +2,12 @@
 // from the `dataset:` section of the configuration by viewer/app; the defaults suit every documented layout.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "odometry/io/measurement.h"
+#include "odometry/types/se3.h"
 
 namespace uf {
 
@@ -21,10 +23,12 @@ enum class ImuAccelUnit { kAuto, kMetersPerSecond2, kStandardGravity };
 
 enum class ScanStampPosition { kSweepMiddle, kSweepStart };
 
-// A ROS topic to read as a given kind of sensor, whatever its message type allows.
+// A ROS topic to read as a given kind of sensor, whatever its message type allows, and where the sensor sits
+// on the body (bags carry no calibration the reader understands; /tf is not read).
 struct TopicSelection {
   std::string topic;
   SensorKind kind = SensorKind::kImu;
+  std::optional<SE3> T_body_sensor;  // becomes the stream's StreamInfo::T_body_sensor
 };
 
 struct DatasetOptions {

@@ -150,6 +150,46 @@ TEST_F(CliRun, AutoModeRunsLidarInertialOdometryWithWheelAndGnssFactorsInTheImuF
   EXPECT_NE(bad.output.find("lio.imu.gravity"), std::string::npos) << bad.output;
 }
 
+TEST_F(CliRun, WheelInertialModeRunsOnTheImuAndTheWheelAlone) {
+  TempDir out;
+  const std::string run = out.File("run");
+  const auto result = Ultrafusion("run " + Sequence() + " --mode wio --out " + run);
+  ASSERT_EQ(result.code, 0) << result.output;
+  EXPECT_NE(result.output.find("run: wio (wheel-inertial odometry on imu, wheel), "), std::string::npos)
+      << result.output;
+  // No LiDAR in the estimator: no map, no splats; a pose every 0.1 s node of IMU time from the start at rest.
+  EXPECT_NE(result.output.find("map skipped (wio: no LiDAR keyframes to map)"), std::string::npos)
+      << result.output;
+  EXPECT_FALSE(fs::exists(run + "/map.vdb"));
+  const auto tum = ReadRows(run + "/trajectory.tum");
+  ASSERT_GE(tum.size(), 30u);
+  for (std::size_t i = 1; i < tum.size(); ++i) EXPECT_NEAR(tum[i][0] - tum[i - 1][0], 0.1, 1e-6) << i;
+  const auto timing = nlohmann::json::parse(testing::ReadText(run + "/timing.json"));
+  EXPECT_GT(timing["nodes"].get<std::size_t>(), 0u);
+  EXPECT_GT(timing["ms_per_node"]["mean"].get<double>(), 0);
+  EXPECT_TRUE(fs::exists(run + "/plots/timing_per_node.png"));
+  const std::string report = testing::ReadText(run + "/report.md");
+  EXPECT_NE(report.find("WIO initialized: static"), std::string::npos) << report;  // 1 s at rest first
+  EXPECT_NE(report.find("wheel factors: 40 added, 0 skipped"), std::string::npos) << report;
+  EXPECT_NE(report.find("wio:\n  node_interval_s: 0.1"), std::string::npos) << report;  // the wio: section
+  EXPECT_EQ(report.find("\nlo:\n"), std::string::npos) << report;                       // and no lo:
+  // Against the simulator's truth (the IMU frame, as WIO writes it): the wheel and the IMU over 3 s of
+  // driving keep the track within centimetres; a broken window (wrong extrinsic, lost gravity) is at metres.
+  const double ate = ReportedAte(report);
+  EXPECT_GE(ate, 0) << report;
+  EXPECT_LT(ate, 0.05) << report;
+
+  // With GNSS (wgio): 4 s are too short for the ENU alignment, which the report says.
+  const auto wgio = Ultrafusion("run " + Sequence() + " --mode wgio --out " + out.File("wgio"));
+  ASSERT_EQ(wgio.code, 0) << wgio.output;
+  EXPECT_NE(testing::ReadText(out.File("wgio") + "/report.md").find("GNSS factors: 0 added"),
+            std::string::npos);
+  // Options a wheel-inertial run cannot honour are usage errors.
+  const auto from_map = Ultrafusion("run " + Sequence() + " --mode wio --from map --out " + run);
+  EXPECT_EQ(from_map.code, 2) << from_map.output;
+  EXPECT_NE(from_map.output.find("--from map: wio makes no map"), std::string::npos) << from_map.output;
+}
+
 TEST(CliRunKitti, FirstTenKeyframesRunAndReportTheAccuracy) {
   const std::string data = testing::SharedData();
   if (data.empty()) GTEST_SKIP() << "../shared/data is absent: the KITTI keyframes are not available";
@@ -216,11 +256,17 @@ TEST(CliRunErrors, BadInputExitsWithAClearMessage) {
   const std::string data = testing::SharedData();
   if (data.empty()) GTEST_SKIP() << "../shared/data is absent: no LiDAR-less bag to try";
   const std::string bag = data + "/husky-imu-wheel-gps/husky_watertown_2015-05-21.bag";
+  // Without configs/husky.yaml the bag has no wheel extrinsic: neither a LiDAR mode nor WIO can run.
   const auto no_lidar = Ultrafusion("run " + bag + " --out " + dir.File("e"));
   EXPECT_EQ(no_lidar.code, 1) << no_lidar.output;
-  EXPECT_NE(no_lidar.output.find("no LiDAR stream"), std::string::npos) << no_lidar.output;
+  EXPECT_NE(no_lidar.output.find("no LiDAR stream (for lo and lio) and no wheel-to-IMU transform"),
+            std::string::npos)
+      << no_lidar.output;
   EXPECT_NE(no_lidar.output.find("/imu/data (imu)"), std::string::npos) << no_lidar.output;
   EXPECT_FALSE(fs::exists(dir.File("e")));
+  const auto lio = Ultrafusion("run " + bag + " --mode lio --out " + dir.File("e"));
+  EXPECT_EQ(lio.code, 2) << lio.output;
+  EXPECT_NE(lio.output.find("--mode lio: " + bag + " has no LiDAR stream"), std::string::npos) << lio.output;
 }
 
 }  // namespace

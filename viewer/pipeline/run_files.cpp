@@ -13,7 +13,7 @@ namespace uf::pipeline {
 
 TimingSummary SummarizeTimings(std::vector<double> ms) {
   TimingSummary summary;
-  summary.scans = ms.size();
+  summary.steps = ms.size();
   if (ms.empty()) return summary;
   std::sort(ms.begin(), ms.end());
   const std::size_t n = ms.size();
@@ -32,10 +32,10 @@ Status WriteTrajectoryFiles(const std::filesystem::path& folder, const Trajector
 }
 
 Status WriteTimingJson(const std::filesystem::path& path, const TimingSummary& timing, std::int64_t skipped,
-                       std::int64_t warnings) {
+                       std::int64_t warnings, const std::string& step) {
   const nlohmann::json json = {
-      {"scans", timing.scans},
-      {"ms_per_scan",
+      {step + "s", timing.steps},
+      {"ms_per_" + step,
        {{"mean", timing.mean}, {"median", timing.median}, {"p95", timing.p95}, {"max", timing.max}}},
       {"skipped", skipped},
       {"warnings", warnings}};
@@ -43,12 +43,12 @@ Status WriteTimingJson(const std::filesystem::path& path, const TimingSummary& t
 }
 
 Status WriteTimingPlot(const std::filesystem::path& png, const std::vector<Stamp>& stamps,
-                       const std::vector<double>& milliseconds) {
+                       const std::vector<double>& milliseconds, const std::string& step) {
   std::vector<double> seconds;
   seconds.reserve(stamps.size());
   for (Stamp stamp : stamps) seconds.push_back(ToSeconds(stamp - stamps.front()));
-  return WriteErrorPlot(png.string(), seconds, milliseconds, ComputeStats(milliseconds), "Time per scan",
-                        "time from the first scan [s]", "processing time [ms]");
+  return WriteErrorPlot(png.string(), seconds, milliseconds, ComputeStats(milliseconds), "Time per " + step,
+                        "time from the first " + step + " [s]", "processing time [ms]");
 }
 
 Status WriteTextFileAtomically(const std::filesystem::path& path, const std::string& text) {

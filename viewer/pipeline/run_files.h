@@ -14,29 +14,31 @@
 
 namespace uf::pipeline {
 
-// Milliseconds per scan, summarised.
+// Milliseconds per step of the estimator (a scan of the LiDAR window, a node of the wheel-inertial one),
+// summarised.
 struct TimingSummary {
-  std::size_t scans = 0;
+  std::size_t steps = 0;
   double mean = 0, median = 0, p95 = 0, max = 0;
 };
 
 // Mean, median, 95th percentile (nearest rank: the smallest value with >= 95 % of the values at or below
-// it) and maximum; all zero for no scans.
+// it) and maximum; all zero for no steps.
 TimingSummary SummarizeTimings(std::vector<double> milliseconds);
 
 // trajectory.tum (stamps with nine decimals, nanosecond-exact) and trajectory_kitti.txt (12 numbers of the
 // 3x4 matrix [R|t] per line) in `folder`.
 Status WriteTrajectoryFiles(const std::filesystem::path& folder, const Trajectory& trajectory);
 
-// {"scans": N, "ms_per_scan": {"mean", "median", "p95", "max"}, "skipped": S, "warnings": W}
+// {"scans": N, "ms_per_scan": {"mean", "median", "p95", "max"}, "skipped": S, "warnings": W}, with `step`
+// ("scan" or "node") in the first two keys.
 Status WriteTimingJson(const std::filesystem::path& path, const TimingSummary& timing, std::int64_t skipped,
-                       std::int64_t warnings);
+                       std::int64_t warnings, const std::string& step);
 
-// plots/timing_per_scan.png: milliseconds per scan against the scan's time from the first scan, with the
-// mean, median and RMS as lines (the eval error plot, its "error" series being the time per scan).
+// plots/timing_per_<step>.png: milliseconds per step against its time from the first one, with the mean,
+// median and RMS as lines (the eval error plot, its "error" series being the time per step).
 // stamps.size() == milliseconds.size(), not empty.
 Status WriteTimingPlot(const std::filesystem::path& png, const std::vector<Stamp>& stamps,
-                       const std::vector<double>& milliseconds);
+                       const std::vector<double>& milliseconds, const std::string& step);
 
 Status WriteTextFileAtomically(const std::filesystem::path& path, const std::string& text);
 

@@ -70,6 +70,8 @@ Status GnssFactorConfig::Validate() const {
   if (!Positive(integrity_gate)) return Bad("integrity_gate", "> 0", integrity_gate);
   if (!(std::isfinite(prediction_sigma_m) && prediction_sigma_m >= 0))
     return Bad("prediction_sigma_m", "finite and >= 0", prediction_sigma_m);
+  if (!(std::isfinite(prediction_drift_fraction) && prediction_drift_fraction >= 0))
+    return Bad("prediction_drift_fraction", "finite and >= 0", prediction_drift_fraction);
   if (!Positive(min_alignment_baseline_m))
     return Bad("min_alignment_baseline_m", "> 0", min_alignment_baseline_m);
   if (min_alignment_fixes < 2) return Bad("min_alignment_fixes", ">= 2", min_alignment_fixes);

@@ -36,11 +36,15 @@ struct GnssFactorConfig {
   bool use_nominal_for_unknown = false;
 
   // Innovation test of a fix against the window's prediction: accepted iff d^2 <= integrity_gate, with
-  // d^2 = e^T (Sigma_fix + prediction_sigma_m^2 I)^-1 e. 16.27 is the chi-square 99.9 % quantile for 3
-  // degrees of freedom. prediction_sigma_m is the uncertainty of the predicted antenna position in ENU
-  // (drift since the last fix plus the alignment's), m.
+  // d^2 = e^T (Sigma_fix + s_p^2 I)^-1 e. 16.27 is the chi-square 99.9 % quantile for 3 degrees of freedom.
+  // s_p, the uncertainty of the predicted antenna position in ENU, grows with the distance d the antenna
+  // moved since the last accepted fix (or the alignment's start): s_p^2 = prediction_sigma_m^2 +
+  // (prediction_drift_fraction d)^2. The fraction covers the odometry's drift per distance and the start's
+  // yaw error (a 10 m baseline of 1 m fixes leaves ~3 deg, 5 % of the distance): without it a window
+  // whose prediction drifted past the gate would reject every later fix and never come back.
   double integrity_gate = 16.27;
   double prediction_sigma_m = 1.0;
+  double prediction_drift_fraction = 0.05;
 
   // The yaw of the world in ENU is initialised once the antenna has moved this far horizontally (largest
   // distance from the first used position) over at least min_alignment_fixes fixes; the initial alignment

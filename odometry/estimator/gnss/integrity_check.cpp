@@ -7,11 +7,13 @@ namespace uf::estimator {
 
 IntegrityResult CheckIntegrity(const Eigen::Vector3d& antenna_world_predicted, const EnuAlignment& alignment,
                                const Eigen::Vector3d& fix_enu, const Eigen::Matrix3d& fix_covariance,
-                               const GnssFactorConfig& config) {
+                               double distance_m, const GnssFactorConfig& config) {
   IntegrityResult result;
   result.innovation = alignment.Apply(antenna_world_predicted) - fix_enu;
-  const Eigen::Matrix3d S =
-      fix_covariance + config.prediction_sigma_m * config.prediction_sigma_m * Eigen::Matrix3d::Identity();
+  const double drift_m = config.prediction_drift_fraction * distance_m;
+  const double prediction_variance =
+      config.prediction_sigma_m * config.prediction_sigma_m + drift_m * drift_m;
+  const Eigen::Matrix3d S = fix_covariance + prediction_variance * Eigen::Matrix3d::Identity();
   const Eigen::LLT<Eigen::Matrix3d> llt(S);
   if (!result.innovation.allFinite() || !S.allFinite() || llt.info() != Eigen::Success) {
     result.d2 = std::numeric_limits<double>::infinity();

@@ -58,6 +58,7 @@ struct InertialOdometry::Impl {
   void TryInitialize();
   Expected<std::vector<SE3>> DeadReckon(const std::vector<Stamp>& stamps) const;
   Status Start(const InertialAlignment& alignment, const std::vector<SE3>& poses);
+  double GyroBiasPriorSigma(const InertialAlignment& alignment) const;
   void Restart(bool keep_window);
 
   // Nodes, solve, marginalization (window_solve.cpp).

@@ -52,6 +52,17 @@ Expected<std::vector<SE3>> InertialOdometry::Impl::DeadReckon(const std::vector<
   return poses;
 }
 
+// The gyro bias prior's sigma: init_gyro_bias_sigma after a static start (the mean rate at rest); after a
+// moving one the bias came from the rotations of the wheel's dead reckoning over the init window, whose yaw
+// is uncertain by yaw_rate_density sqrt(T) over its span T, so its bias by yaw_rate_density / sqrt(T) (a
+// real skid-steer base or a filtered odometry stream gives 0.01-0.02 rad/s there; the window then refines
+// it from the wheel's yaw rate).
+double InertialOdometry::Impl::GyroBiasPriorSigma(const InertialAlignment& alignment) const {
+  if (alignment.mode == "static") return config.init_gyro_bias_sigma;
+  const double span_s = ToSeconds(init_stamps.back() - init_stamps.front());
+  return std::max(config.init_gyro_bias_sigma, config.wheel.yaw_rate_density / std::sqrt(span_s));
+}
+
 // Builds the window from an alignment: the poses rotated into the gravity-aligned world about the first
 // one's position (so a restart continues where the last window ended), the velocities and biases of the
 // alignment, IMU and wheel factors between consecutive nodes and the gauge prior on the first; then the
@@ -81,7 +92,7 @@ Status InertialOdometry::Impl::Start(const InertialAlignment& alignment, const s
       AddGaugePrior();
       graph.Add(FactorKind::kStatePrior, id,
                 MakeBiasPriorFactor(alignment.accel_bias, alignment.gyro_bias, config.init_accel_bias_sigma,
-                                    config.init_gyro_bias_sigma),
+                                    GyroBiasPriorSigma(alignment)),
                 nullptr, {nodes.front().speed_bias.data()}, /*anchors=*/true);
     } else {
       LinkNode(id, std::move(preintegrations[k - 1]));

@@ -116,6 +116,7 @@ void GnssProvider::TryStartAlignment(FactorGraph& graph, std::span<const NodeVie
           << start->alignment.yaw_rad * 180.0 / M_PI << " deg";
   alignment_summary_ = summary.str();
   // The pairs whose nodes are still in the window become factors (the integrity test uses the start).
+  last_accepted_antenna_ = pairs_.back().antenna_world;
   const std::vector<Stamp> stamps = Stamps(nodes);
   for (const QueuedFix& fix : paired_)
     if (fix.stamp >= nodes.front().stamp)
@@ -128,8 +129,10 @@ void GnssProvider::TryStartAlignment(FactorGraph& graph, std::span<const NodeVie
 void GnssProvider::AddFactor(FactorGraph& graph, std::span<const NodeView> nodes, const FixPlacement& at,
                              const QueuedFix& fix, std::vector<std::string>& warnings) {
   const EnuAlignment alignment = AlignmentFromBlock(alignment_.data());
+  const Eigen::Vector3d antenna = AntennaWorld(nodes, at, lever_arm_);
+  const double distance_m = last_accepted_antenna_ ? (antenna - *last_accepted_antenna_).norm() : 0.0;
   const IntegrityResult check =
-      CheckIntegrity(AntennaWorld(nodes, at, lever_arm_), alignment, fix.enu, fix.covariance, config_);
+      CheckIntegrity(antenna, alignment, fix.enu, fix.covariance, distance_m, config_);
   if (!check.accepted) {
     ++counts_.rejected;
     std::ostringstream why;
@@ -149,12 +152,14 @@ void GnssProvider::AddFactor(FactorGraph& graph, std::span<const NodeView> nodes
   }
   graph.Add(FactorKind::kGnss, kGnssTag, std::move(cost), nullptr, std::move(blocks), /*anchors=*/true);
   ++counts_.added;
+  last_accepted_antenna_ = antenna;
 }
 
 void GnssProvider::Reset() {
   if (aligned_) last_alignment_ = alignment_;
   aligned_ = false;
   alignment_ = {};
+  last_accepted_antenna_.reset();
   pairs_.clear();
   paired_.clear();
   if (last_alignment_) alignment_summary_ += "; restarted after a re-initialization of the window";

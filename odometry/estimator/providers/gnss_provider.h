@@ -91,6 +91,9 @@ class GnssProvider {
   bool aligned_ = false;
   std::array<double, kGnssAlignmentSize> alignment_{};
   std::optional<std::array<double, kGnssAlignmentSize>> last_alignment_;  // before the last Reset
+  // The predicted antenna (world) at the last accepted fix or the alignment's start: the innovation test's
+  // prediction uncertainty grows with the distance from it (gnss/integrity_check.h).
+  std::optional<Eigen::Vector3d> last_accepted_antenna_;
   FactorCount counts_;
   std::string
       alignment_summary_;  // "started at ... from 8 fixes over 14.2 m, RMS 0.8 m, yaw ...", or why not

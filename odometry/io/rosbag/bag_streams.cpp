@@ -100,6 +100,7 @@ Expected<BagStreamPlan> PlanBagStreams(const std::vector<Connection>& connection
     const int index = static_cast<int>(plan.streams.size());
     stream_of_topic[selection.topic] = index;
     plan.streams.push_back(MakeStream(*first, *type, options));
+    plan.streams.back().info.T_body_sensor = selection.T_body_sensor;
     for (const Connection& connection : connections) {
       if (!on_topic(connection)) continue;
       if (connection.type != first->type) {

@@ -1,6 +1,7 @@
 // Settings with a value other than the default in every field that a section of the configuration file
 // maps, for round trips that must move every field: NonDefaultConfig (sim:), NonDefaultDataset,
-// NonDefaultOdometry (lo: and lio:) and NonDefaultSplat. Each passes its section's checks.
+// NonDefaultOdometry (lo: and lio:), NonDefaultWio (wio:) and NonDefaultSplat. Each passes its section's
+// checks.
 #pragma once
 
 #include "odometry/sim/sequence/simulation_config.h"
@@ -99,7 +100,8 @@ inline SimulationConfig NonDefaultConfig() {
 inline DatasetConfig NonDefaultDataset() {
   DatasetConfig c;
   c.reader.format = DatasetFormat::kRosBag;
-  c.reader.topics = {{"/imu/data", SensorKind::kImu}, {"/velodyne \"points\"", SensorKind::kLidar}};
+  c.reader.topics = {{"/imu/data", SensorKind::kImu, std::nullopt},
+                     {"/velodyne \"points\"", SensorKind::kLidar, Pose(0.1, -0.2, 0.3, 0.01, 0.02, 1.5)}};
   c.reader.imu_accel_unit = ImuAccelUnit::kStandardGravity;
   c.reader.derive_point_times_from_azimuth = false;
   c.reader.lidar_sweep_period_s = 0.05;
@@ -149,11 +151,35 @@ inline estimator::LidarOdometryConfig NonDefaultOdometry() {
   c.gnss.use_nominal_for_unknown = true;
   c.gnss.integrity_gate = 11.34;
   c.gnss.prediction_sigma_m = 0.5;
+  c.gnss.prediction_drift_fraction = 0.03;
   c.gnss.min_alignment_baseline_m = 20;
   c.gnss.min_alignment_fixes = 8;
   c.gnss.max_alignment_rms_m = 5;
   c.gnss.max_interpolation_gap_s = 0.5;
   c.gnss.max_snap_s = 0.1;
+  return c;
+}
+
+// The wio: keys (the parts shared with lio: from NonDefaultOdometry: every one of them differs there too).
+inline estimator::InertialOdometryConfig NonDefaultWio() {
+  const estimator::LidarOdometryConfig lio = NonDefaultOdometry();
+  estimator::InertialOdometryConfig c;
+  c.node_interval_s = 0.125;
+  c.window_size = 16;
+  c.init_window_nodes = 8;
+  c.max_iterations = 4;
+  c.max_solver_time_s = 0.03;
+  c.marginalize = false;
+  c.init_accel_bias_sigma = 0.05;
+  c.init_gyro_bias_sigma = 0.004;
+  c.imu_max_gap_s = 0.08;
+  c.max_speed_mps = 30;
+  c.wheel_max_wait_s = 0.25;
+  c.imu = lio.imu;
+  c.init = lio.init;
+  c.init.window_scans = estimator::InertialInitConfig{}.window_scans;  // not a wio: key
+  c.wheel = lio.wheel;
+  c.gnss = lio.gnss;
   return c;
 }
 
@@ -202,6 +228,7 @@ inline ConfigFile NonDefaultConfigFile() {
   ConfigFile c;
   c.dataset = NonDefaultDataset();
   c.odometry = NonDefaultOdometry();
+  c.wio = NonDefaultWio();
   c.splat = NonDefaultSplat();
   c.sim = NonDefaultConfig();
   return c;

@@ -1,7 +1,7 @@
 // gtest expectations that two settings agree in every field that a section of the configuration file maps,
 // exactly (doubles bit for bit), written out field by field: ExpectSameConfig (sim:, a tolerance for the
-// extrinsics allowed), ExpectSameDataset (dataset:), ExpectSameLo / ExpectSameLio (lo:, lio:) and
-// ExpectSameSplat (splat:).
+// extrinsics allowed), ExpectSameDataset (dataset:), ExpectSameLo / ExpectSameLio / ExpectSameWio (lo:, lio:,
+// wio:) and ExpectSameSplat (splat:).
 #pragma once
 
 #include <gtest/gtest.h>
@@ -147,6 +147,10 @@ inline void ExpectSameDataset(const DatasetConfig& a, const DatasetConfig& b) {
   for (std::size_t i = 0; i < a.reader.topics.size(); ++i) {
     EXPECT_FIELD(reader.topics[i].topic);
     EXPECT_FIELD(reader.topics[i].kind);
+    ASSERT_EQ(a.reader.topics[i].T_body_sensor.has_value(), b.reader.topics[i].T_body_sensor.has_value());
+    if (a.reader.topics[i].T_body_sensor) {  // exact: the matrix is written with every digit
+      EXPECT_EQ(a.reader.topics[i].T_body_sensor->matrix(), b.reader.topics[i].T_body_sensor->matrix());
+    }
   }
   EXPECT_FIELD(reader.imu_accel_unit);
   EXPECT_FIELD(reader.derive_point_times_from_azimuth);
@@ -183,10 +187,9 @@ inline void ExpectSameLo(const estimator::LidarOdometryConfig& a, const estimato
   EXPECT_FIELD(map.min_plane_sigma_m);
 }
 
-inline void ExpectSameLio(const estimator::LidarOdometryConfig& a, const estimator::LidarOdometryConfig& b) {
-  EXPECT_FIELD(imu_max_gap_s);
-  EXPECT_FIELD(imu_max_wait_s);
-  EXPECT_FIELD(max_speed_mps);
+// The parts that lio: and wio: share: imu, init (but its window_scans), wheel, gnss.
+template <typename Config>
+inline void ExpectSameInertialParts(const Config& a, const Config& b) {
   EXPECT_FIELD(imu.accel_noise_density);
   EXPECT_FIELD(imu.gyro_noise_density);
   EXPECT_FIELD(imu.accel_bias_random_walk);
@@ -194,7 +197,6 @@ inline void ExpectSameLio(const estimator::LidarOdometryConfig& a, const estimat
   EXPECT_FIELD(imu.gravity);
   EXPECT_FIELD(imu.max_accel_bias_change);
   EXPECT_FIELD(imu.max_gyro_bias_change);
-  EXPECT_FIELD(init.window_scans);
   EXPECT_FIELD(init.static_max_gyro_std);
   EXPECT_FIELD(init.static_max_acc_std);
   EXPECT_FIELD(init.static_max_motion_m);
@@ -208,8 +210,9 @@ inline void ExpectSameLio(const estimator::LidarOdometryConfig& a, const estimat
   EXPECT_FIELD(wheel.estimate_scale);
   EXPECT_FIELD(wheel.scale_prior_sigma);
   EXPECT_FIELD(gnss.min_status);
-  for (const auto noise : {&estimator::GnssFactorConfig::fix, &estimator::GnssFactorConfig::sbas,
-                           &estimator::GnssFactorConfig::rtk_float, &estimator::GnssFactorConfig::rtk_fixed}) {
+  for (const auto noise :
+       {&estimator::GnssFactorConfig::fix, &estimator::GnssFactorConfig::sbas,
+        &estimator::GnssFactorConfig::rtk_float, &estimator::GnssFactorConfig::rtk_fixed}) {
     EXPECT_EQ((a.gnss.*noise).min_sigma_m, (b.gnss.*noise).min_sigma_m);
     EXPECT_EQ((a.gnss.*noise).sigma_scale, (b.gnss.*noise).sigma_scale);
     EXPECT_EQ((a.gnss.*noise).nominal_horizontal_sigma_m, (b.gnss.*noise).nominal_horizontal_sigma_m);
@@ -218,11 +221,37 @@ inline void ExpectSameLio(const estimator::LidarOdometryConfig& a, const estimat
   EXPECT_FIELD(gnss.use_nominal_for_unknown);
   EXPECT_FIELD(gnss.integrity_gate);
   EXPECT_FIELD(gnss.prediction_sigma_m);
+  EXPECT_FIELD(gnss.prediction_drift_fraction);
   EXPECT_FIELD(gnss.min_alignment_baseline_m);
   EXPECT_FIELD(gnss.min_alignment_fixes);
   EXPECT_FIELD(gnss.max_alignment_rms_m);
   EXPECT_FIELD(gnss.max_interpolation_gap_s);
   EXPECT_FIELD(gnss.max_snap_s);
+}
+
+inline void ExpectSameLio(const estimator::LidarOdometryConfig& a, const estimator::LidarOdometryConfig& b) {
+  EXPECT_FIELD(imu_max_gap_s);
+  EXPECT_FIELD(imu_max_wait_s);
+  EXPECT_FIELD(max_speed_mps);
+  EXPECT_FIELD(init.window_scans);
+  ExpectSameInertialParts(a, b);
+}
+
+// The keys of wio: (not T_body_wheel, T_body_gnss, use_gnss and marginalization, which have none).
+inline void ExpectSameWio(const estimator::InertialOdometryConfig& a,
+                          const estimator::InertialOdometryConfig& b) {
+  EXPECT_FIELD(node_interval_s);
+  EXPECT_FIELD(window_size);
+  EXPECT_FIELD(init_window_nodes);
+  EXPECT_FIELD(max_iterations);
+  EXPECT_FIELD(max_solver_time_s);
+  EXPECT_FIELD(marginalize);
+  EXPECT_FIELD(init_accel_bias_sigma);
+  EXPECT_FIELD(init_gyro_bias_sigma);
+  EXPECT_FIELD(imu_max_gap_s);
+  EXPECT_FIELD(max_speed_mps);
+  EXPECT_FIELD(wheel_max_wait_s);
+  ExpectSameInertialParts(a, b);
 }
 
 inline void ExpectSameSplat(const SplatConfig& a, const SplatConfig& b) {

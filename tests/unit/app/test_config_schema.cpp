@@ -23,18 +23,19 @@ namespace {
 namespace fs = std::filesystem;
 using testing::TempDir;
 
-// Every section of `config` as one file (lio: included).
+// Every section of `config` as one file (lio: and wio: included).
 std::string EmitEverySection(const ConfigFile& config) {
   estimator::LidarOdometryConfig odometry = config.odometry;
   odometry.use_imu = true;
   return EmitDatasetConfig(config.dataset) + EmitLidarOdometryConfig(odometry) +
-         EmitSplatConfig(config.splat) + EmitSimConfig(config.sim);
+         EmitInertialOdometryConfig(config.wio) + EmitSplatConfig(config.splat) + EmitSimConfig(config.sim);
 }
 
 void ExpectSameSections(const ConfigFile& a, const ConfigFile& b) {
   test::ExpectSameDataset(a.dataset, b.dataset);
   test::ExpectSameLo(a.odometry, b.odometry);
   test::ExpectSameLio(a.odometry, b.odometry);
+  test::ExpectSameWio(a.wio, b.wio);
   test::ExpectSameSplat(a.splat, b.splat);
   test::ExpectSameConfig(a.sim, b.sim);
 }
@@ -151,7 +152,7 @@ std::map<std::string, std::string> OdometryDefaults(const std::string& text) {
 TEST(ConfigReference, MethodMdStatesTheSchemasOdometryDefaults) {
   const auto generated = OdometryDefaults(ConfigReferenceMarkdown());
   const auto method = OdometryDefaults(testing::ReadText(std::string(UF_SOURCE_DIR) + "/docs/METHOD.md"));
-  EXPECT_EQ(generated.size(), 71u);  // 23 lo: keys, 48 lio: keys (8 of them lio.wheel, 25 lio.gnss)
+  EXPECT_EQ(generated.size(), 72u);  // 23 lo: keys, 49 lio: keys (8 of them lio.wheel, 26 lio.gnss)
   EXPECT_EQ(method.size(), generated.size());
   for (const auto& [key, value] : generated) {
     const auto row = method.find(key);

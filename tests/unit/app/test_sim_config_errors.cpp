@@ -67,7 +67,7 @@ TEST(SimConfig, ErrorsNameTheFileTheKeyTheLineAndTheValue) {
        {"sim.start_time_s (line 2): expected a number of seconds, got 'noon'"}},
       {"dataset: {}\nestimator:\n  window: 10\n",
        {"sim.yaml (line 2): unknown top-level key 'estimator' (expected dataset, sim, calibration, lo, lio, "
-        "splat)"}},
+        "wio, splat)"}},
       {"sim:\n  lidar: [1, 2\n", {"sim.yaml (line ", "YAML syntax error"}},
       {"- 1\n- 2\n", {"sim.yaml: expected a map of sections"}},
   };
@@ -93,9 +93,10 @@ TEST(ConfigFile, ReadsEverySectionSkipsCalibrationAndRejectsUnknownOnes) {
 
   loaded = LoadConfigFile(dir.Write("top.yaml", "dataset: {}\nestimator:\n  window: 10\n"));
   ASSERT_FALSE(loaded.ok());
-  EXPECT_NE(loaded.error().find(
-                "unknown top-level key 'estimator' (expected dataset, sim, calibration, lo, lio, splat)"),
-            std::string::npos)
+  EXPECT_NE(
+      loaded.error().find(
+          "unknown top-level key 'estimator' (expected dataset, sim, calibration, lo, lio, wio, splat)"),
+      std::string::npos)
       << loaded.error();
 }
 

@@ -196,7 +196,7 @@ TEST(GnssIntegrity, AcceptsInCovarianceNoise) {
         const Eigen::Vector3d noise =
             sigma.cwiseProduct(Eigen::Vector3d(normal(random), normal(random), normal(random)));
         const IntegrityResult result =
-            CheckIntegrity(predicted, alignment, alignment.Apply(predicted) + noise, covariance, config);
+            CheckIntegrity(predicted, alignment, alignment.Apply(predicted) + noise, covariance, 0.0, config);
         accepted += result.accepted;
         sum_d2 += result.d2;
         EXPECT_LT((result.innovation + noise).norm(), 1e-9);
@@ -231,21 +231,45 @@ TEST(GnssIntegrity, RejectsA20mJump) {
       const Eigen::Vector3d noise =
           sigma.cwiseProduct(Eigen::Vector3d(normal(random), normal(random), normal(random)));
       const IntegrityResult result = CheckIntegrity(
-          predicted, alignment, alignment.Apply(predicted) + noise + 20 * direction, covariance, config);
+          predicted, alignment, alignment.Apply(predicted) + noise + 20 * direction, covariance, 0.0, config);
       rejected += !result.accepted;
     }
     EXPECT_EQ(rejected, 1000) << quality.name;
     // Straight up, without noise.
     const IntegrityResult up =
         CheckIntegrity(Eigen::Vector3d::Zero(), alignment, alignment.translation + Eigen::Vector3d(0, 0, 20),
-                       covariance, config);
+                       covariance, 0.0, config);
     EXPECT_FALSE(up.accepted) << quality.name << " d2 " << up.d2;
   }
   // Non-finite input is never accepted.
-  const IntegrityResult nan = CheckIntegrity(Eigen::Vector3d(std::nan(""), 0, 0), alignment,
-                                             Eigen::Vector3d::Zero(), Eigen::Matrix3d::Identity(), config);
+  const IntegrityResult nan =
+      CheckIntegrity(Eigen::Vector3d(std::nan(""), 0, 0), alignment, Eigen::Vector3d::Zero(),
+                     Eigen::Matrix3d::Identity(), 0.0, config);
   EXPECT_FALSE(nan.accepted);
   EXPECT_TRUE(std::isinf(nan.d2));
+}
+
+TEST(GnssIntegrity, ThePredictionUncertaintyGrowsWithTheDistanceSinceTheLastAcceptedFix) {
+  // Defaults: prediction sigma 1 m, drift 5 % of the distance d. A single fix of 1.5 m horizontal sigma,
+  // e m east of the prediction: on the east axis S = 2.25 + 1 + (0.05 d)^2, so d^2 = e^2 / (3.25 + 0.0025
+  // d^2). e = 6 m: 11.1 right after an accepted fix, 0.92 after 120 m. e = 10 m: 30.8 right after
+  // (rejected), 3.5 after 100 m (accepted: a drift the odometry may gather there). A 20 m jump 10 m after
+  // an accepted fix: 400 / 3.5 = 114, rejected.
+  const GnssFactorConfig config;
+  const EnuAlignment alignment{0.0, Eigen::Vector3d::Zero()};
+  const Eigen::Matrix3d covariance = Eigen::Vector3d(2.25, 2.25, 9.0).asDiagonal();
+  const Eigen::Vector3d predicted(50, -20, 2);
+  auto check = [&](double east_m, double distance_m) {
+    return CheckIntegrity(predicted, alignment, predicted + Eigen::Vector3d(east_m, 0, 0), covariance,
+                          distance_m, config);
+  };
+  EXPECT_NEAR(check(6, 0).d2, 36 / 3.25, 1e-9);
+  EXPECT_NEAR(check(6, 120).d2, 36 / 39.25, 1e-9);
+  EXPECT_FALSE(check(10, 0).accepted);
+  EXPECT_NEAR(check(10, 100).d2, 100 / 28.25, 1e-9);
+  EXPECT_TRUE(check(10, 100).accepted);
+  EXPECT_NEAR(check(20, 10).d2, 400 / 3.5, 1e-9);
+  EXPECT_FALSE(check(20, 10).accepted);
 }
 
 TEST(GnssFixPlacement, InterpolatesSnapsOrLeavesOut) {

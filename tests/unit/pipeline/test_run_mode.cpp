@@ -40,7 +40,8 @@ TEST(RunMode, NamesParseBack) {
   EXPECT_EQ(ModeName({OdometryMode::kLio, false, true}), "lio+g");
   EXPECT_EQ(ModeName({OdometryMode::kLio, true, true}), "lwgio");
   EXPECT_EQ(**ParseMode("lwgio"), (EstimatorMode{OdometryMode::kLio, true, true}));
-  EXPECT_NE(ParseMode("wgio").error().find("not implemented yet"), std::string::npos);
+  EXPECT_EQ(ModeName({OdometryMode::kWio, true, false}), "wio");
+  EXPECT_EQ(**ParseMode("wgio"), (EstimatorMode{OdometryMode::kWio, true, true}));
   EXPECT_NE(ParseMode("lo+g").error().find("needs the IMU"), std::string::npos);
   EXPECT_NE(ParseMode("lwgo").error().find("needs the IMU"), std::string::npos);
   EXPECT_NE(ParseMode("lvio").error().find("unknown mode"), std::string::npos);
@@ -67,6 +68,37 @@ TEST(RunMode, AutoPicksTheRichestTheDataSupports) {
   const Dataset lidar_wheel({Stream("lidar", SensorKind::kLidar), Stream("wheel", SensorKind::kWheel)});
   EXPECT_EQ(*ChooseMode(std::nullopt, lidar_wheel.description, lidar_wheel.sensors, notes),
             (EstimatorMode{OdometryMode::kLo, false, false}));  // the factors need the inertial core
+}
+
+TEST(RunMode, WithoutALidarAutoRunsTheWheelInertialWindow) {
+  std::vector<std::string> notes;
+  const Dataset husky({Stream("imu", SensorKind::kImu), Stream("odom", SensorKind::kWheel),
+                       Stream("fix", SensorKind::kGnss, false)});
+  EXPECT_EQ(*ChooseMode(std::nullopt, husky.description, husky.sensors, notes),
+            (EstimatorMode{OdometryMode::kWio, true, true}));
+  ASSERT_EQ(notes.size(), 1u);
+  EXPECT_NE(notes[0].find("ran wgio (no LiDAR stream)"), std::string::npos) << notes[0];
+
+  notes.clear();
+  const Dataset no_gnss({Stream("imu", SensorKind::kImu), Stream("odom", SensorKind::kWheel)});
+  EXPECT_EQ(*ChooseMode(std::nullopt, no_gnss.description, no_gnss.sensors, notes),
+            (EstimatorMode{OdometryMode::kWio, true, false}));
+  EXPECT_NE(notes[0].find("ran wio (no LiDAR stream, no GNSS stream)"), std::string::npos) << notes[0];
+
+  // The wheel's extrinsic is needed; the LiDAR modes are named as what does not run either.
+  const Dataset no_extrinsic({Stream("imu", SensorKind::kImu), Stream("odom", SensorKind::kWheel, false)});
+  const Expected<EstimatorMode> none =
+      ChooseMode(std::nullopt, no_extrinsic.description, no_extrinsic.sensors, notes);
+  ASSERT_FALSE(none.ok());
+  EXPECT_NE(
+      none.error().find("data: no LiDAR stream (for lo and lio) and no wheel-to-IMU transform (T_body_sensor "
+                        "of odom) (for wio)"),
+      std::string::npos)
+      << none.error();
+  const Expected<EstimatorMode> lio =
+      ChooseMode(EstimatorMode{OdometryMode::kLio, false, false}, husky.description, husky.sensors, notes);
+  ASSERT_FALSE(lio.ok());
+  EXPECT_NE(lio.error().find("--mode lio: data has no LiDAR stream"), std::string::npos) << lio.error();
 }
 
 TEST(RunMode, AnExplicitModeNamesWhatIsMissing) {

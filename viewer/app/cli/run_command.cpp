@@ -39,17 +39,19 @@ Expected<RunRequest> MakeRequest(const RunArguments& a) {
   if (a.config.empty()) return r;
   Expected<ConfigFile> loaded = LoadConfigFile(a.config);
   if (!loaded) return loaded.status();
-  r.dataset_config = loaded->dataset, r.lo_config = loaded->odometry, r.splat_config = loaded->splat;
+  r.dataset_config = loaded->dataset, r.lo_config = loaded->odometry, r.wio_config = loaded->wio;
+  r.splat_config = loaded->splat;
   return r;
 }
 
 void PrintSummary(const fs::path& out, const pipeline::RunSummary& s) {
   const pipeline::OdometrySummary& o = s.odometry;
-  if (o.scans > 0)
-    std::printf("run: %s, %lld scans, %lld poses, %.1f ms/scan mean (%.1f p95), %lld warnings\n",
-                s.mode.c_str(), static_cast<long long>(o.scans), static_cast<long long>(o.keyframes),
-                o.timing.mean, o.timing.p95,
-                static_cast<long long>(o.reader_warnings.size() + o.odometry_warnings.size()));
+  // Scans fed (LiDAR window) or nodes solved (WIO).
+  const long long steps = o.step == "scan" ? o.scans : static_cast<long long>(o.timing.steps);
+  if (steps > 0)
+    std::printf("run: %s, %lld %ss, %lld poses, %.1f ms/%s mean (%.1f p95), %lld warnings\n", s.mode.c_str(),
+                steps, o.step.c_str(), static_cast<long long>(o.keyframes), o.timing.mean, o.step.c_str(),
+                o.timing.p95, static_cast<long long>(o.reader_warnings.size() + o.odometry_warnings.size()));
   std::printf("%s", pipeline::FormatStageTable(s.stages).c_str());
   if (s.accuracy.evaluated) std::printf("  ATE (SE3-aligned RMSE): %.4f m\n", s.accuracy.ape_rmse_m);
   if (s.map) std::printf("  map: %s\n", s.map->summary.c_str());
@@ -94,17 +96,18 @@ Subcommand AddRunCommand(CLI::App& app) {
   run->add_option("--out", a->out,
                   "Output folder (new or empty); default: a new runs/<UTC time>/ with runs/latest");
   run->add_option("--config", a->config,
-                  "YAML file with dataset:, lo:, lio: and splat: sections (see configs/kitti.yaml, "
-                  "configs/run-sim.yaml, configs/splat.yaml)")
+                  "YAML file with dataset:, lo:, lio:, wio: and splat: sections (see configs/kitti.yaml, "
+                  "configs/run-sim.yaml, configs/husky.yaml, configs/splat.yaml)")
       ->check(CLI::ExistingFile);
   run->add_option(
          "--mode", a->mode,
          "auto: the richest the dataset supports (LIO with an IMU and the LiDAR's extrinsic, else LO; "
-         "wheel factors (W) with a wheel stream and its extrinsic); lo, lio, lwio, lwo")
+         "wheel (W) and GNSS (G) factors with their streams and extrinsics; without a LiDAR, WIO on the IMU "
+         "and the wheel); lo, lio, lwio, lwo, lio+g, lwgio, wio, wgio")
       ->capture_default_str();
   run->add_option("--output-frame", a->output_frame,
                   "Frame of the written trajectory: lidar or imu (needs the LiDAR's T_body_sensor); default: "
-                  "lidar for LO, imu for LIO")
+                  "lidar for LO, imu for LIO and WIO")
       ->check(CLI::IsMember({"lidar", "imu"}));
   run->add_option("--from", a->from,
                   "Re-run from this stage on an earlier run's outputs in --out: map (reuses trajectory.tum, "

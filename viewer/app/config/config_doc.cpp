@@ -15,7 +15,7 @@ key, regenerate with `cmake --build build --target config-doc`; test_app_config 
 differs from what the schemas give. -->
 
 A configuration file is YAML with top-level sections; one file may hold several, and each command reads the
-sections it needs: `ultrafusion run --config` reads `dataset:`, `lo:`, `lio:` and `splat:`, `ultrafusion
+sections it needs: `ultrafusion run --config` reads `dataset:`, `lo:`, `lio:`, `wio:` and `splat:`, `ultrafusion
 info --config` `dataset:`, `ultrafusion splat --config` `splat:`, `ultrafusion sim --config` `sim:`. The
 file is read once (`LoadConfigFile`, `viewer/app/config/config_file.h`) and every section is checked,
 whichever command reads it. Every key is optional: a key that is not given keeps the default below. A list
@@ -27,7 +27,7 @@ top-level sections. Value ranges are checked by the option structs' `Validate()`
 key: `run.yaml: lo.window_size: must be >= 2, got 1`). Numbers are read exactly (`std::from_chars`),
 booleans are `true` or `false`, seconds of stamps and windows exactly to the nanosecond.
 
-`ultrafusion run` saves the resolved `dataset:`, `lo:` (for LIO also `lio:`) and `splat:` sections as
+`ultrafusion run` saves the resolved `dataset:`, `lo:` (for LIO also `lio:`; for WIO `wio:` instead) and `splat:` sections as
 `config.yaml` in its run folder, and `ultrafusion sim` the resolved `sim:` section as `sim_config.yaml`:
 both read back to the same values. Profiles per sensor setup are in `configs/`; `configs/sim.yaml` and
 `configs/splat.yaml` state every key of their section at its default.
@@ -56,6 +56,17 @@ constexpr const char* kLio = R"(
 Read by `run` in LIO mode (`--mode lio`, or auto with an IMU); the same struct as `lo:`. The IMU noise
 densities are 10x the simulated IMU's datasheet values (EuRoC's ADIS16448) on purpose: see
 `odometry/estimator/config/lidar_odometry_config.h`.
+
+)";
+
+constexpr const char* kWio = R"(
+## `wio:` (wheel-inertial odometry)
+
+Read by `run` in the modes without a LiDAR (`--mode wio` or `wgio`, or auto on a dataset with an IMU and a
+wheel stream but no LiDAR); maps onto `estimator::InertialOdometryConfig`
+(`odometry/estimator/config/inertial_odometry_config.h`). Nodes on a grid of IMU time linked by IMU and wheel
+factors; the `imu`, `init`, `wheel` and `gnss` parts mean what they mean under `lio:`. `T_body_wheel`,
+`T_body_gnss` and `use_gnss` are not keys: `run` sets them from the dataset and `--mode`.
 
 )";
 
@@ -116,7 +127,8 @@ std::string ConfigReferenceMarkdown() {
   const estimator::LidarOdometryConfig odometry;
   return std::string(kHeader) + kDataset + MarkdownTable(DocRows(config::DatasetSchema(), DatasetConfig{})) +
          kLo + MarkdownTable(DocRows(config::LoSchema(), odometry)) + kLio +
-         MarkdownTable(DocRows(config::LioSchema(), odometry)) + kSplat +
+         MarkdownTable(DocRows(config::LioSchema(), odometry)) + kWio +
+         MarkdownTable(DocRows(config::WioSchema(), estimator::InertialOdometryConfig{})) + kSplat +
          MarkdownTable(DocRows(config::SplatSchema(), SplatConfig{})) + kSim +
          MarkdownTable(DocRows(config::SimSchema(), sim::SimulationConfig{})) + kFooter;
 }

@@ -8,7 +8,8 @@
 namespace uf::app {
 namespace {
 
-constexpr std::array<std::string_view, 6> kSections = {"dataset", "sim", "calibration", "lo", "lio", "splat"};
+constexpr std::array<std::string_view, 7> kSections = {"dataset", "sim", "calibration", "lo",
+                                                       "lio",     "wio", "splat"};
 
 std::string SectionList() {
   std::string list;
@@ -26,6 +27,8 @@ Status ReadSections(const std::string& name, const YAML::Node& root, ConfigFile&
       status = config::ReadSection(config::LoSchema(), name, kv.second, config.odometry);
     } else if (key == "lio") {
       status = config::ReadSection(config::LioSchema(), name, kv.second, config.odometry);
+    } else if (key == "wio") {
+      status = config::ReadSection(config::WioSchema(), name, kv.second, config.wio);
     } else if (key == "splat") {
       status = config::ReadSection(config::SplatSchema(), name, kv.second, config.splat);
     } else if (key == "sim") {
@@ -62,6 +65,9 @@ Expected<ConfigFile> LoadConfigFile(const std::filesystem::path& file, ConfigFil
   estimator::LidarOdometryConfig odometry = base.odometry;
   odometry.use_imu = false;  // the lio: keys are checked when the mode is known (LidarOdometry::Create)
   if (Status s = odometry.Validate(); !s.ok()) return Status::Error(name + ": " + s.message());
+  estimator::InertialOdometryConfig wio = base.wio;
+  wio.use_gnss = true;  // its gnss keys are checked whether or not the mode uses them
+  if (Status s = wio.Validate(); !s.ok()) return Status::Error(name + ": " + s.message());
   if (Status s = base.splat.Validate(); !s.ok()) return Status::Error(name + ": splat." + s.message());
   return base;
 }

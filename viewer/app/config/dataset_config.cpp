@@ -2,6 +2,7 @@
 #include "viewer/app/config/dataset_config.h"
 
 #include "viewer/app/config/section_schemas.h"
+#include "viewer/app/config/sim_config_values.h"
 
 namespace uf::app {
 namespace {
@@ -17,6 +18,22 @@ Expected<SensorKind> ParseKind(const std::string& name) {
   return Status::Error("unknown sensor kind '" + name + "' (imu, lidar, camera, wheel, gnss)");
 }
 
+// An extrinsic that may be absent: not written then.
+Codec<std::optional<SE3>> OptionalExtrinsicCodec() {
+  return {[](const KeyPath& at, const YAML::Node& node, std::optional<SE3>& T) -> Status {
+            SE3 read;
+            if (Status s = config::ExtrinsicCodec().read(at, node, read); !s.ok()) return s;
+            T = read;
+            return {};
+          },
+          [](const std::optional<SE3>& T) {
+            if (T) return config::ExtrinsicCodec().write(*T);
+            ValueText value{"none"};
+            value.omitted = true;
+            return value;
+          }};
+}
+
 const Schema<TopicSelection>& TopicSchema() {
   static const Schema<TopicSelection> schema = [] {
     Schema<TopicSelection> s;
@@ -25,6 +42,9 @@ const Schema<TopicSelection>& TopicSchema() {
         "kind", &TopicSelection::kind,
         NamedCodec<SensorKind>(ParseKind, [](SensorKind kind) { return std::string(SensorKindName(kind)); }),
         "", "the sensor kind it is read as");
+    s.Key("T_body_sensor", &TopicSelection::T_body_sensor, OptionalExtrinsicCodec(), "",
+          "optional: where the sensor sits on the body ({translation_m, rotation_rpy_deg} or {matrix}); "
+          "bags carry no calibration the reader uses");
     return s;
   }();
   return schema;

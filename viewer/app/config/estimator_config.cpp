@@ -9,9 +9,6 @@ namespace {
 using config::Codec;
 using config::Schema;
 using estimator::ConstantVelocityNoise;
-using estimator::GnssFactorConfig;
-using estimator::ImuNoiseParams;
-using estimator::InertialInitConfig;
 using estimator::LidarOdometryConfig;
 using estimator::VoxelMapConfig;
 
@@ -59,56 +56,6 @@ Schema<LidarOdometryConfig> MakeLoSchema() {
   return s;
 }
 
-Schema<estimator::GnssStatusNoise> GnssNoiseSchema(const std::string& status) {
-  using N = estimator::GnssStatusNoise;
-  Schema<N> s;
-  s.Key("min_sigma_m", &N::min_sigma_m, "m", status + " fixes: floor of the sigma along every axis");
-  s.Key("sigma_scale", &N::sigma_scale, "", "k >= 1: the reported covariance is multiplied by k^2");
-  s.Key("nominal_horizontal_sigma_m", &N::nominal_horizontal_sigma_m, "m",
-        "per horizontal axis, for an unknown (all-zero) covariance with use_nominal_for_unknown");
-  s.Key("nominal_vertical_sigma_m", &N::nominal_vertical_sigma_m, "m", "likewise, up");
-  return s;
-}
-
-Codec<GnssFixStatus> FixStatusCodec() {
-  return config::NamedCodec<GnssFixStatus>(
-      [](const std::string& name) -> Expected<GnssFixStatus> {
-        for (GnssFixStatus status : {GnssFixStatus::kNoFix, GnssFixStatus::kFix, GnssFixStatus::kSbas,
-                                     GnssFixStatus::kRtkFloat, GnssFixStatus::kRtkFixed})
-          if (name == estimator::GnssStatusName(status)) return status;
-        return Status::Error("unknown fix status '" + name + "' (fix, sbas, rtk_float, rtk_fixed)");
-      },
-      [](GnssFixStatus status) { return std::string(estimator::GnssStatusName(status)); });
-}
-
-Schema<GnssFactorConfig> GnssSchema() {
-  using G = GnssFactorConfig;
-  Schema<G> s;
-  s.Key("min_status", &G::min_status, FixStatusCodec(), "",
-        "GNSS factor (lio+g, lwgio): fixes of a lower status are not used (fix < sbas < rtk_float < "
-        "rtk_fixed)");
-  s.Key("use_nominal_for_unknown", &G::use_nominal_for_unknown, "",
-        "use the status' nominal sigmas for a fix with an all-zero covariance (false: skip it)");
-  s.Key("integrity_gate", &G::integrity_gate, "chi-square, 3 dof",
-        "a fix whose squared Mahalanobis innovation exceeds this is rejected (16.27: 99.9 %)");
-  s.Key("prediction_sigma_m", &G::prediction_sigma_m, "m",
-        "uncertainty of the predicted antenna position in the innovation test");
-  s.Key("min_alignment_baseline_m", &G::min_alignment_baseline_m, "m",
-        "the ENU alignment starts once the antenna moved this far horizontally");
-  s.Key("min_alignment_fixes", &G::min_alignment_fixes, "fixes", "and over at least this many fixes");
-  s.Key("max_alignment_rms_m", &G::max_alignment_rms_m, "m",
-        "an alignment start with a larger residual RMS is refused (the pairs are collected again)");
-  s.Key("max_interpolation_gap_s", &G::max_interpolation_gap_s, "s",
-        "a fix is interpolated between nodes at most this far apart");
-  s.Key("max_snap_s", &G::max_snap_s, "s",
-        "else it is attached to the nearest node within this, or not used");
-  for (const auto& [status, noise] :
-       {std::pair{"fix", &G::fix}, std::pair{"sbas", &G::sbas}, std::pair{"rtk_float", &G::rtk_float},
-        std::pair{"rtk_fixed", &G::rtk_fixed}})
-    s.Nest(status, noise, GnssNoiseSchema(status));
-  return s;
-}
-
 Schema<LidarOdometryConfig> MakeLioSchema() {
   using C = LidarOdometryConfig;
   Schema<C> s("lio");
@@ -117,53 +64,11 @@ Schema<LidarOdometryConfig> MakeLioSchema() {
   s.Key("imu_max_wait_s", &C::imu_max_wait_s, "s (stream time)",
         "how long a scan waits for the IMU to cover it");
   s.Key("max_speed_mps", &C::max_speed_mps, "m/s", "a faster state is divergence (re-initialization)");
-
-  Schema<ImuNoiseParams> imu;
-  imu.Key("accel_noise_density", &ImuNoiseParams::accel_noise_density, "m/s^2/sqrt(Hz)",
-          "accelerometer white noise (10x the ADIS16448 datasheet: a margin for the budgeted solves)");
-  imu.Key("gyro_noise_density", &ImuNoiseParams::gyro_noise_density, "rad/s/sqrt(Hz)",
-          "gyroscope white noise (10x the datasheet)");
-  imu.Key("accel_bias_random_walk", &ImuNoiseParams::accel_bias_random_walk, "m/s^3/sqrt(Hz)",
-          "accelerometer bias random walk");
-  imu.Key("gyro_bias_random_walk", &ImuNoiseParams::gyro_bias_random_walk, "rad/s^2/sqrt(Hz)",
-          "gyroscope bias random walk");
-  imu.Key("gravity", &ImuNoiseParams::gravity, "m/s^2", "g_world = (0, 0, -gravity)");
-  imu.Key("max_accel_bias_change", &ImuNoiseParams::max_accel_bias_change, "m/s^2",
-          "first-order bias update of the preintegration up to this, then re-integration");
-  imu.Key("max_gyro_bias_change", &ImuNoiseParams::max_gyro_bias_change, "rad/s",
-          "likewise for the gyro bias");
-  s.Nest("imu", &C::imu, imu);
-
-  Schema<InertialInitConfig> init;
-  init.Key("window_scans", &InertialInitConfig::window_scans, "scans",
-           "scans solved as LO before the IMU alignment is tried, >= 3 and < lo.window_size");
-  init.Key("static_max_gyro_std", &InertialInitConfig::static_max_gyro_std, "rad/s",
-           "static initialization: spread of the angular rate at rest");
-  init.Key("static_max_acc_std", &InertialInitConfig::static_max_acc_std, "m/s^2",
-           "static initialization: spread of the specific force at rest");
-  init.Key("static_max_motion_m", &InertialInitConfig::static_max_motion_m, "m",
-           "static initialization: the LO poses may move this much at rest");
-  init.Key("max_gravity_error", &InertialInitConfig::max_gravity_error, "fraction of gravity",
-           "LiDAR-aided initialization is admitted when abs(|g| - gravity) <= this * gravity");
-  s.Nest("init", &C::init, init);
-
-  using estimator::WheelFactorConfig;
-  using W = WheelFactorConfig;
-  Schema<W> wheel;
-  wheel.Key("forward_velocity_density", &W::forward_velocity_density, "m/s/sqrt(Hz)",
-            "wheel factor (lwio, lwgio): white noise of the forward speed");
-  wheel.Key("yaw_rate_density", &W::yaw_rate_density, "rad/s/sqrt(Hz)", "white noise of the yaw rate");
-  wheel.Key("nonholonomic_velocity_density", &W::nonholonomic_velocity_density, "m/s/sqrt(Hz)",
-            "soft non-holonomic constraint on the lateral and vertical velocity");
-  wheel.Key("roll_pitch_rate_density", &W::roll_pitch_rate_density, "rad/s/sqrt(Hz)",
-            "soft constraint on the roll and pitch rates");
-  wheel.Key("max_gap_s", &W::max_gap_s, "s",
-            "a longer step between wheel samples leaves the interval without a factor");
-  wheel.Key("time_offset_s", &W::time_offset_s, "s", "added to the wheel stamps (fixed, |.| <= 1)");
-  wheel.Key("estimate_scale", &W::estimate_scale, "", "estimate the wheel scale (false: held at 1)");
-  wheel.Key("scale_prior_sigma", &W::scale_prior_sigma, "", "prior of the wheel scale, relative to 1");
-  s.Nest("wheel", &C::wheel, wheel);
-  s.Nest("gnss", &C::gnss, GnssSchema());
+  s.Nest("imu", &C::imu,
+         config::ImuNoiseSchema("10x the ADIS16448 datasheet: a margin for the budgeted solves"));
+  s.Nest("init", &C::init, config::InitSchema(true));
+  s.Nest("wheel", &C::wheel, config::WheelSchema());
+  s.Nest("gnss", &C::gnss, config::GnssSchema());
   return s;
 }
 

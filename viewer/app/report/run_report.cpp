@@ -82,15 +82,21 @@ std::string FormatRunReport(const pipeline::RunSummary& r) {
   }
   const pipeline::OdometrySummary& o = r.odometry;
   md += "\n## Counts\n\n| item | count |\n|---|---|\n";
-  md += "| LiDAR scans fed | " + std::to_string(o.scans) + " |\n";
-  md += "| keyframes (trajectory poses) | " + std::to_string(o.keyframes) + " |\n";
-  md += "| scans skipped by the odometry | " + std::to_string(o.skipped) + " |\n";
+  if (o.step == "scan") {
+    md += "| LiDAR scans fed | " + std::to_string(o.scans) + " |\n";
+    md += "| keyframes (trajectory poses) | " + std::to_string(o.keyframes) + " |\n";
+    md += "| scans skipped by the odometry | " + std::to_string(o.skipped) + " |\n";
+  } else {
+    md += "| nodes solved | " + std::to_string(o.timing.steps) + " |\n";
+    md += "| trajectory poses | " + std::to_string(o.keyframes) + " |\n";
+  }
   md += "| wall time [s] | " + FormatValue("%.2f", r.wall_seconds) + " |\n";
-  md += "\n## Timing per scan (AddScan + TakeFinished, wall time)\n\n";
+  md += "\n## Timing per " + o.step + " (" + (o.step == "scan" ? "AddScan" : "the node's solve") +
+        " + TakeFinished, wall time)\n\n";
   md += "| mean [ms] | median [ms] | p95 [ms] | max [ms] |\n|---|---|---|---|\n";
   md += "| " + FormatValue("%.2f", o.timing.mean) + " | " + FormatValue("%.2f", o.timing.median) + " | " +
         FormatValue("%.2f", o.timing.p95) + " | " + FormatValue("%.2f", o.timing.max) + " |\n";
-  if (!o.timing_plot.empty()) md += "\n![time per scan](" + o.timing_plot + ")\n";
+  if (!o.timing_plot.empty()) md += "\n![time per " + o.step + "](" + o.timing_plot + ")\n";
   if (r.map) md += "\n## Map\n\n" + r.map->summary + "\n\nFiles: " + r.map->files + "\n";
   if (r.splat) {
     const SplatSummary splat = Summarize(*r.splat);

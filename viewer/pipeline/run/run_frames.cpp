@@ -47,14 +47,16 @@ SE3 SensorFromBody(const DatasetDescription& description, const DatasetSensors& 
 
 }  // namespace
 
-std::string_view Name(OdometryMode mode) { return mode == OdometryMode::kLio ? "lio" : "lo"; }
+std::string_view Name(OdometryMode mode) {
+  return mode == OdometryMode::kLio ? "lio" : mode == OdometryMode::kWio ? "wio" : "lo";
+}
 std::string_view Name(TrajectoryFrame frame) { return frame == TrajectoryFrame::kImu ? "imu" : "lidar"; }
 std::string_view Name(MapSource source) {
   return source == MapSource::kTrajectory ? "trajectory" : "odometry";
 }
 
 std::optional<OdometryMode> ParseOdometryMode(std::string_view text) {
-  return Parse(text, std::array{OdometryMode::kLo, OdometryMode::kLio});
+  return Parse(text, std::array{OdometryMode::kLo, OdometryMode::kLio, OdometryMode::kWio});
 }
 std::optional<TrajectoryFrame> ParseTrajectoryFrame(std::string_view text) {
   return Parse(text, std::array{TrajectoryFrame::kLidar, TrajectoryFrame::kImu});
@@ -64,7 +66,7 @@ std::optional<MapSource> ParseMapSource(std::string_view text) {
 }
 
 TrajectoryFrame EstimatorFrame(OdometryMode mode) {
-  return mode == OdometryMode::kLio ? TrajectoryFrame::kImu : TrajectoryFrame::kLidar;
+  return mode == OdometryMode::kLo ? TrajectoryFrame::kLidar : TrajectoryFrame::kImu;
 }
 
 SE3 RunFrames::T_estimator_lidar() const { return mode == OdometryMode::kLio ? *T_imu_lidar : SE3(); }
@@ -83,7 +85,8 @@ Trajectory RunFrames::OutputTrajectory(const Trajectory& estimated) const {
 Expected<RunFrames> ResolveRunFrames(const DatasetDescription& description, OdometryMode mode,
                                      TrajectoryFrame trajectory_frame, MapSource map_from) {
   const DatasetSensors sensors = FindSensors(description);
-  if (sensors.lidar < 0) return Status::Error(description.path.string() + ": no LiDAR stream");
+  if (sensors.lidar < 0 && (mode != OdometryMode::kWio || trajectory_frame == TrajectoryFrame::kLidar))
+    return Status::Error(description.path.string() + ": no LiDAR stream");
   RunFrames frames;
   frames.mode = mode;
   frames.trajectory_frame = trajectory_frame;
@@ -97,7 +100,8 @@ Expected<RunFrames> ResolveRunFrames(const DatasetDescription& description, Odom
   frames.T_output_body = SensorFromBody(description, sensors, trajectory_frame);
   // T_M_W = T_lidar_imu for an LO run written in the IMU frame whose map came from the odometry, where
   // T_imu_lidar = T_F_B(imu) * T_B_lidar (ImuFromSensor).
-  if (!lio && trajectory_frame == TrajectoryFrame::kImu && map_from == MapSource::kOdometry) {
+  if (mode == OdometryMode::kLo && trajectory_frame == TrajectoryFrame::kImu &&
+      map_from == MapSource::kOdometry) {
     const StreamInfo& lidar = description.streams[static_cast<std::size_t>(sensors.lidar)];
     frames.T_map_world = (frames.T_output_body * *lidar.T_body_sensor).inverse();
   }

@@ -5,7 +5,7 @@
 // ("Frames and time"): T_a_b maps points of frame b into frame a.
 //
 //   B  the dataset's body (its IMU unless the IMU stream says otherwise; StreamInfo::T_body_sensor)
-//   E  the estimator's body: the LiDAR in LO, the IMU in LIO
+//   E  the estimator's body: the LiDAR in LO, the IMU in LIO and WIO
 //   F  the frame of trajectory.tum (--output-frame): the LiDAR or the IMU
 //   W  the world of trajectory.tum;  M  the world of the map (map.vdb)
 //
@@ -24,11 +24,11 @@
 
 namespace uf::pipeline {
 
-enum class OdometryMode { kLo, kLio };            // LiDAR only; LiDAR + IMU
+enum class OdometryMode { kLo, kLio, kWio };      // LiDAR only; LiDAR + IMU; wheel + IMU (no LiDAR)
 enum class TrajectoryFrame { kLidar, kImu };      // frame F of trajectory.tum
 enum class MapSource { kOdometry, kTrajectory };  // keyframes of the odometry; trajectory.tum (--from map)
 
-// "lo" / "lio", "lidar" / "imu", "odometry" / "trajectory": the words of the command line and run.json.
+// "lo" / "lio" / "wio", "lidar" / "imu", "odometry" / "trajectory": the words of run.json.
 std::string_view Name(OdometryMode mode);
 std::string_view Name(TrajectoryFrame frame);
 std::string_view Name(MapSource source);
@@ -36,19 +36,19 @@ std::optional<OdometryMode> ParseOdometryMode(std::string_view text);
 std::optional<TrajectoryFrame> ParseTrajectoryFrame(std::string_view text);
 std::optional<MapSource> ParseMapSource(std::string_view text);
 
-// The frame the estimator's body is: the LiDAR in LO, the IMU in LIO.
+// The frame the estimator's body is: the LiDAR in LO, the IMU in LIO and WIO.
 TrajectoryFrame EstimatorFrame(OdometryMode mode);
 
 struct RunFrames {
   OdometryMode mode = OdometryMode::kLo;
   TrajectoryFrame trajectory_frame = TrajectoryFrame::kLidar;
   MapSource map_from = MapSource::kOdometry;
-  std::optional<SE3> T_imu_lidar;  // from the dataset (ImuFromSensor); needed whenever F != E
+  std::optional<SE3> T_imu_lidar;  // from the dataset (ImuFromSensor); needed whenever F != E (and in LIO)
   SE3 T_estimator_body;            // T_E_B
   SE3 T_output_body;               // T_F_B
   SE3 T_map_world;                 // T_M_W
 
-  // T_E_lidar: identity in LO, T_imu_lidar in LIO.
+  // T_E_lidar: identity in LO, T_imu_lidar in LIO (WIO, which reads no LiDAR: identity).
   SE3 T_estimator_lidar() const;
   // T_F_E: identity when F is E, else T_imu_lidar or its inverse.
   SE3 T_output_estimator() const;
@@ -59,7 +59,7 @@ struct RunFrames {
 };
 
 // Resolves every transform from the dataset's calibration for a run in `mode` writing `trajectory_frame`.
-// Errors: F != E without T_imu_lidar, a dataset without a LiDAR stream.
+// Errors: F != E without T_imu_lidar, LO or LIO on a dataset without a LiDAR stream.
 Expected<RunFrames> ResolveRunFrames(const DatasetDescription& description, OdometryMode mode,
                                      TrajectoryFrame trajectory_frame, MapSource map_from);
 

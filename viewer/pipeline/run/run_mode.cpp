@@ -11,13 +11,22 @@ constexpr std::array kModes = {
     EstimatorMode{OdometryMode::kLo, false, false}, EstimatorMode{OdometryMode::kLio, false, false},
     EstimatorMode{OdometryMode::kLio, true, false}, EstimatorMode{OdometryMode::kLo, true, false},
     EstimatorMode{OdometryMode::kLio, false, true}, EstimatorMode{OdometryMode::kLio, true, true},
+    EstimatorMode{OdometryMode::kWio, true, false}, EstimatorMode{OdometryMode::kWio, true, true},
 };
+
+std::string Joined(const std::vector<std::string>& parts) {
+  std::string text;
+  for (const std::string& part : parts) text += (text.empty() ? "" : ", ") + part;
+  return text;
+}
 
 // What the dataset lacks for the mode ("" when it has everything).
 std::string MissingFor(const EstimatorMode& mode, const DatasetDescription& description,
                        const DatasetSensors& sensors) {
   std::vector<std::string> missing;
-  if (mode.core == OdometryMode::kLio && sensors.imu < 0)
+  if (mode.core != OdometryMode::kWio && sensors.lidar < 0)
+    missing.push_back("no LiDAR stream");
+  else if (mode.core != OdometryMode::kLo && sensors.imu < 0)
     missing.push_back("no IMU stream");
   else if (mode.core == OdometryMode::kLio && !sensors.T_imu_lidar)
     missing.push_back("no LiDAR-to-IMU transform (T_body_sensor of " +
@@ -30,9 +39,7 @@ std::string MissingFor(const EstimatorMode& mode, const DatasetDescription& desc
   else if (mode.wheel && mode.core == OdometryMode::kLo && !sensors.T_imu_lidar)
     missing.push_back("no wheel-to-LiDAR transform (the LiDAR's T_body_sensor)");
   if (mode.gnss && sensors.gnss < 0) missing.push_back("no GNSS stream");
-  std::string text;
-  for (const std::string& why : missing) text += (text.empty() ? "" : ", ") + why;
-  return text;
+  return Joined(missing);
 }
 
 }  // namespace
@@ -45,6 +52,7 @@ std::string StreamList(const DatasetDescription& description) {
 }
 
 std::string ModeName(const EstimatorMode& mode) {
+  if (mode.core == OdometryMode::kWio) return mode.gnss ? "wgio" : "wio";
   if (mode.gnss && !mode.wheel) return mode.core == OdometryMode::kLio ? "lio+g" : "lo+g";
   return std::string("l") + (mode.wheel ? "w" : "") + (mode.gnss ? "g" : "") +
          (mode.core == OdometryMode::kLio ? "io" : "o");
@@ -66,15 +74,28 @@ Expected<std::optional<EstimatorMode>> ParseMode(std::string_view text) {
         ": the GNSS factor needs the IMU (its alignment to ENU is a yaw and a translation of a "
         "gravity-aligned world); use lio+g or lwgio, or lo and the map's georeference "
         "after the run");
-  if (text == "wio" || text == "wgio")
-    return Status::Error(
-        "--mode " + std::string(text) +
-        ": the estimator is driven by LiDAR scans; modes without a LiDAR are not implemented "
-        "yet (use lwio with a LiDAR)");
   std::string names;
   for (const std::string& name : ModeNames()) names += (names.empty() ? "" : ", ") + name;
   return Status::Error("--mode " + std::string(text) + ": unknown mode (one of " + names + ")");
 }
+
+namespace {
+
+// Auto on a dataset without a LiDAR: the wheel-inertial window (with GNSS factors when there is a GNSS
+// stream), or an error naming what the data lacks for it.
+Expected<EstimatorMode> ChooseWithoutLidar(const DatasetDescription& description,
+                                           const DatasetSensors& sensors, std::vector<std::string>& notes) {
+  EstimatorMode mode{OdometryMode::kWio, true, false};
+  if (const std::string missing = MissingFor(mode, description, sensors); !missing.empty())
+    return Status::Error(description.path.string() + ": no LiDAR stream (for lo and lio) and " + missing +
+                         " (for wio) (streams: " + StreamList(description) + ")");
+  mode.gnss = sensors.gnss >= 0;
+  notes.push_back("--mode auto: ran " + ModeName(mode) + " (no LiDAR stream" +
+                  (mode.gnss ? "" : ", no GNSS stream") + ")");
+  return mode;
+}
+
+}  // namespace
 
 Expected<EstimatorMode> ChooseMode(const std::optional<EstimatorMode>& asked,
                                    const DatasetDescription& description, const DatasetSensors& sensors,
@@ -85,6 +106,7 @@ Expected<EstimatorMode> ChooseMode(const std::optional<EstimatorMode>& asked,
     return Status::Error("--mode " + ModeName(*asked) + ": " + description.path.string() + " has " + missing +
                          " (streams: " + StreamList(description) + ")");
   }
+  if (sensors.lidar < 0) return ChooseWithoutLidar(description, sensors, notes);
   // Auto stays with the paper's modes: the wheel and GNSS factors on the inertial core only.
   const bool imu = MissingFor({OdometryMode::kLio, false, false}, description, sensors).empty();
   EstimatorMode mode{imu ? OdometryMode::kLio : OdometryMode::kLo, false, false};
@@ -101,9 +123,8 @@ Expected<EstimatorMode> ChooseMode(const std::optional<EstimatorMode>& asked,
   } else {
     left_out.insert(left_out.begin(), MissingFor({OdometryMode::kLio, false, false}, description, sensors));
   }
-  std::string why;
-  for (const std::string& text : left_out) why += (why.empty() ? "" : ", ") + text;
-  if (!why.empty()) notes.push_back("--mode auto: ran " + ModeName(mode) + " (" + why + ")");
+  if (const std::string why = Joined(left_out); !why.empty())
+    notes.push_back("--mode auto: ran " + ModeName(mode) + " (" + why + ")");
   return mode;
 }
 

@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "viewer/app/config/estimator_config.h"
+#include "viewer/app/config/wio_config.h"
 
 namespace uf::pipeline {
 namespace {
@@ -47,20 +48,25 @@ void DescribeRun(RunPlan& plan) {
   const RunRequest& r = plan.request;
   RunSummary& summary = plan.summary;
   const DatasetDescription& description = plan.stream->description();
-  const std::string& lidar = description.streams[plan.sensors.lidar].name;
   summary.dataset = r.dataset.string();
   summary.format = std::string(DatasetFormatName(description.format));
-  std::string streams = lidar;
-  if (plan.frames.mode == OdometryMode::kLio) streams += ", " + description.streams[plan.sensors.imu].name;
-  if (plan.mode.wheel) streams += ", " + description.streams[plan.sensors.wheel].name;
-  if (plan.mode.gnss) streams += ", " + description.streams[plan.sensors.gnss].name;
-  const char* factors = plan.mode.wheel && plan.mode.gnss ? " with wheel and GNSS factors"
-                        : plan.mode.wheel                 ? " with wheel factors"
-                        : plan.mode.gnss                  ? " with GNSS factors"
-                                                          : "";
-  summary.mode = ModeName(plan.mode) + " (" +
-                 (plan.frames.mode == OdometryMode::kLio ? "LiDAR-inertial" : "LiDAR-only") + " odometry" +
-                 factors + " on " + streams + ")";
+  const OdometryMode core = plan.frames.mode;
+  std::vector<int> used;
+  if (core != OdometryMode::kWio) used.push_back(plan.sensors.lidar);
+  if (core != OdometryMode::kLo) used.push_back(plan.sensors.imu);
+  if (plan.mode.wheel) used.push_back(plan.sensors.wheel);
+  if (plan.mode.gnss) used.push_back(plan.sensors.gnss);
+  std::string streams;
+  for (int stream : used) streams += (streams.empty() ? "" : ", ") + description.streams[stream].name;
+  const bool wheel_factors = plan.mode.wheel && core != OdometryMode::kWio;  // WIO is the wheel's window
+  const char* factors = wheel_factors && plan.mode.gnss ? " with wheel and GNSS factors"
+                        : wheel_factors                 ? " with wheel factors"
+                        : plan.mode.gnss                ? " with GNSS factors"
+                                                        : "";
+  const char* kind = core == OdometryMode::kLio   ? "LiDAR-inertial"
+                     : core == OdometryMode::kWio ? "wheel-inertial"
+                                                  : "LiDAR-only";
+  summary.mode = ModeName(plan.mode) + " (" + kind + " odometry" + factors + " on " + streams + ")";
   summary.output_frame = plan.frames.trajectory_frame;
   for (const std::string& note : summary.notes) std::cerr << "ultrafusion: warning: " << note << "\n";
   if (r.no_splat) summary.notes.push_back("--no-splat: no splats trained");
@@ -77,10 +83,64 @@ void DescribeRun(RunPlan& plan) {
     if (fs::exists(r.out / "plots/timing_per_scan.png", error))
       summary.odometry.timing_plot = "plots/timing_per_scan.png";
   }
-  summary.config_yaml = app::EmitDatasetConfig(r.dataset_config) +
-                        app::EmitLidarOdometryConfig(plan.lo_config) +
-                        (r.no_splat ? "" : app::EmitSplatConfig(r.splat_config));
+  // The estimator's section: lo: (and lio:) or wio:; splat: only when splats may be trained.
+  summary.config_yaml =
+      app::EmitDatasetConfig(r.dataset_config) +
+      (core == OdometryMode::kWio ? app::EmitInertialOdometryConfig(plan.wio_config)
+                                  : app::EmitLidarOdometryConfig(plan.lo_config)) +
+      (r.no_splat || core == OdometryMode::kWio ? "" : app::EmitSplatConfig(r.splat_config));
   summary.repeat_command = RepeatCommand(r, plan.frames, plan.mode);
+}
+
+// The options that the chosen mode and the dataset cannot honour: an output frame without the transform
+// to it, --from with a mode that makes no map.
+Status CheckModeOptions(const RunRequest& r, const DatasetSensors& sensors,
+                        const DatasetDescription& description, const EstimatorMode& mode,
+                        TrajectoryFrame frame) {
+  if (mode.core == OdometryMode::kWio && r.from != RunFrom::kStart)
+    return Status::Error(std::string("--from ") + (r.from == RunFrom::kMap ? "map" : "splat") + ": " +
+                         ModeName(mode) + " makes no map (it reads no LiDAR)");
+  if (frame == EstimatorFrame(mode.core) || sensors.T_imu_lidar) return {};
+  const std::string other(Name(EstimatorFrame(mode.core)));
+  if (sensors.lidar < 0)
+    return Status::Error("--output-frame lidar: " + r.dataset.string() +
+                         " has no LiDAR stream; use --output-frame " + other);
+  return Status::Error("--output-frame " + std::string(Name(frame)) + ": " + r.dataset.string() +
+                       " gives no LiDAR-to-IMU transform (T_body_sensor) for " +
+                       description.streams[sensors.lidar].name + "; use --output-frame " + other);
+}
+
+// The estimator's configuration from the request's and the dataset's extrinsics. LO and LIO: the body is
+// the LiDAR in LO and the IMU in LIO; WIO: the IMU.
+void ConfigureEstimator(RunPlan& plan) {
+  const RunRequest& r = plan.request;
+  const EstimatorMode& mode = plan.mode;
+  const DatasetSensors& sensors = plan.sensors;
+  // The GNSS lever arm: T_imu_gnss (GNSS needs an inertial core); without an extrinsic, the antenna is
+  // taken at the IMU, and the report says so.
+  const SE3 T_imu_gnss = sensors.T_imu_gnss.value_or(SE3());
+  if (mode.gnss && !sensors.T_imu_gnss)
+    plan.summary.notes.push_back("GNSS: " + plan.stream->description().streams[sensors.gnss].name +
+                                 " has no T_body_sensor: the antenna is taken at the IMU (no lever arm)");
+  if (mode.core == OdometryMode::kWio) {
+    plan.wio_config = r.wio_config;
+    plan.wio_config.T_body_wheel = *sensors.T_imu_wheel;  // ChooseMode checked it
+    plan.wio_config.use_gnss = mode.gnss;
+    plan.wio_config.T_body_gnss = T_imu_gnss;
+    return;
+  }
+  plan.lo_config = r.lo_config;
+  plan.lo_config.use_imu = mode.core == OdometryMode::kLio;
+  plan.lo_config.T_body_lidar = plan.frames.T_estimator_lidar();
+  plan.lo_config.use_wheel = mode.wheel;
+  // T_body_wheel: T_imu_wheel in LIO, T_lidar_wheel = T_imu_lidar^-1 T_imu_wheel in LO (ChooseMode checked
+  // that both exist).
+  if (mode.wheel)
+    plan.lo_config.T_body_wheel = mode.core == OdometryMode::kLio
+                                      ? *sensors.T_imu_wheel
+                                      : sensors.T_imu_lidar->inverse() * *sensors.T_imu_wheel;
+  plan.lo_config.use_gnss = mode.gnss;
+  if (mode.gnss) plan.lo_config.T_body_gnss = T_imu_gnss;
 }
 
 }  // namespace
@@ -100,47 +160,25 @@ Expected<RunPlan> PlanRun(RunRequest request, PlanErrorKind& kind) {
   plan.stream = std::make_unique<MeasurementStream>(std::move(*stream));
   const DatasetDescription& description = plan.stream->description();
   plan.sensors = FindSensors(description);
-  if (plan.sensors.lidar < 0)
-    return Status::Error(r.dataset.string() + ": no LiDAR stream, which LO and LIO need (streams: " +
-                         StreamList(description) + ")");
-  kind = PlanErrorKind::kUsage;
+  // A mode asked for that the data cannot run is the user's; auto finding nothing to run is the data's.
+  kind = r.mode ? PlanErrorKind::kUsage : PlanErrorKind::kData;
   Expected<EstimatorMode> mode = ChooseMode(r.mode, description, plan.sensors, plan.summary.notes);
   if (!mode) return mode.status();
   plan.mode = *mode;
+  kind = PlanErrorKind::kUsage;
   const TrajectoryFrame frame = r.output_frame.value_or(EstimatorFrame(mode->core));
-  if (frame == TrajectoryFrame::kImu && !plan.sensors.T_imu_lidar)
-    return Status::Error("--output-frame imu: " + r.dataset.string() +
-                         " gives no LiDAR-to-IMU transform (T_body_sensor) for " +
-                         description.streams[plan.sensors.lidar].name + "; use --output-frame lidar");
+  if (Status s = CheckModeOptions(r, plan.sensors, description, *mode, frame); !s.ok()) return s;
   Expected<RunFrames> frames =
       ResolveRunFrames(description, mode->core, frame,
                        r.from == RunFrom::kMap ? MapSource::kTrajectory : MapSource::kOdometry);
   if (!frames) return frames.status();
   plan.frames = *frames;
-  // The body is the LiDAR in LO and the IMU in LIO.
-  plan.lo_config = r.lo_config;
-  plan.lo_config.use_imu = mode->core == OdometryMode::kLio;
-  plan.lo_config.T_body_lidar = plan.frames.T_estimator_lidar();
-  plan.lo_config.use_wheel = mode->wheel;
-  // T_body_wheel: T_imu_wheel in LIO, T_lidar_wheel = T_imu_lidar^-1 T_imu_wheel in LO (ChooseMode checked
-  // that both exist).
-  if (mode->wheel)
-    plan.lo_config.T_body_wheel = mode->core == OdometryMode::kLio
-                                      ? *plan.sensors.T_imu_wheel
-                                      : plan.sensors.T_imu_lidar->inverse() * *plan.sensors.T_imu_wheel;
-  // The GNSS lever arm: T_imu_gnss (GNSS needs the inertial core); without an extrinsic, the antenna is
-  // taken at the IMU, and the report says so.
-  plan.lo_config.use_gnss = mode->gnss;
-  if (mode->gnss) {
-    plan.lo_config.T_body_gnss = plan.sensors.T_imu_gnss.value_or(SE3());
-    if (!plan.sensors.T_imu_gnss)
-      plan.summary.notes.push_back("GNSS: " + description.streams[plan.sensors.gnss].name +
-                                   " has no T_body_sensor: the antenna is taken at the IMU (no lever arm)");
-  }
-  Expected<estimator::LidarOdometry> odometry = estimator::LidarOdometry::Create(plan.lo_config);
+  ConfigureEstimator(plan);
+  Expected<std::unique_ptr<RunEstimator>> odometry =
+      CreateRunEstimator(plan.mode, plan.lo_config, plan.wio_config);
   if (!odometry) return odometry.status();
-  plan.odometry = std::make_unique<estimator::LidarOdometry>(std::move(*odometry));
-  if (!r.no_map && r.from != RunFrom::kSplat) {
+  plan.odometry = std::move(*odometry);
+  if (!r.no_map && r.from != RunFrom::kSplat && mode->core != OdometryMode::kWio) {
     mapping::KeyframeMapperOptions options;
     options.map.voxel_size_m = r.map_voxel_m;
     Expected<mapping::KeyframeMapper> mapper =

@@ -3,7 +3,7 @@
 // mapper), then the stages run in order on it:
 //
 //   dataset   one pass over the dataset as `ultrafusion info` makes it        stages/dataset_stage.h
-//   odometry  LO or LIO; keyframes go straight to the map's mapper           stages/odometry_stage.h
+//   odometry  LO, LIO or WIO; keyframes go straight to the map's mapper      stages/odometry_stage.h
 //   map       the last keyframes, the georeference, map.vdb                   stages/map_stage.h
 //             (--from map: the earlier trajectory and the scans read again)
 //             stages/map_from_trajectory_stage.h
@@ -22,12 +22,12 @@
 #include <string>
 
 #include "mapping/keyframe_mapper.h"
-#include "odometry/estimator/lidar_odometry/lidar_odometry.h"
 #include "odometry/io/dataset_sensors.h"
 #include "odometry/io/measurement_stream.h"
 #include "viewer/app/config/dataset_config.h"
 #include "viewer/app/config/splat_config.h"
 #include "viewer/pipeline/progress_line.h"
+#include "viewer/pipeline/run/run_estimator.h"
 #include "viewer/pipeline/run/run_frames.h"
 #include "viewer/pipeline/run/run_mode.h"
 #include "viewer/pipeline/run/run_summary.h"
@@ -46,6 +46,7 @@ struct RunRequest {
   // The sections of --config (the defaults without one).
   app::DatasetConfig dataset_config;
   estimator::LidarOdometryConfig lo_config;
+  estimator::InertialOdometryConfig wio_config;
   app::SplatConfig splat_config;
 };
 
@@ -54,13 +55,14 @@ struct RunPlan {
   RunRequest request;
   std::unique_ptr<DatasetReader> reader;
   std::unique_ptr<MeasurementStream> stream;
-  std::unique_ptr<estimator::LidarOdometry> odometry;
-  std::unique_ptr<mapping::KeyframeMapper> mapper;  // none with --no-map or --from splat
+  std::unique_ptr<RunEstimator> odometry;
+  std::unique_ptr<mapping::KeyframeMapper> mapper;  // none with --no-map, --from splat or in WIO
   DatasetSensors sensors;
   EstimatorMode mode;
   RunFrames frames;
-  estimator::LidarOdometryConfig lo_config;  // as the estimator runs it
-  RunSummary summary;                        // what is known before the stages run
+  estimator::LidarOdometryConfig lo_config;      // as the estimator runs it (LO, LIO)
+  estimator::InertialOdometryConfig wio_config;  // as the estimator runs it (WIO)
+  RunSummary summary;                            // what is known before the stages run
 };
 
 // Whether a planning error is the user's options or configuration (exit code 2) or the data (1).

@@ -86,12 +86,16 @@ std::vector<Stage> RunStageList(RunPlan& plan, const fs::path& out, StageOutputs
   const std::string reuse = from_map     ? "--from map: trajectory.tum of the earlier run"
                             : from_splat ? "--from splat: the earlier run's outputs"
                                          : "";
-  const std::string no_splat = r.no_splat ? "--no-splat"
-                               : r.no_map ? "--no-map: no map to seed the splats from"
-                                          : SplatSkipReason(description, plan.frames.T_output_body);
-  const bool lio = plan.frames.mode == OdometryMode::kLio;
+  const OdometryMode core = plan.frames.mode;
+  const std::string no_lidar =
+      core == OdometryMode::kWio ? ModeName(plan.mode) + ": no LiDAR keyframes to map" : "";
+  const std::string no_splat = r.no_splat          ? "--no-splat"
+                               : r.no_map          ? "--no-map: no map to seed the splats from"
+                               : !no_lidar.empty() ? no_lidar
+                                                   : SplatSkipReason(description, plan.frames.T_output_body);
+  const int paced_stream = PacedStream(plan.sensors, core);
   auto dataset = [&](StageContext& c) {
-    return Keep(o.dataset, RunDatasetStage(r.dataset, r.dataset_config, plan.sensors.lidar, c));
+    return Keep(o.dataset, RunDatasetStage(r.dataset, r.dataset_config, paced_stream, c));
   };
   auto odometry = [&](StageContext& c) {
     const OdometryStageInput in{.stream = plan.stream.get(),
@@ -100,7 +104,7 @@ std::vector<Stage> RunStageList(RunPlan& plan, const fs::path& out, StageOutputs
                                 .sensors = plan.sensors,
                                 .frames = plan.frames,
                                 .gnss_factors = plan.mode.gnss,
-                                .lidar_scans = o.dataset ? o.dataset->lidar_scans : 0,
+                                .paced_messages = o.dataset ? o.dataset->paced_messages : 0,
                                 .out = out};
     if (Status s = Keep(o.odometry, RunOdometryStage(in, c)); !s.ok()) return s;
     if (!o.odometry->georef) return Status();
@@ -122,15 +126,19 @@ std::vector<Stage> RunStageList(RunPlan& plan, const fs::path& out, StageOutputs
     o.accuracy = RunAccuracyStage(description, out, o.odometry ? o.odometry->georef : std::nullopt, c);
     return Status();
   };
+  const char* odometry_input = core == OdometryMode::kLio   ? "LiDAR and IMU streams"
+                               : core == OdometryMode::kWio ? "IMU and wheel streams"
+                                                            : "LiDAR stream";
   return {
       {"dataset", "the dataset", reuse, dataset},
-      {"odometry", lio ? "LiDAR and IMU streams" : "LiDAR stream", reuse, odometry},
+      {"odometry", odometry_input, reuse, odometry},
       {"map", from_map ? "trajectory.tum, the dataset's scans" : "keyframes (odometry)",
-       r.no_map ? "--no-map" : (from_map ? "" : reuse), map},
+       r.no_map ? "--no-map" : (!no_lidar.empty() ? no_lidar : (from_map ? "" : reuse)), map},
       {"exports", "map (map stage)",
-       r.no_map     ? "--no-map: no map to export"
-       : from_splat ? reuse
-                    : "",
+       r.no_map            ? "--no-map: no map to export"
+       : !no_lidar.empty() ? "no map to export"
+       : from_splat        ? reuse
+                           : "",
        exports},
       {"splat", "map.vdb, trajectory.tum, camera images", no_splat, splat},
       {"views", "splats (splat stage)", no_splat.empty() ? "" : "no splats", views},
@@ -144,10 +152,14 @@ void Summarize(const RunPlan& plan, StageOutputs& o, RunSummary& summary) {
   if (o.dataset) summary.dataset_summary = std::move(o.dataset->summary);
   if (o.odometry) {
     summary.odometry = std::move(o.odometry->summary);
+    const std::string& init = summary.odometry.initialization;
     if (plan.frames.mode == OdometryMode::kLio)
-      summary.notes.push_back(summary.odometry.initialization.empty()
+      summary.notes.push_back(init.empty()
                                   ? "LIO never initialized: the whole run is LiDAR-only (see warnings)"
-                                  : "LIO initialized: " + summary.odometry.initialization);
+                                  : "LIO initialized: " + init);
+    if (plan.frames.mode == OdometryMode::kWio)
+      summary.notes.push_back(init.empty() ? "WIO never initialized: no pose (see warnings)"
+                                           : "WIO initialized: " + init);
     const estimator::SensorFactorStats& factors = summary.odometry.sensor_factors;
     if (plan.mode.wheel) {
       char scale[32];

@@ -76,14 +76,14 @@ Expected<DatasetSummary> SummarizeDataset(const fs::path& path, const DatasetCon
 }
 
 Expected<DatasetStageOutput> RunDatasetStage(const fs::path& dataset, const DatasetConfig& config,
-                                             int lidar_stream, StageContext& context) {
+                                             int paced_stream, StageContext& context) {
   context.SetUnit("messages");
   Expected<DatasetSummary> summary =
       SummarizeDataset(dataset, config, [&](std::int64_t messages) { context.Progress(messages); });
   if (!summary) return summary.status();
   DatasetStageOutput output;
-  const auto lidar = static_cast<std::size_t>(lidar_stream);
-  if (lidar < summary->streams.size()) output.lidar_scans = summary->streams[lidar].time.count;
+  const auto paced = static_cast<std::size_t>(paced_stream);
+  if (paced < summary->streams.size()) output.paced_messages = summary->streams[paced].time.count;
   output.summary = std::move(*summary);
   return output;
 }

@@ -1,6 +1,7 @@
 // The dataset stage of `ultrafusion run`: one pass over the dataset as `ultrafusion info` makes it (streams,
-// message counts, rates, gaps, points per scan, reader warnings), for the report's dataset summary; its
-// LiDAR scan count also gives the odometry stage its total, hence a remaining time. `ultrafusion info` prints
+// message counts, rates, gaps, points per scan, reader warnings), for the report's dataset summary; the
+// message count of the stream that paces the odometry (its LiDAR scans, or IMU samples in WIO) also gives
+// the odometry stage its total, hence a remaining time. `ultrafusion info` prints
 // it.
 #pragma once
 
@@ -48,12 +49,12 @@ std::int64_t DatasetBytes(const std::filesystem::path& path);
 
 struct DatasetStageOutput {
   DatasetSummary summary;
-  std::int64_t lidar_scans = 0;  // of the stream `lidar_stream`; the odometry stage's total
+  std::int64_t paced_messages = 0;  // of the stream `paced_stream`; the odometry stage's total
 };
 
 // The stage: SummarizeDataset with the progress in messages.
 Expected<DatasetStageOutput> RunDatasetStage(const std::filesystem::path& dataset,
-                                             const DatasetConfig& config, int lidar_stream,
+                                             const DatasetConfig& config, int paced_stream,
                                              StageContext& context);
 
 }  // namespace uf::pipeline

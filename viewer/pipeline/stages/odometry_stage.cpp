@@ -8,14 +8,14 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Per-scan processing times of the odometry, in scan order.
-struct ScanTimes {
+// Processing times of the odometry's steps, in order.
+struct StepTimes {
   std::vector<Stamp> stamps;
   std::vector<double> ms;
 };
 
 // Moves the keyframes that left the odometry's window into the trajectory (and the mapper), in time order.
-Status CollectFinished(const OdometryStageInput& in, OdometryStageOutput& out, ScanTimes& times,
+Status CollectFinished(const OdometryStageInput& in, OdometryStageOutput& out, StepTimes& times,
                        std::int64_t& keyframes) {
   for (Keyframe& k : in.odometry->TakeFinished()) {
     ++keyframes;
@@ -29,9 +29,9 @@ Status CollectFinished(const OdometryStageInput& in, OdometryStageOutput& out, S
       ++out.keyframes_mapped;
     }
   }
-  for (const estimator::OdometryStats& scan : in.odometry->TakeProcessedStats()) {
-    times.stamps.push_back(scan.stamp);
-    times.ms.push_back(scan.solve_ms);
+  for (const StepTime& step : in.odometry->TakeStepTimes()) {
+    times.stamps.push_back(step.stamp);
+    times.ms.push_back(step.ms);
   }
   return {};
 }
@@ -60,7 +60,7 @@ Status WriteGeoTrajectory(const std::filesystem::path& folder, const Trajectory&
 // trajectory.tum, trajectory_kitti.txt (in ENU, with the geographic files, when the estimator georeferenced
 // the run), timing.json and the timing plot.
 Status WriteOdometryFiles(const OdometryStageInput& in, const OdometryStageOutput& out,
-                          const ScanTimes& times, OdometrySummary& summary, StageContext& context) {
+                          const StepTimes& times, OdometrySummary& summary, StageContext& context) {
   const std::int64_t warnings =
       static_cast<std::int64_t>(summary.reader_warnings.size() + summary.odometry_warnings.size());
   Trajectory written = in.frames.OutputTrajectory(out.estimated);
@@ -69,32 +69,42 @@ Status WriteOdometryFiles(const OdometryStageInput& in, const OdometryStageOutpu
     if (Status s = WriteGeoTrajectory(in.out, written, *out.georef, context); !s.ok()) return s;
   }
   if (Status s = WriteTrajectoryFiles(in.out, written); !s.ok()) return s;
-  if (Status s = WriteTimingJson(in.out / "timing.json", summary.timing, summary.skipped, warnings); !s.ok())
+  if (Status s =
+          WriteTimingJson(in.out / "timing.json", summary.timing, summary.skipped, warnings, summary.step);
+      !s.ok())
     return s;
   for (const char* file : {"trajectory.tum", "trajectory_kitti.txt", "timing.json"}) context.AddOutput(file);
   if (times.ms.empty()) return {};
   std::error_code error;
   fs::create_directories(in.out / "plots", error);
   if (error) return Status::Error((in.out / "plots").string() + ": cannot create: " + error.message());
-  if (Status s = WriteTimingPlot(in.out / "plots/timing_per_scan.png", times.stamps, times.ms); !s.ok())
-    return s;
-  summary.timing_plot = "plots/timing_per_scan.png";
+  const std::string plot = "plots/timing_per_" + summary.step + ".png";
+  if (Status s = WriteTimingPlot(in.out / plot, times.stamps, times.ms, summary.step); !s.ok()) return s;
+  summary.timing_plot = plot;
   context.AddOutput(summary.timing_plot);
   return {};
 }
 
 }  // namespace
 
+int PacedStream(const DatasetSensors& sensors, OdometryMode mode) {
+  return mode == OdometryMode::kWio ? sensors.imu : sensors.lidar;
+}
+
 Expected<OdometryStageOutput> RunOdometryStage(const OdometryStageInput& in, StageContext& context) {
-  context.SetUnit("scans");
   OdometryStageOutput out;
-  ScanTimes times;
-  std::int64_t scans = 0, keyframes = 0;
+  StepTimes times;
+  std::int64_t scans = 0, keyframes = 0, paced = 0;
   const DatasetSensors& sensors = in.sensors;
-  estimator::LidarOdometry& odometry = *in.odometry;
+  RunEstimator& odometry = *in.odometry;
+  const int paced_stream = PacedStream(sensors, in.frames.mode);
+  const bool lidar_window = in.frames.mode != OdometryMode::kWio;  // WIO reads no scan
+  context.SetUnit(paced_stream == sensors.lidar ? "scans" : "IMU samples");
   const Status read = ForEachMeasurement(*in.stream, [&](Measurement& m) {
+    if (m.stream == paced_stream) ++paced;
     Status status;
-    if (const auto* scan = std::get_if<LidarScan>(&m.data); scan && m.stream == sensors.lidar) {
+    if (const auto* scan = std::get_if<LidarScan>(&m.data);
+        scan && m.stream == sensors.lidar && lidar_window) {
       status = odometry.AddScan(*scan);
       ++scans;
     } else if (const auto* sample = std::get_if<ImuSample>(&m.data); sample && m.stream == sensors.imu) {
@@ -113,7 +123,7 @@ Expected<OdometryStageOutput> RunOdometryStage(const OdometryStageInput& in, Sta
       return Status();
     }
     if (status.ok()) status = CollectFinished(in, out, times, keyframes);
-    if (status.ok()) context.Progress(scans, in.lidar_scans);
+    if (status.ok()) context.Progress(paced, in.paced_messages);
     return status;
   });
   if (!read.ok()) return read;
@@ -121,10 +131,11 @@ Expected<OdometryStageOutput> RunOdometryStage(const OdometryStageInput& in, Sta
   if (Status s = CollectFinished(in, out, times, keyframes); !s.ok()) return s;
 
   OdometrySummary& summary = out.summary;
-  if (in.frames.mode == OdometryMode::kLio) summary.initialization = odometry.initialization();
+  summary.step = odometry.step();
+  summary.initialization = odometry.initialization();
   summary.scans = scans;
   summary.keyframes = static_cast<std::int64_t>(out.estimated.size());
-  summary.skipped = scans - keyframes;
+  summary.skipped = summary.step == "scan" ? scans - keyframes : 0;  // WIO nodes are not skipped
   summary.timing = SummarizeTimings(times.ms);
   summary.reader_warnings = in.stream->warnings();
   summary.odometry_warnings = odometry.warnings();
@@ -135,7 +146,7 @@ Expected<OdometryStageOutput> RunOdometryStage(const OdometryStageInput& in, Sta
   if (out.georef) out.frames.T_map_world = in.frames.T_map_world * out.georef->T_enu_world.inverse();
   if (out.estimated.empty())
     return Status::Error(in.stream->description().path.string() + ": the odometry produced no pose (" +
-                         std::to_string(scans) + " scans, " +
+                         std::to_string(times.ms.size()) + " " + summary.step + "s, " +
                          std::to_string(summary.odometry_warnings.size()) + " warnings)");
   if (Status s = WriteOdometryFiles(in, out, times, summary, context); !s.ok()) return s;
   return out;

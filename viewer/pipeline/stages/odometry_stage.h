@@ -1,10 +1,11 @@
 // The odometry stage of `ultrafusion run`: the estimator in its mode over the dataset's measurement stream.
-// The LiDAR scans, IMU and wheel samples (and the GNSS fixes in a G mode) go to the estimator, the camera
-// frames and the keyframes leaving its window go straight to the map's KeyframeMapper (a scan is never held
-// twice), the GNSS fixes are kept for the georeference after the run. Writes trajectory.tum and
-// trajectory_kitti.txt (in the run's trajectory frame, RunFrames::OutputTrajectory; in ENU when the
-// estimator georeferenced the run, with trajectory_wgs84.csv and trajectory.geojson), timing.json and
-// plots/timing_per_scan.png.
+// The LiDAR scans, IMU and wheel samples (and the GNSS fixes in a G mode) go to the estimator
+// (run_estimator.h: the LiDAR window or the wheel-inertial one), the camera frames and the keyframes leaving
+// its window go straight to the map's KeyframeMapper (a scan is never held twice), the GNSS fixes are kept
+// for the georeference after the run. Writes trajectory.tum and trajectory_kitti.txt (in the run's trajectory
+// frame, RunFrames::OutputTrajectory; in ENU when the estimator georeferenced the run, with
+// trajectory_wgs84.csv and trajectory.geojson), timing.json and plots/timing_per_scan.png
+// (timing_per_node.png in WIO).
 #pragma once
 
 #include <cstdint>
@@ -14,9 +15,9 @@
 #include <vector>
 
 #include "mapping/keyframe_mapper.h"
-#include "odometry/estimator/lidar_odometry/lidar_odometry.h"
 #include "odometry/io/dataset_sensors.h"
 #include "odometry/io/measurement_stream.h"
+#include "viewer/pipeline/run/run_estimator.h"
 #include "viewer/pipeline/run/run_frames.h"
 #include "viewer/pipeline/run_files.h"
 #include "viewer/pipeline/stage_runner.h"
@@ -25,25 +26,31 @@ namespace uf::pipeline {
 
 struct OdometryStageInput {
   MeasurementStream* stream = nullptr;
-  estimator::LidarOdometry* odometry = nullptr;
-  mapping::KeyframeMapper* mapper = nullptr;  // none with --no-map
+  RunEstimator* odometry = nullptr;
+  mapping::KeyframeMapper* mapper = nullptr;  // none with --no-map (and in WIO)
   DatasetSensors sensors;
   RunFrames frames;
-  bool gnss_factors = false;     // the fixes go to the estimator (a G mode)
-  std::int64_t lidar_scans = 0;  // the total for the progress line; 0: unknown
+  bool gnss_factors = false;  // the fixes go to the estimator (a G mode)
+  // The total of the stream that paces the odometry (PacedStream) for the progress line; 0: unknown.
+  std::int64_t paced_messages = 0;
   std::filesystem::path out;
 };
 
 // What the report says of the odometry.
 struct OdometrySummary {
+  std::string step = "scan";  // what the estimator steps by: "scan" (LiDAR window) or "node" (WIO)
+  // LiDAR scans fed (0 in WIO), trajectory poses, scans the odometry skipped.
   std::int64_t scans = 0, keyframes = 0, skipped = 0;
-  TimingSummary timing;
+  TimingSummary timing;  // per step
   std::vector<ReadWarning> reader_warnings;
   std::vector<std::string> odometry_warnings;
-  std::string initialization;                   // LIO: how it initialized ("" never); LO: ""
+  std::string initialization;                   // LIO and WIO: how it initialized ("" never); LO: ""
   estimator::SensorFactorStats sensor_factors;  // wheel (and GNSS) factors added and skipped
   std::string timing_plot;                      // "plots/timing_per_scan.png" once written
 };
+
+// The stream whose messages pace the odometry, for the progress line: the LiDAR's, or the IMU's in WIO.
+int PacedStream(const DatasetSensors& sensors, OdometryMode mode);
 
 struct OdometryStageOutput {
   Trajectory estimated;  // T_world_E, the estimator's body

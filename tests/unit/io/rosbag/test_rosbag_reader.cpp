@@ -244,28 +244,33 @@ TEST(RosBagReader, SelectedTopicsAreReadExactly) {
   const std::string path = dir.File("every_type.bag");
   ASSERT_EQ(testing::WriteBag(path, EveryTypeBag()), "");
   DatasetOptions options;
-  options.topics = {{"/twist", SensorKind::kWheel}, {"/imu", SensorKind::kImu}};
+  const SE3 T_body_wheel(SO3::Exp(Eigen::Vector3d(0, 0, 0.5)), Eigen::Vector3d(-0.3, 0, -0.2));
+  options.topics = {{"/twist", SensorKind::kWheel, T_body_wheel}, {"/imu", SensorKind::kImu, std::nullopt}};
   auto reader = OpenRosBag(path, options);
   ASSERT_TRUE(reader.ok()) << reader.error();
   ASSERT_EQ((*reader)->description().streams.size(), 2u);
   EXPECT_EQ((*reader)->description().streams[0].name, "/twist");
   EXPECT_EQ((*reader)->description().streams[1].name, "/imu");
+  // The extrinsic given with a topic is the stream's; a topic without one has none.
+  ASSERT_TRUE((*reader)->description().streams[0].T_body_sensor.has_value());
+  EXPECT_TRUE((*reader)->description().streams[0].T_body_sensor->matrix().isApprox(T_body_wheel.matrix()));
+  EXPECT_FALSE((*reader)->description().streams[1].T_body_sensor.has_value());
   const std::vector<Measurement> all = ReadAll(**reader);
   std::map<int, int> counts;
   for (const Measurement& m : all) ++counts[m.stream];
   EXPECT_EQ(counts[0], 3);
   EXPECT_EQ(counts[1], 20);
 
-  options.topics = {{"/imu_missing", SensorKind::kImu}};
+  options.topics = {{"/imu_missing", SensorKind::kImu, std::nullopt}};
   reader = OpenRosBag(path, options);
   ASSERT_FALSE(reader.ok());
   EXPECT_NE(reader.error().find("/imu_missing"), std::string::npos) << reader.error();
-  options.topics = {{"/odom", SensorKind::kLidar}};
+  options.topics = {{"/odom", SensorKind::kLidar, std::nullopt}};
   reader = OpenRosBag(path, options);
   ASSERT_FALSE(reader.ok());
   EXPECT_NE(reader.error().find("/odom"), std::string::npos) << reader.error();
   EXPECT_NE(reader.error().find("nav_msgs/Odometry"), std::string::npos) << reader.error();
-  options.topics = {{"/chatter", SensorKind::kWheel}};
+  options.topics = {{"/chatter", SensorKind::kWheel, std::nullopt}};
   EXPECT_FALSE(OpenRosBag(path, options).ok());
 }
 
