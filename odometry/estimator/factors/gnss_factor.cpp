@@ -44,17 +44,19 @@ EnuAlignment AlignmentFromBlock(const double* block) {
   return EnuAlignment{block[0], Eigen::Vector3d(block[1], block[2], block[3])};
 }
 
-Eigen::Matrix3d GnssSqrtInformation(const Eigen::Matrix3d& covariance) {
+Eigen::Matrix3d GnssSqrtInformation(const Eigen::Matrix3d& covariance, GnssAxes axes) {
   const Eigen::LLT<Eigen::Matrix3d> llt(covariance);
   assert(llt.info() == Eigen::Success && "GNSS covariance must be positive definite");
   // L = C^-1 (C lower triangular): solve C L = I.
-  return llt.matrixL().solve(Eigen::Matrix3d::Identity());
+  Eigen::Matrix3d L = llt.matrixL().solve(Eigen::Matrix3d::Identity());
+  if (axes == GnssAxes::kHorizontal) L.row(2).setZero();
+  return L;
 }
 
 GnssFactor::GnssFactor(const Eigen::Vector3d& fix_enu, const Eigen::Matrix3d& covariance,
-                       const Eigen::Vector3d& lever_arm, double alpha)
+                       const Eigen::Vector3d& lever_arm, double alpha, GnssAxes axes)
     : fix_enu_(fix_enu),
-      sqrt_information_(GnssSqrtInformation(covariance)),
+      sqrt_information_(GnssSqrtInformation(covariance, axes)),
       lever_arm_(lever_arm),
       alpha_(alpha) {
   assert(alpha >= 0 && alpha <= 1);
@@ -90,8 +92,8 @@ bool GnssFactor::EvaluateTangent(double const* const* parameters, double* residu
 }
 
 GnssFactorSinglePose::GnssFactorSinglePose(const Eigen::Vector3d& fix_enu, const Eigen::Matrix3d& covariance,
-                                           const Eigen::Vector3d& lever_arm)
-    : fix_enu_(fix_enu), sqrt_information_(GnssSqrtInformation(covariance)), lever_arm_(lever_arm) {}
+                                           const Eigen::Vector3d& lever_arm, GnssAxes axes)
+    : fix_enu_(fix_enu), sqrt_information_(GnssSqrtInformation(covariance, axes)), lever_arm_(lever_arm) {}
 
 bool GnssFactorSinglePose::Evaluate(double const* const* parameters, double* residuals,
                                     double** jacobians) const {

@@ -22,6 +22,10 @@
 // GnssFactorSinglePose, blocks: pose, alignment: p_w = R l + t_pose, r as above,
 //   dr/dt_pose = L Rz(yaw),   dr/dtheta = -L Rz(yaw) R [l]x.
 //
+// Horizontal only (GnssAxes::kHorizontal: a fix whose height failed the innovation test): L's third row is
+// zero. L is lower triangular, so its first two rows whiten exactly the horizontal marginal (e_e, e_n) and
+// the factor carries no vertical information.
+//
 // No robust loss inside: fixes are screened and gated by the innovation test (gnss/integrity_check.h); the
 // window may still wrap the factor in a Huber loss.
 #pragma once
@@ -54,15 +58,18 @@ Eigen::Matrix3d RotationZ(double yaw);
 std::array<double, kGnssAlignmentSize> AlignmentBlock(const EnuAlignment& alignment);
 EnuAlignment AlignmentFromBlock(const double* block);
 
-// L = C^-1 with covariance = C C^T; asserts a symmetric positive definite covariance.
-Eigen::Matrix3d GnssSqrtInformation(const Eigen::Matrix3d& covariance);
+enum class GnssAxes { kAll, kHorizontal };  // what a GNSS factor constrains: east, north and up, or not up
+
+// L = C^-1 with covariance = C C^T (its third row zero for kHorizontal); asserts a symmetric positive
+// definite covariance.
+Eigen::Matrix3d GnssSqrtInformation(const Eigen::Matrix3d& covariance, GnssAxes axes = GnssAxes::kAll);
 
 class GnssFactor : public ceres::SizedCostFunction<3, 7, 7, kGnssAlignmentSize>, public TangentJacobianCost {
  public:
   // fix_enu: the fix in ENU (m); covariance: its 3x3 ENU covariance (m^2, positive definite, asserted);
   // lever_arm: the antenna in the body frame (m); alpha in [0, 1] (asserted).
   GnssFactor(const Eigen::Vector3d& fix_enu, const Eigen::Matrix3d& covariance,
-             const Eigen::Vector3d& lever_arm, double alpha);
+             const Eigen::Vector3d& lever_arm, double alpha, GnssAxes axes = GnssAxes::kAll);
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override;
   // Jacobians 3 x 6 for the poses (the tangents [dt; dtheta]) and 3 x 4 for the alignment, row-major.
   bool EvaluateTangent(double const* const* parameters, double* residuals,
@@ -79,7 +86,7 @@ class GnssFactorSinglePose : public ceres::SizedCostFunction<3, 7, kGnssAlignmen
                              public TangentJacobianCost {
  public:
   GnssFactorSinglePose(const Eigen::Vector3d& fix_enu, const Eigen::Matrix3d& covariance,
-                       const Eigen::Vector3d& lever_arm);
+                       const Eigen::Vector3d& lever_arm, GnssAxes axes = GnssAxes::kAll);
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override;
   bool EvaluateTangent(double const* const* parameters, double* residuals,
                        double** tangent_jacobians) const override;

@@ -133,21 +133,31 @@ void GnssProvider::AddFactor(FactorGraph& graph, std::span<const NodeView> nodes
   const double distance_m = last_accepted_antenna_ ? (antenna - *last_accepted_antenna_).norm() : 0.0;
   const IntegrityResult check =
       CheckIntegrity(antenna, alignment, fix.enu, fix.covariance, distance_m, config_);
-  if (!check.accepted) {
+  if (!check.horizontal_accepted) {
     ++counts_.rejected;
     std::ostringstream why;
     why << "GNSS fix at " << StampText(fix.stamp) << " rejected by the integrity check: innovation "
-        << Meters(check.innovation.norm()) << ", d^2 " << check.d2 << " > " << config_.integrity_gate;
+        << Meters(check.innovation.norm()) << ", horizontal d^2 " << check.d2_horizontal << ", d^2 "
+        << check.d2 << " (gate " << config_.integrity_gate << " for 3 dof)";
     warnings.push_back(why.str());
     return;
+  }
+  const GnssAxes axes = check.accepted ? GnssAxes::kAll : GnssAxes::kHorizontal;
+  if (!check.accepted) {
+    ++horizontal_only_;
+    std::ostringstream why;
+    why << "GNSS fix at " << StampText(fix.stamp) << " used horizontally: its height failed the integrity "
+        << "check (vertical innovation " << Meters(std::abs(check.innovation.z())) << ", d^2 "
+        << check.d2_vertical << ")";
+    warnings.push_back(why.str());
   }
   std::unique_ptr<ceres::CostFunction> cost;
   std::vector<double*> blocks;
   if (at.single_node()) {
-    cost = std::make_unique<GnssFactorSinglePose>(fix.enu, fix.covariance, lever_arm_);
+    cost = std::make_unique<GnssFactorSinglePose>(fix.enu, fix.covariance, lever_arm_, axes);
     blocks = {nodes[at.node_a].pose, alignment_.data()};
   } else {
-    cost = std::make_unique<GnssFactor>(fix.enu, fix.covariance, lever_arm_, at.alpha);
+    cost = std::make_unique<GnssFactor>(fix.enu, fix.covariance, lever_arm_, at.alpha, axes);
     blocks = {nodes[at.node_a].pose, nodes[at.node_b].pose, alignment_.data()};
   }
   graph.Add(FactorKind::kGnss, kGnssTag, std::move(cost), nullptr, std::move(blocks), /*anchors=*/true);
@@ -167,6 +177,7 @@ void GnssProvider::Reset() {
 
 void GnssProvider::Report(SensorFactorStats& stats) const {
   stats.gnss = counts_;
+  stats.gnss_horizontal_only = horizontal_only_;
   stats.gnss_alignment = alignment_summary_;
 }
 

@@ -95,6 +95,7 @@ class GnssProvider {
   // prediction uncertainty grows with the distance from it (gnss/integrity_check.h).
   std::optional<Eigen::Vector3d> last_accepted_antenna_;
   FactorCount counts_;
+  int horizontal_only_ = 0;  // of counts_.added: fixes whose height failed the innovation test
   std::string
       alignment_summary_;  // "started at ... from 8 fixes over 14.2 m, RMS 0.8 m, yaw ...", or why not
 };

@@ -14,7 +14,8 @@ struct SensorFactorStats {
   FactorCount wheel;
   double wheel_scale = 1;  // the estimated wheel scale (1 without wheel factors or with it fixed)
   FactorCount gnss;
-  std::string gnss_alignment;  // how the world -> ENU alignment started, or why not yet ("" without GNSS)
+  int gnss_horizontal_only = 0;  // of gnss.added: used without their height (it failed the innovation test)
+  std::string gnss_alignment;    // how the world -> ENU alignment started, or why not yet ("" without GNSS)
 };
 
 }  // namespace uf::estimator

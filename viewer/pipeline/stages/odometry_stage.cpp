@@ -8,10 +8,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Processing times of the odometry's steps, in order.
+// Processing times of the odometry's steps, in order, and (G modes) the world -> ENU alignment as it was
+// when each pose left the window (none before the alignment started).
 struct StepTimes {
   std::vector<Stamp> stamps;
   std::vector<double> ms;
+  std::vector<std::optional<SE3>> T_enu_world_at_pose;
 };
 
 // Moves the keyframes that left the odometry's window into the trajectory (and the mapper), in time order.
@@ -24,6 +26,8 @@ Status CollectFinished(const OdometryStageInput& in, OdometryStageOutput& out, S
       continue;  // keep stamps increasing
     trajectory.stamps.push_back(k.stamp);
     trajectory.poses.push_back(k.T_world_body);
+    const std::optional<Georeference> georef = in.odometry->georeference();
+    times.T_enu_world_at_pose.push_back(georef ? std::optional<SE3>(georef->T_enu_world) : std::nullopt);
     if (in.mapper) {
       if (Status s = in.mapper->AddKeyframe(std::move(k)); !s.ok()) return s;
       ++out.keyframes_mapped;
@@ -39,6 +43,22 @@ Status CollectFinished(const OdometryStageInput& in, OdometryStageOutput& out, S
 // T_enu_world applied to every pose: T_enu_F = T_enu_world T_world_F.
 Trajectory InEnu(Trajectory trajectory, const SE3& T_enu_world) {
   for (SE3& pose : trajectory.poses) pose = T_enu_world * pose;
+  return trajectory;
+}
+
+// Each pose with the alignment of the moment it left the window (the poses before the alignment started
+// with the first one): the wheel-inertial window's world is held by nothing absolute, its heading drifts
+// against ENU and the alignment follows it. (With a LiDAR map the map holds the world, the alignment
+// converges, and one transform keeps the trajectory and the map rigidly together: InEnu.)
+Trajectory InEnuPerPose(Trajectory trajectory, const std::vector<std::optional<SE3>>& T_enu_world_at_pose,
+                        const SE3& T_enu_world_final) {
+  std::optional<SE3> first;
+  for (const std::optional<SE3>& T : T_enu_world_at_pose)
+    if (T && !first) first = T;
+  for (std::size_t i = 0; i < trajectory.poses.size(); ++i) {
+    const std::optional<SE3>& T = i < T_enu_world_at_pose.size() ? T_enu_world_at_pose[i] : std::nullopt;
+    trajectory.poses[i] = (T ? *T : first.value_or(T_enu_world_final)) * trajectory.poses[i];
+  }
   return trajectory;
 }
 
@@ -65,7 +85,9 @@ Status WriteOdometryFiles(const OdometryStageInput& in, const OdometryStageOutpu
       static_cast<std::int64_t>(summary.reader_warnings.size() + summary.odometry_warnings.size());
   Trajectory written = in.frames.OutputTrajectory(out.estimated);
   if (out.georef) {
-    written = InEnu(std::move(written), out.georef->T_enu_world);
+    written = in.frames.mode == OdometryMode::kWio
+                  ? InEnuPerPose(std::move(written), times.T_enu_world_at_pose, out.georef->T_enu_world)
+                  : InEnu(std::move(written), out.georef->T_enu_world);
     if (Status s = WriteGeoTrajectory(in.out, written, *out.georef, context); !s.ok()) return s;
   }
   if (Status s = WriteTrajectoryFiles(in.out, written); !s.ok()) return s;
