@@ -227,6 +227,43 @@ TEST(CliRunKitti, FirstTenKeyframesRunAndReportTheAccuracy) {
   EXPECT_FALSE(fs::exists(dir.File("lio")));
 }
 
+// The number after "against the GNSS track (... ): horizontal RMSE " in run's output, or -1.
+double GnssTrackHorizontalRmse(const std::string& output) {
+  const std::size_t at = output.find("against the GNSS track (");
+  if (at == std::string::npos) return -1;
+  const std::string key = "horizontal RMSE ";
+  const std::size_t value = output.find(key, at);
+  return value == std::string::npos ? -1 : std::stod(output.substr(value + key.size()));
+}
+
+TEST(CliRunHusky, WheelInertialOdometryOnARealRobotAgainstItsGnssTrack) {
+  const std::string data = testing::SharedData();
+  if (data.empty()) GTEST_SKIP() << "../shared/data is absent: no Husky bag";
+  // The Husky bag (IMU 30 Hz, wheel 10 Hz, GNSS 2.5 Hz, 395 s, 395 m of track, no LiDAR) with the profile
+  // that states what the bag itself shows (wheel extrinsic and delay, IMU noise).
+  const std::string bag = data + "/husky-imu-wheel-gps/husky_watertown_2015-05-21.bag";
+  const std::string config = std::string(UF_SOURCE_DIR) + "/configs/husky.yaml";
+  TempDir out;
+  // WGIO (auto): georeferenced by the estimator, every fix used (their heights, tens of metres off over
+  // minutes, only horizontally): against the fixes, unaligned, within about their own sigma (0.8-1.1 m).
+  const auto wgio = Ultrafusion("run " + bag + " --config " + config + " --out " + out.File("wgio"));
+  ASSERT_EQ(wgio.code, 0) << wgio.output;
+  EXPECT_NE(wgio.output.find("run: wgio (wheel-inertial odometry with GNSS factors"), std::string::npos)
+      << wgio.output;
+  const double georeferenced = GnssTrackHorizontalRmse(wgio.output);
+  EXPECT_GE(georeferenced, 0) << wgio.output;
+  EXPECT_LT(georeferenced, 1.5) << wgio.output;
+  EXPECT_TRUE(fs::exists(out.File("wgio") + "/trajectory_wgs84.csv"));
+  // WIO: the IMU and the wheel alone, fitted to the fixes after the run: within 1.5 % of the track.
+  const auto wio = Ultrafusion("run " + bag + " --config " + config + " --mode wio --out " + out.File("wio"));
+  ASSERT_EQ(wio.code, 0) << wio.output;
+  const double fitted = GnssTrackHorizontalRmse(wio.output);
+  EXPECT_GE(fitted, 0) << wio.output;
+  EXPECT_LT(fitted, 6.0) << wio.output;
+  const std::string report = testing::ReadText(out.File("wio") + "/report.md");
+  EXPECT_NE(report.find("WIO initialized: wheel-aided"), std::string::npos) << report;  // it starts moving
+}
+
 TEST(CliRunErrors, BadInputExitsWithAClearMessage) {
   TempDir dir;
   const auto missing = Ultrafusion("run " + dir.File("nothing-here") + " --mode lo --out " + dir.File("a"));

@@ -249,6 +249,34 @@ TEST(GnssIntegrity, RejectsA20mJump) {
   EXPECT_TRUE(std::isinf(nan.d2));
 }
 
+TEST(GnssIntegrity, ChiSquareQuantilesOfTheSameTail) {
+  // Tables: the 99.9 % quantiles are 10.828 (1 dof), 13.816 (2 dof), 16.266 (3 dof).
+  EXPECT_NEAR(ChiSquareQuantile(1e-3, 1), 10.828, 1e-3);
+  EXPECT_NEAR(ChiSquareQuantile(1e-3, 2), 13.816, 1e-3);
+  EXPECT_NEAR(ChiSquareQuantile(1e-3, 3), 16.266, 1e-3);
+  EXPECT_NEAR(ChiSquareTail(16.27, 3), 1e-3, 1e-5);  // the default gate
+}
+
+TEST(GnssIntegrity, AFixWhoseHeightFailsIsUsedHorizontally) {
+  // RTK fixed (2 cm / 4 cm), prediction sigma 1 m: S = diag(1.0004, 1.0004, 1.0016). A 20 m height error
+  // alone: vertical d^2 = 400 / 1.0016 = 399 > 10.83 (the height fails), horizontal d^2 = 0 (passes). The
+  // same 20 m to the east fails horizontally: rejected outright.
+  const GnssFactorConfig config;
+  const EnuAlignment alignment{0.3, Eigen::Vector3d(1, 2, 3)};
+  const Eigen::Matrix3d covariance = Eigen::Vector3d(4e-4, 4e-4, 1.6e-3).asDiagonal();
+  const Eigen::Vector3d predicted(10, 20, 1);
+  const IntegrityResult up = CheckIntegrity(
+      predicted, alignment, alignment.Apply(predicted) + Eigen::Vector3d(0, 0, 20), covariance, 0.0, config);
+  EXPECT_FALSE(up.accepted);
+  EXPECT_TRUE(up.horizontal_accepted);
+  EXPECT_NEAR(up.d2_vertical, 400 / 1.0016, 1e-9);
+  EXPECT_NEAR(up.d2_horizontal, 0, 1e-12);
+  const IntegrityResult east = CheckIntegrity(
+      predicted, alignment, alignment.Apply(predicted) + Eigen::Vector3d(20, 0, 0), covariance, 0.0, config);
+  EXPECT_FALSE(east.horizontal_accepted);
+  EXPECT_NEAR(east.d2_horizontal, 400 / 1.0004, 1e-9);
+}
+
 TEST(GnssIntegrity, ThePredictionUncertaintyGrowsWithTheDistanceSinceTheLastAcceptedFix) {
   // Defaults: prediction sigma 1 m, drift 5 % of the distance d. A single fix of 1.5 m horizontal sigma,
   // e m east of the prediction: on the east axis S = 2.25 + 1 + (0.05 d)^2, so d^2 = e^2 / (3.25 + 0.0025

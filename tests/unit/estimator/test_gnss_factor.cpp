@@ -149,6 +149,24 @@ TEST(GnssFactor, ResidualIsTheWhitenedEnuError) {
   EXPECT_LT((L * S * L.transpose() - Eigen::Matrix3d::Identity()).norm(), 1e-9);
 }
 
+TEST(GnssFactor, HorizontalOnlyCarriesTheHorizontalMarginalAndNoHeight) {
+  // The same fix as above used horizontally: the residual keeps (2, -1) and loses the height (0).
+  const SE3 body(SO3::Exp(Eigen::Vector3d(0, 0, kPi / 2)), Eigen::Vector3d(10, 0, 1));
+  const auto pose = PoseBlock(body);
+  const auto align = AlignmentBlock(EnuAlignment{kPi / 2, Eigen::Vector3d(100, 200, 5)});
+  const GnssFactorSinglePose single(Eigen::Vector3d(98, 212, 9), Eigen::Vector3d(0.25, 4, 9).asDiagonal(),
+                                    Eigen::Vector3d(1, 0, 0), GnssAxes::kHorizontal);
+  EXPECT_LT((Residual(single, {pose.data(), align.data()}) - Eigen::Vector3d(2, -1, 0)).norm(), 1e-12);
+  // With a full covariance, the first two rows whiten the horizontal marginal: Lh Sigma_h Lh^T = I, and the
+  // vertical does not enter (third row zero).
+  Random random;
+  const Eigen::Matrix3d S = random.Covariance(), L = GnssSqrtInformation(S, GnssAxes::kHorizontal);
+  const Eigen::Matrix2d Lh = L.topLeftCorner<2, 2>();
+  EXPECT_LT((Lh * S.topLeftCorner<2, 2>() * Lh.transpose() - Eigen::Matrix2d::Identity()).norm(), 1e-9);
+  EXPECT_EQ(L.row(2).norm(), 0.0);
+  EXPECT_EQ(L.col(2).norm(), 0.0);
+}
+
 TEST(GnssFactor, JacobiansMatchNumericDerivatives) {
   Random random;
   for (int trial = 0; trial < 30; ++trial) {

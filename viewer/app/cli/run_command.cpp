@@ -54,6 +54,10 @@ void PrintSummary(const fs::path& out, const pipeline::RunSummary& s) {
                 o.timing.p95, static_cast<long long>(o.reader_warnings.size() + o.odometry_warnings.size()));
   std::printf("%s", pipeline::FormatStageTable(s.stages).c_str());
   if (s.accuracy.evaluated) std::printf("  ATE (SE3-aligned RMSE): %.4f m\n", s.accuracy.ape_rmse_m);
+  if (const auto& track = s.accuracy.gnss_track)
+    std::printf("  against the GNSS track (%d fixes, %s): horizontal RMSE %.3f m, vertical %.3f m\n",
+                track->fixes, track->aligned ? "fitted" : "georeferenced", track->horizontal_rmse_m,
+                track->vertical_rmse_m);
   if (s.map) std::printf("  map: %s\n", s.map->summary.c_str());
   if (s.splat) {
     const pipeline::SplatMetrics& m = s.splat->metrics;

@@ -122,6 +122,20 @@ std::string FormatRunReport(const pipeline::RunSummary& r) {
     for (const std::string& plot : r.accuracy.plots) md += "![" + plot + "](" + plot + ")\n";
   }
   if (!r.accuracy.note.empty()) md += r.accuracy.note + "\n";
+  if (const std::optional<GnssTrackError>& track = r.accuracy.gnss_track) {
+    md += "\nAgainst the GNSS track (" + std::to_string(track->fixes) + " fixes over " +
+          FormatValue("%.1f", track->track_length_m) + " m; " +
+          (track->aligned ? "the trajectory fitted to them, yaw and translation in a gravity-aligned world"
+                          : "the estimator's georeference, no alignment") +
+          "; the fixes' own noise included): horizontal RMSE " +
+          FormatValue("%.3f", track->horizontal_rmse_m) + " m, vertical " +
+          FormatValue("%.3f", track->vertical_rmse_m) + " m";
+    if (track->segment_error_percent)
+      md += "; relative horizontal error over " + FormatValue("%.0f", track->segment_m) + " m of track " +
+            FormatValue("%.2f", *track->segment_error_percent) + " %";
+    md += "\n";
+  }
+  if (!r.accuracy.gnss_track_note.empty()) md += r.accuracy.gnss_track_note + "\n";
   md += "\n## Warnings\n\n";
   const std::vector<ReadWarning> odometry = GroupWarnings(o.odometry_warnings);
   const std::vector<ReadWarning> map = r.map ? GroupWarnings(r.map->warnings) : std::vector<ReadWarning>{};

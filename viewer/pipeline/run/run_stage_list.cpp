@@ -123,7 +123,16 @@ std::vector<Stage> RunStageList(RunPlan& plan, const fs::path& out, StageOutputs
     return Keep(o.views, RunViewsStage(out, o.splat->result, r.splat_config.training.render.background, c));
   };
   auto accuracy = [&](StageContext& c) {
-    o.accuracy = RunAccuracyStage(description, out, o.odometry ? o.odometry->georef : std::nullopt, c);
+    const std::vector<GnssFix>* fixes = o.odometry          ? &o.odometry->fixes
+                                        : o.from_trajectory ? &o.from_trajectory->fixes
+                                                            : nullptr;
+    GnssTrackInput gnss;
+    gnss.gravity_aligned = core != OdometryMode::kLo;
+    if (fixes) gnss.fixes = *fixes;
+    if (plan.sensors.gnss >= 0)
+      gnss.T_frame_antenna =
+          plan.frames.T_output_body * description.streams[plan.sensors.gnss].T_body_sensor.value_or(SE3());
+    o.accuracy = RunAccuracyStage(description, out, o.odometry ? o.odometry->georef : std::nullopt, gnss, c);
     return Status();
   };
   const char* odometry_input = core == OdometryMode::kLio   ? "LiDAR and IMU streams"
@@ -142,8 +151,10 @@ std::vector<Stage> RunStageList(RunPlan& plan, const fs::path& out, StageOutputs
        exports},
       {"splat", "map.vdb, trajectory.tum, camera images", no_splat, splat},
       {"views", "splats (splat stage)", no_splat.empty() ? "" : "no splats", views},
-      {"accuracy", "trajectory.tum, ground truth",
-       description.ground_truth ? "" : "no ground truth beside the dataset", accuracy},
+      {"accuracy", "trajectory.tum, ground truth (else the GNSS fixes)",
+       description.ground_truth || plan.sensors.gnss >= 0 ? ""
+                                                          : "no ground truth beside the dataset, no GNSS",
+       accuracy},
   };
 }
 

@@ -96,8 +96,36 @@ Expected<EnuAccuracy> EvaluateInEnu(const Trajectory& ground_truth, const Geodet
   return enu;
 }
 
+namespace {
+
+// Without ground truth: trajectory.tum against the fixes.
+GroundTruthCheck CheckAgainstGnssTrack(const fs::path& out, const std::optional<Georeference>& georef,
+                                       const GnssTrackInput& gnss, StageContext& context) {
+  GroundTruthCheck check;
+  check.note = "no ground truth beside the dataset";
+  Expected<Trajectory> trajectory = ReadTrajectory((out / "trajectory.tum").string());
+  Expected<GnssTrackError> track =
+      trajectory
+          ? CompareWithGnssTrack(*trajectory, gnss.fixes, gnss.T_frame_antenna,
+                                 georef ? std::optional(georef->origin) : std::nullopt, gnss.gravity_aligned)
+          : Expected<GnssTrackError>(trajectory.status());
+  if (!track) {
+    check.gnss_track_note = "no comparison with the GNSS track: " + track.error();
+    context.SetMessage(check.note + "; " + check.gnss_track_note);
+    return check;
+  }
+  check.gnss_track = *track;
+  context.SetUnit("fixes");
+  context.Progress(track->fixes, track->fixes);
+  return check;
+}
+
+}  // namespace
+
 GroundTruthCheck RunAccuracyStage(const DatasetDescription& description, const fs::path& out,
-                                  const std::optional<Georeference>& georef, StageContext& context) {
+                                  const std::optional<Georeference>& georef, const GnssTrackInput& gnss,
+                                  StageContext& context) {
+  if (!description.ground_truth) return CheckAgainstGnssTrack(out, georef, gnss, context);
   context.SetUnit("poses");
   std::optional<EnuOrigins> enu;
   if (georef && description.ground_truth_enu_origin)

@@ -1,16 +1,19 @@
 // The accuracy stage of `ultrafusion run`: trajectory.tum against the ground truth found beside the dataset,
 // computed exactly as `ultrafusion eval GROUND_TRUTH trajectory.tum --align se3` does (SE3 Umeyama
-// alignment, max_dt 0.01 s, RPE over 1 frame), with its plots in plots/. An evaluation that is not possible
-// (a trajectory too short or straight to align, stamps that do not match) is a finding of the report, not a
-// failure of the run.
+// alignment, max_dt 0.01 s, RPE over 1 frame), with its plots in plots/; without ground truth, against the
+// run's GNSS fixes (odometry/eval/gnss_track_error.h). An evaluation that is not possible (a trajectory
+// too short or straight to align, stamps that do not match) is a finding of the report, not a failure of
+// the run.
 #pragma once
 
 #include <filesystem>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "odometry/eval/evaluation_report.h"
+#include "odometry/eval/gnss_track_error.h"
 #include "odometry/io/dataset_reader.h"
 #include "odometry/types/georeference.h"
 #include "viewer/pipeline/stage_runner.h"
@@ -34,6 +37,15 @@ struct GroundTruthCheck {
   std::string note;                // "no ground truth in the dataset", or the evaluation's error
   std::optional<EnuAccuracy> enu;  // a run georeferenced by the estimator, a ground truth with an ENU origin
   std::string enu_note;            // why there is no ENU figure for a georeferenced run
+  std::optional<GnssTrackError> gnss_track;  // without ground truth: trajectory.tum against the GNSS fixes
+  std::string gnss_track_note;               // why there is no GNSS-track figure
+};
+
+// What the GNSS-track comparison needs beside trajectory.tum.
+struct GnssTrackInput {
+  std::span<const GnssFix> fixes;
+  SE3 T_frame_antenna;          // the antenna in trajectory.tum's frame
+  bool gravity_aligned = true;  // trajectory.tum's world has z up (LIO, WIO)
 };
 
 // The ENU frames of a georeferenced estimate and of its ground truth (EvaluateInEnu).
@@ -55,8 +67,10 @@ Expected<EnuAccuracy> EvaluateInEnu(const Trajectory& ground_truth, const Geodet
 
 // The stage on out/trajectory.tum; its message says why an evaluation was not possible. With the
 // estimator's georeference, trajectory.tum is in ENU: with the ground truth's ENU origin the check also has
-// the unaligned ENU figures.
+// the unaligned ENU figures. Without ground truth, with fixes: the GNSS-track figures (unaligned when
+// georeferenced).
 GroundTruthCheck RunAccuracyStage(const DatasetDescription& description, const std::filesystem::path& out,
-                                  const std::optional<Georeference>& georef, StageContext& context);
+                                  const std::optional<Georeference>& georef, const GnssTrackInput& gnss,
+                                  StageContext& context);
 
 }  // namespace uf::pipeline
