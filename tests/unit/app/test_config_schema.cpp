@@ -151,7 +151,7 @@ std::map<std::string, std::string> OdometryDefaults(const std::string& text) {
 TEST(ConfigReference, MethodMdStatesTheSchemasOdometryDefaults) {
   const auto generated = OdometryDefaults(ConfigReferenceMarkdown());
   const auto method = OdometryDefaults(testing::ReadText(std::string(UF_SOURCE_DIR) + "/docs/METHOD.md"));
-  EXPECT_EQ(generated.size(), 71u);  // 23 lo: keys, 48 lio: keys (8 of them lio.wheel, 25 lio.gnss)
+  EXPECT_EQ(generated.size(), 73u);  // 23 lo: keys, 50 lio: keys (10 of them lio.wheel, 25 lio.gnss)
   EXPECT_EQ(method.size(), generated.size());
   for (const auto& [key, value] : generated) {
     const auto row = method.find(key);
