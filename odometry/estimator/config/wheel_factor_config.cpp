@@ -21,6 +21,10 @@ Status WheelFactorConfig::Validate() const {
   if (!Positive(yaw_rate_density)) return Bad("yaw_rate_density", "finite and > 0", yaw_rate_density);
   if (!Positive(nonholonomic_velocity_density))
     return Bad("nonholonomic_velocity_density", "finite and > 0", nonholonomic_velocity_density);
+  if (!(std::isfinite(suspension_tilt_sigma) && suspension_tilt_sigma >= 0))
+    return Bad("suspension_tilt_sigma", "finite and >= 0", suspension_tilt_sigma);
+  if (!(std::isfinite(tilt_per_acceleration) && tilt_per_acceleration >= 0))
+    return Bad("tilt_per_acceleration", "finite and >= 0", tilt_per_acceleration);
   if (!Positive(roll_pitch_rate_density))
     return Bad("roll_pitch_rate_density", "finite and > 0", roll_pitch_rate_density);
   if (!Positive(max_gap_s)) return Bad("max_gap_s", "finite and > 0", max_gap_s);

@@ -19,6 +19,13 @@
 
 namespace uf::estimator {
 
+// Correlation time of the body's oscillation on its suspension: 1 / (2 pi f) with f ~ 1 Hz, the body
+// bounce and pitch frequency of road vehicles (1-1.5 Hz).
+inline constexpr double kSuspensionTiltTime_s = 0.16;
+// How long a lean or squat lasts: the accelerations that tilt a body (pulling away, a turn, braking) last a
+// second or more; shorter ones the suspension (~1 Hz) does not follow.
+inline constexpr double kTiltManoeuvreTime_s = 1.0;
+
 struct WheelFactorConfig {
   // Forward speed (v_x). Encoder counts integrate without drift, so this covers what they do not see: tyre
   // deformation, uneven ground and small slip. 0.05 gives 5 cm over 1 s, ~0.6 % of the distance at 8 m/s;
@@ -28,10 +35,31 @@ struct WheelFactorConfig {
   // patches and any skid change: less precise than the forward speed. 0.01 gives 0.6 degrees over 1 s (a
   // MEMS gyro is ~10x better, so with an IMU the yaw comes mostly from the IMU).
   double yaw_rate_density = 0.01;  // rad/s/sqrt(Hz)
-  // Lateral and vertical velocity (v_y, v_z), soft non-holonomic constraint: 0.2 = 4x the forward density,
-  // 20 cm over 1 s, which holds side slip in ordinary turns and the suspension's travel without fighting a
-  // LiDAR or IMU that sees them.
-  double nonholonomic_velocity_density = 0.2;  // m/s/sqrt(Hz)
+  // Lateral and vertical velocity (v_y, v_z), soft non-holonomic constraint. The base frame is rigid to the
+  // body (T_imu_wheel), but the body rolls and pitches on its suspension against the road the wheels roll
+  // on, so the base's velocity leaves its x axis by the tilt angle theta: v_y, v_z ~ v theta. That part
+  // grows with the speed v and is modelled below (suspension_tilt_sigma, tilt_per_acceleration); this
+  // density is what is left at any speed: tyre deformation, a base a few centimetres off the axle's
+  // no-slip point. 0.02 gives 2 cm over 1 s. Skid-steer vehicles turning in place slide sideways and need
+  // more (their instantaneous centre of rotation moves off the axle).
+  double nonholonomic_velocity_density = 0.02;  // m/s/sqrt(Hz)
+  // The body's tilt on its suspension, theta = theta_osc + k a (roll for v_y, pitch for v_z):
+  // - theta_osc oscillates about the rest attitude: RMS suspension_tilt_sigma, correlated over
+  //   kSuspensionTiltTime_s. 0.01 rad (0.6 degrees) is a passenger car's body motion on an ordinary road;
+  //   rough terrain gives several times that (the simulator's wild scene: ~0.04 rad).
+  // - k a is the lean in turns (a = v w_z, the lateral acceleration; roll) and the squat and dive under the
+  //   longitudinal acceleration a = dv/dt (pitch), k = tilt_per_acceleration, held over
+  //   kTiltManoeuvreTime_s. 0.01 rad per m/s^2 (5.6 degrees per g) is a passenger car's roll gradient
+  //   (4-7 degrees per g); its pitch gradient is smaller, so this bounds both.
+  // Each is a first-order Gauss-Markov process (variance sigma^2, correlation time tau), whose spectral
+  // density at low frequency is 2 sigma^2 tau: over intervals longer than tau it acts as white noise of
+  // that density, and over shorter ones it overstates the variance (safe). With the speed v and the
+  // acceleration a of each step:
+  //   density_y^2 = nonholonomic_velocity_density^2 + 2 v^2 (tau_osc sigma^2 + tau_man (k a_lat)^2)
+  //   density_z^2 = nonholonomic_velocity_density^2 + 2 v^2 (tau_osc sigma^2 + tau_man (k a_long)^2)
+  // At 8 m/s cruising straight: 0.05 m/s/sqrt(Hz). Zero switches a term off.
+  double suspension_tilt_sigma = 0.01;  // rad
+  double tilt_per_acceleration = 0.01;  // rad per m/s^2
   // Roll and pitch rates (w_x, w_y), soft: 0.1 = 10x the yaw density, 5.7 degrees over 1 s; body roll in
   // turns and pitch over bumps and grades are real, and the IMU observes them far better.
   double roll_pitch_rate_density = 0.1;  // rad/s/sqrt(Hz)

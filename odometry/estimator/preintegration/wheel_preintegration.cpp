@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cmath>
 #include <sstream>
 #include <string>
 
@@ -41,6 +42,9 @@ WheelPreintegration::WheelPreintegration(const WheelFactorConfig& config, Stamp 
   const double v = config.forward_velocity_density, v_nh = config.nonholonomic_velocity_density;
   const double w_rp = config.roll_pitch_rate_density, w = config.yaw_rate_density;
   noise_density_squared_ << v * v, v_nh * v_nh, v_nh * v_nh, w_rp * w_rp, w_rp * w_rp, w * w;
+  oscillation_tilt_ =
+      2.0 * kSuspensionTiltTime_s * config.suspension_tilt_sigma * config.suspension_tilt_sigma;
+  manoeuvre_tilt_ = 2.0 * kTiltManoeuvreTime_s * config.tilt_per_acceleration * config.tilt_per_acceleration;
 }
 
 Expected<WheelPreintegration> WheelPreintegration::Between(const std::vector<WheelSample>& samples,
@@ -94,6 +98,8 @@ Expected<WheelPreintegration> WheelPreintegration::Between(const std::vector<Whe
   }
 
   WheelPreintegration result(config, from, to);
+  result.longitudinal_acceleration_ =
+      (last->linear_velocity.x() - first->linear_velocity.x()) / ToSeconds(last->stamp - first->stamp);
   WheelSample previous = first->stamp == begin ? *first : Interpolate(*first, *(first + 1), begin);
   result.num_samples_ = 1;
   for (auto it = first + 1; it < last; ++it) {  // the samples strictly inside (begin, end)
@@ -128,7 +134,17 @@ void WheelPreintegration::Integrate(const WheelSample& begin, const WheelSample&
   G.block<3, 3>(kWheelPosition, 3) = 0.5 * dt * dt * R1_v1 * Jr;
   const Matrix6d FP = F * covariance_;
   covariance_.noalias() = FP * F.transpose();
-  covariance_.noalias() += G * (noise_density_squared_ / dt).asDiagonal() * G.transpose();
+  // The step's noise: the lateral and vertical densities grow with the speed (the body's tilt, see the
+  // header and wheel_factor_config.h).
+  const double speed = 0.5 * std::abs(begin.linear_velocity.x() + end.linear_velocity.x());
+  const double lateral_acceleration = speed * w.z();
+  Eigen::Matrix<double, 6, 1> density_squared = noise_density_squared_;
+  density_squared(1) +=
+      speed * speed * (oscillation_tilt_ + manoeuvre_tilt_ * lateral_acceleration * lateral_acceleration);
+  density_squared(2) +=
+      speed * speed *
+      (oscillation_tilt_ + manoeuvre_tilt_ * longitudinal_acceleration_ * longitudinal_acceleration_);
+  covariance_.noalias() += G * (density_squared / dt).asDiagonal() * G.transpose();
 
   delta_p_ += 0.5 * dt * (R0 * begin.linear_velocity + R1 * end.linear_velocity);
   delta_R_ = SO3(R1);

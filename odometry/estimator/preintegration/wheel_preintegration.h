@@ -14,7 +14,14 @@
 //
 // Covariance: the measured twist is the true one plus white noise n_v, n_w (densities in WheelFactorConfig,
 // per axis of the wheel frame: forward, lateral, vertical; roll, pitch, yaw), one independent draw per step
-// with variance density^2 / dt (the continuous-time variance density^2 T over the interval). The error state
+// with variance density^2 / dt (the continuous-time variance density^2 T over the interval). The lateral and
+// vertical densities grow with the speed by the body's tilt on its suspension (wheel_factor_config.h): per
+// step, with v = |v_x| and w_z the step's means, a_lat = v w_z and a_long the mean longitudinal acceleration
+// over the samples that bracket the interval (its difference over >= one node interval, not per step,
+// which a quantised encoder would make noisy),
+//   density_y^2 = nh^2 + 2 v^2 (tau_osc sigma^2 + tau_man (k a_lat)^2)
+//   density_z^2 = nh^2 + 2 v^2 (tau_osc sigma^2 + tau_man (k a_long)^2).
+// The error state
 // is e = [dp_true - dp; Log(dR^T dR_true)], the wheel factor's residual at the true poses and s = 1, and each
 // step propagates e_k+1 = F e_k + G n, P_k+1 = F P_k F^T + G Q G^T (P_0 = 0), with W = Exp(w dt):
 //   dtheta_k+1 = W^T dtheta_k - Jr(w dt) dt n_w
@@ -71,7 +78,9 @@ class WheelPreintegration {
   WheelPreintegration(const WheelFactorConfig& config, Stamp from, Stamp to);
   void Integrate(const WheelSample& begin, const WheelSample& end);  // one step, stamps increasing
 
-  Eigen::Matrix<double, 6, 1> noise_density_squared_;  // [v_x, v_y, v_z, w_x, w_y, w_z]
+  Eigen::Matrix<double, 6, 1> noise_density_squared_;  // [v_x, v_y, v_z, w_x, w_y, w_z], at standstill
+  // 2 tau_osc sigma^2 and 2 tau_man k^2 (see above), and the interval's longitudinal acceleration, m/s^2.
+  double oscillation_tilt_ = 0, manoeuvre_tilt_ = 0, longitudinal_acceleration_ = 0;
   Stamp from_ = 0, to_ = 0;
   Stamp sum_dt_ = 0;
   int num_samples_ = 0;

@@ -76,9 +76,20 @@ double Speed(const MotionProfile& m, double t, double* accel = nullptr) {
   return m.cruise * Smoothstep5(u) * mod;
 }
 
+// The height over arc length: zero at arg = 0, so the track starts at the world origin.
 double Sum(const std::vector<Wave>& waves, double arg) {
   double sum = 0.0;
   for (const Wave& w : waves) sum += w(arg) - w(0.0);  // zero at arg = 0
+  return sum;
+}
+
+// The suspension's oscillation about its equilibrium: zero-mean (not shifted to zero at arg = 0, which
+// would add a constant offset of up to the amplitudes' sum, a tilt of the body against the road that only
+// appears while moving: a mounting error no real suspension has). The callers scale it by v / v_cruise,
+// which keeps the standing second exactly still and the attitude C2 where the motion starts.
+double Oscillation(const std::vector<Wave>& waves, double arg) {
+  double sum = 0.0;
+  for (const Wave& w : waves) sum += w(arg);
   return sum;
 }
 
@@ -227,8 +238,8 @@ Expected<Trajectory> DefaultSceneTrajectory(std::string_view scene, double durat
     double grade = 0.0;
     for (const Wave& w : m.z_waves) grade += w.Derivative(q[0]);
     const double z = Sum(m.z_waves, q[0]);
-    const double roll = m.lean * a_lat + motion * Sum(m.roll_waves, t);
-    const double pitch = -std::atan(grade) - m.squat * a_long + motion * Sum(m.pitch_waves, t);
+    const double roll = m.lean * a_lat + motion * Oscillation(m.roll_waves, t);
+    const double pitch = -std::atan(grade) - m.squat * a_long + motion * Oscillation(m.pitch_waves, t);
     // R_world_body = Rz(heading) Ry(pitch) Rx(roll): x forward, y left, z up.
     const Eigen::Matrix3d R = SO3::Exp(Eigen::Vector3d(0, 0, q[1])).matrix() *
                               SO3::Exp(Eigen::Vector3d(0, pitch, 0)).matrix() *

@@ -138,6 +138,8 @@ inline estimator::LidarOdometryConfig NonDefaultOdometry() {
   c.wheel = {.forward_velocity_density = 0.07,
              .yaw_rate_density = 0.02,
              .nonholonomic_velocity_density = 0.3,
+             .suspension_tilt_sigma = 0.03,
+             .tilt_per_acceleration = 0.02,
              .roll_pitch_rate_density = 0.15,
              .max_gap_s = 0.25,
              .time_offset_s = 0.01,

@@ -204,6 +204,8 @@ inline void ExpectSameInertialParts(const Config& a, const Config& b) {
   EXPECT_FIELD(wheel.forward_velocity_density);
   EXPECT_FIELD(wheel.yaw_rate_density);
   EXPECT_FIELD(wheel.nonholonomic_velocity_density);
+  EXPECT_FIELD(wheel.suspension_tilt_sigma);
+  EXPECT_FIELD(wheel.tilt_per_acceleration);
   EXPECT_FIELD(wheel.roll_pitch_rate_density);
   EXPECT_FIELD(wheel.max_gap_s);
   EXPECT_FIELD(wheel.time_offset_s);

@@ -129,16 +129,17 @@ TEST(WheelInertialOdometry, StaticStartTracksTheTruth) {
   EXPECT_EQ(run.factors.wheel.skipped, 0);
   // The encoder is ideal: the scale stays at 1 within a percent (as LWIO's test).
   EXPECT_NEAR(run.factors.wheel_scale, 1.0, 0.01);
-  // Bounds. The drift: the target for WIO, 1 % (on 60 s; here on the first 25 s). What limits it is
-  // the wheel model, not the IMU: the simulated body pitches and rolls on its suspension (waves of ~0.01
-  // rad, squat under acceleration) and the wheel frame is rigid to it, so the soft non-holonomic terms
-  // (v_y = v_z = 0) are violated by ~v 0.01 = 0.08 m/s, and while driving straight the tilt is only bounded
-  // by the accelerometer bias prior (bias_prior_factor.h): the height drifts most (measured 0.86 %, ATE
-  // 0.24 m, most of it in z). ATE: about a third of the end error of a 1 % drift over 150 m. Velocity: 2 %
-  // of the cruising speed, the drift's rate.
+  // Bounds. The drift: the target for WIO, 1 % (on 60 s; here on the first 25 s). The simulated
+  // body rolls and pitches on its suspension (waves of ~0.01 rad, squat under acceleration, lean in turns)
+  // and the wheel frame is rigid to it, so the non-holonomic terms (v_y = v_z = 0) are violated by ~v 0.01
+  // = 0.08 m/s; their noise grows with the speed and the acceleration as that tilt does
+  // (wheel_factor_config.h), and is tight where the model holds. Measured 0.66 %, ATE 0.15 m, velocity
+  // 0.063 m/s (0.86 % and 0.24 m with a constant 0.2 m/s/sqrt(Hz) and the simulator's suspension waves
+  // shifted off zero mean). ATE: 2x the measured figure, about a fifth of the end error of a 1 % drift
+  // over 150 m. Velocity: 2 % of the cruising speed, the drift's rate.
   ASSERT_GT(run.drift.segments, 0u);
   EXPECT_LT(run.drift.t_pct, 1.0) << "rotation " << run.drift.r_deg_per_100m << " deg/100 m";
-  EXPECT_LT(run.ate_m, 0.5);
+  EXPECT_LT(run.ate_m, 0.3);
   EXPECT_LT(VelocityRms(run), 0.15);
 }
 
@@ -157,7 +158,8 @@ TEST(WheelInertialOdometry, MovingStartInitializesFromTheWheel) {
   const WioRun run = RunWio(Simulate(dir, 8.0, dir.File("moving.tum")));
   EXPECT_EQ(run.initialization.rfind("wheel-aided", 0), 0u) << run.initialization << "\n"
                                                             << Joined(run.warnings);
-  // Measured 0.015 m and 0.024 m/s: a flat path the non-holonomic model fits; the bounds are 3x and 2x.
+  // Measured 0.010 m and 0.022 m/s (0.015 m and 0.024 m/s with the constant non-holonomic noise of before):
+  // a flat path the non-holonomic model fits; the bounds are 5x and 2x.
   EXPECT_LT(run.ate_m, 0.05);
   EXPECT_LT(VelocityRms(run), 0.05);
 }

@@ -125,6 +125,8 @@ TEST(WheelPreintegration, CovarianceMatchesMonteCarlo) {
   for (double* density : {&config.forward_velocity_density, &config.yaw_rate_density,
                           &config.nonholonomic_velocity_density, &config.roll_pitch_rate_density})
     *density *= 0.1;
+  // White noise of fixed densities, as drawn below (the speed-dependent part is the next test's).
+  config.suspension_tilt_sigma = config.tilt_per_acceleration = 0.0;
   const WheelPreintegration reference = Preintegrate(truth, from, to, config);
   Vector6d sigma;
   sigma << config.forward_velocity_density, config.nonholonomic_velocity_density,
@@ -160,6 +162,42 @@ TEST(WheelPreintegration, CovarianceMatchesMonteCarlo) {
       EXPECT_NEAR(sample_corr, propagated_corr, 0.08) << r << ", " << c;
     }
   }
+}
+
+TEST(WheelPreintegration, LateralAndVerticalNoiseGrowWithSpeedAndAcceleration) {
+  // A turn at 0.25 rad/s while the speed grows from 4 to 8 m/s (2 m/s^2), sampled at 50 Hz. The tilt terms
+  // (wheel_factor_config.h) add, per step of mean speed v, 2 v^2 (tau_osc sigma^2 + tau_man (k a)^2) dt to
+  // the variance of the lateral (a = v w_z) and the vertical (a = 2 m/s^2, the longitudinal acceleration)
+  // position: the difference of the covariances with and without them is that sum exactly in z (the turn is
+  // about z) and, in the horizontal block, that sum times cos^2(w dt / 2) (G's position block,
+  // -dt (R_k + R_k+1) / 2, rotates the lateral noise and shortens it by that factor).
+  constexpr double kAcceleration = 2.0, kYawRate = 0.25;
+  std::vector<WheelSample> samples;
+  for (int k = 0; k <= 100; ++k) {
+    const double t = 0.02 * k;
+    samples.push_back({k * kSecond / 50, {4.0 + kAcceleration * t, 0, 0}, {0, 0, kYawRate}});
+  }
+  const WheelFactorConfig with;
+  WheelFactorConfig without = with;
+  without.suspension_tilt_sigma = without.tilt_per_acceleration = 0.0;
+  const Stamp from = kSecond / 10, to = 19 * kSecond / 10;
+  const Matrix6d added = Preintegrate(samples, from, to, with).covariance() -
+                         Preintegrate(samples, from, to, without).covariance();
+  const double oscillation = 2.0 * kSuspensionTiltTime_s * std::pow(with.suspension_tilt_sigma, 2);
+  const double manoeuvre = 2.0 * kTiltManoeuvreTime_s * std::pow(with.tilt_per_acceleration, 2);
+  double lateral = 0, vertical = 0;
+  const double dt = 0.02, shortening = std::pow(std::cos(kYawRate * dt / 2), 2);
+  for (int k = 5; k < 95; ++k) {  // the steps of [0.1, 1.9] s
+    const double v = 4.0 + kAcceleration * (k + 0.5) * dt;
+    lateral += v * v * (oscillation + manoeuvre * std::pow(v * kYawRate, 2)) * dt * shortening;
+    vertical += v * v * (oscillation + manoeuvre * kAcceleration * kAcceleration) * dt;
+  }
+  EXPECT_NEAR(added(2, 2), vertical, 1e-9 * vertical);
+  EXPECT_NEAR(added(0, 0) + added(1, 1), lateral, 1e-9 * lateral);
+  // At 8 m/s straight, the lateral density is 0.05 m/s/sqrt(Hz) (the header's figure).
+  EXPECT_NEAR(std::sqrt(std::pow(with.nonholonomic_velocity_density, 2) + 64 * oscillation), 0.05, 0.005);
+  // Only the position block changes: the rotation noise is the same.
+  EXPECT_LT((added.bottomRightCorner<3, 3>().norm()), 1e-15);
 }
 
 TEST(WheelPreintegration, RejectsBadInputNamingTheStamps) {
@@ -226,6 +264,8 @@ TEST(WheelFactorConfig, ValidateNamesTheBadField) {
       {&WheelFactorConfig::forward_velocity_density, "lio.wheel.forward_velocity_density"},
       {&WheelFactorConfig::yaw_rate_density, "lio.wheel.yaw_rate_density"},
       {&WheelFactorConfig::nonholonomic_velocity_density, "lio.wheel.nonholonomic_velocity_density"},
+      {&WheelFactorConfig::suspension_tilt_sigma, "lio.wheel.suspension_tilt_sigma"},
+      {&WheelFactorConfig::tilt_per_acceleration, "lio.wheel.tilt_per_acceleration"},
       {&WheelFactorConfig::roll_pitch_rate_density, "lio.wheel.roll_pitch_rate_density"},
       {&WheelFactorConfig::max_gap_s, "lio.wheel.max_gap_s"},
       {&WheelFactorConfig::time_offset_s, "lio.wheel.time_offset_s"},
@@ -247,6 +287,10 @@ TEST(WheelFactorConfig, ValidateNamesTheBadField) {
   EXPECT_FALSE(config.Validate().ok());
   config = WheelFactorConfig();
   config.time_offset_s = -0.25;
+  EXPECT_TRUE(config.Validate().ok());
+  // The tilt terms may be switched off.
+  config = WheelFactorConfig();
+  config.suspension_tilt_sigma = config.tilt_per_acceleration = 0;
   EXPECT_TRUE(config.Validate().ok());
 }
 

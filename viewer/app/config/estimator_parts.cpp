@@ -77,7 +77,11 @@ Schema<WheelFactorConfig> WheelSchema() {
             "wheel factor (lwio, lwgio, wio, wgio): white noise of the forward speed");
   wheel.Key("yaw_rate_density", &W::yaw_rate_density, "rad/s/sqrt(Hz)", "white noise of the yaw rate");
   wheel.Key("nonholonomic_velocity_density", &W::nonholonomic_velocity_density, "m/s/sqrt(Hz)",
-            "soft non-holonomic constraint on the lateral and vertical velocity");
+            "soft non-holonomic constraint on the lateral and vertical velocity, at any speed");
+  wheel.Key("suspension_tilt_sigma", &W::suspension_tilt_sigma, "rad",
+            "RMS roll and pitch of the body on its suspension: lateral and vertical noise grows with speed");
+  wheel.Key("tilt_per_acceleration", &W::tilt_per_acceleration, "rad/(m/s^2)",
+            "lean in turns and squat under acceleration, per m/s^2: lateral and vertical noise");
   wheel.Key("roll_pitch_rate_density", &W::roll_pitch_rate_density, "rad/s/sqrt(Hz)",
             "soft constraint on the roll and pitch rates");
   wheel.Key("max_gap_s", &W::max_gap_s, "s",
