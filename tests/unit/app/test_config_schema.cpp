@@ -106,6 +106,20 @@ TEST(ConfigSchema, RunsConfigYamlReadsBackWithoutTheLioSectionInLo) {
   test::ExpectSameSplat(loaded->splat, samples.splat);
 }
 
+TEST(ConfigSchema, AnLoRunWithWheelFactorsSavesTheWheelKeys) {
+  // lwo reads lio.wheel: its config.yaml carries the lio: section, which reads back to the same wheel keys.
+  TempDir dir;
+  const ConfigFile samples = test::NonDefaultConfigFile();
+  estimator::LidarOdometryConfig lwo = samples.odometry;
+  lwo.use_wheel = true;
+  const std::string text = EmitLidarOdometryConfig(lwo);
+  EXPECT_NE(text.find("lio:"), std::string::npos);
+  Expected<ConfigFile> loaded = LoadConfigFile(dir.Write("config.yaml", text));
+  ASSERT_TRUE(loaded.ok()) << loaded.error();
+  EXPECT_EQ(loaded->odometry.wheel.forward_velocity_density, samples.odometry.wheel.forward_velocity_density);
+  EXPECT_EQ(loaded->odometry.wheel.scale_prior_sigma, samples.odometry.wheel.scale_prior_sigma);
+}
+
 // The lines of `a` and `b` around the first one that differs, for the failure message.
 std::string FirstDifference(const std::string& a, const std::string& b) {
   const std::vector<std::string> la = Lines(a), lb = Lines(b);

@@ -76,7 +76,8 @@ Schema<LidarOdometryConfig> MakeLioSchema() {
 
 std::string EmitLidarOdometryConfig(const LidarOdometryConfig& config) {
   std::string text = config::EmitSection(config::LoSchema(), config);
-  if (config.use_imu) text += config::EmitSection(config::LioSchema(), config);
+  // lio: holds the wheel keys too, which an LO run with wheel factors (lwo) reads.
+  if (config.use_imu || config.use_wheel) text += config::EmitSection(config::LioSchema(), config);
   return text;
 }
 

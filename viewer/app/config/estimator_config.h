@@ -12,7 +12,8 @@
 
 namespace uf::app {
 
-// "lo:\n  input_voxel_m: 1\n..." with every key, and the lio: section when use_imu.
+// "lo:\n  input_voxel_m: 1\n..." with every key, and the lio: section when use_imu or use_wheel (its
+// wheel: keys).
 std::string EmitLidarOdometryConfig(const estimator::LidarOdometryConfig& config);
 
 }  // namespace uf::app
