@@ -225,6 +225,12 @@ TEST(CliRunKitti, FirstTenKeyframesRunAndReportTheAccuracy) {
   EXPECT_EQ(lio.code, 2) << lio.output;  // a usage error: the mode asks for what the data lacks
   EXPECT_NE(lio.output.find("has no IMU stream"), std::string::npos) << lio.output;
   EXPECT_FALSE(fs::exists(dir.File("lio")));
+  // --mode wgio names every stream it misses, the GNSS among them.
+  const auto wgio = Ultrafusion("run " + copy.string() + " --mode wgio --out " + dir.File("wgio"));
+  EXPECT_EQ(wgio.code, 2) << wgio.output;
+  EXPECT_NE(wgio.output.find("has no IMU stream, no wheel odometry stream, no GNSS stream"), std::string::npos)
+      << wgio.output;
+  EXPECT_FALSE(fs::exists(dir.File("wgio")));
 }
 
 // The number after "against the GNSS track (... ): horizontal RMSE " in run's output, or -1.
