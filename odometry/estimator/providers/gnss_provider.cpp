@@ -1,5 +1,6 @@
 #include "odometry/estimator/providers/gnss_provider.h"
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <sstream>
@@ -133,6 +134,8 @@ void GnssProvider::AddFactor(FactorGraph& graph, std::span<const NodeView> nodes
   const double distance_m = last_accepted_antenna_ ? (antenna - *last_accepted_antenna_).norm() : 0.0;
   const IntegrityResult check =
       CheckIntegrity(antenna, alignment, fix.enu, fix.covariance, distance_m, config_);
+  horizontal_innovations_.push_back(check.innovation.head<2>().norm());
+  if (std::isfinite(check.d2)) d2_sum_ += check.d2;
   if (!check.horizontal_accepted) {
     ++counts_.rejected;
     std::ostringstream why;
@@ -178,6 +181,19 @@ void GnssProvider::Reset() {
 void GnssProvider::Report(SensorFactorStats& stats) const {
   stats.gnss = counts_;
   stats.gnss_horizontal_only = horizontal_only_;
+  SensorFactorStats::Innovations& innovations = stats.gnss_innovations;
+  innovations.tested = static_cast<int>(horizontal_innovations_.size());
+  if (horizontal_innovations_.empty()) return;
+  std::vector<double> sorted = horizontal_innovations_;
+  std::sort(sorted.begin(), sorted.end());
+  // Nearest rank: the smallest value with at least the fraction of the values at or below it.
+  auto rank = [&](double fraction) {
+    const auto k = static_cast<std::size_t>(std::ceil(fraction * static_cast<double>(sorted.size())));
+    return sorted[std::clamp<std::size_t>(k, 1, sorted.size()) - 1];
+  };
+  innovations.horizontal_median_m = rank(0.5);
+  innovations.horizontal_p95_m = rank(0.95);
+  innovations.mean_d2 = d2_sum_ / static_cast<double>(sorted.size());
   stats.gnss_alignment = alignment_summary_;
 }
 

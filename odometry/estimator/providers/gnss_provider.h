@@ -96,6 +96,8 @@ class GnssProvider {
   std::optional<Eigen::Vector3d> last_accepted_antenna_;
   FactorCount counts_;
   int horizontal_only_ = 0;  // of counts_.added: fixes whose height failed the innovation test
+  std::vector<double> horizontal_innovations_;  // m, every fix tested
+  double d2_sum_ = 0;
   std::string
       alignment_summary_;  // "started at ... from 8 fixes over 14.2 m, RMS 0.8 m, yaw ...", or why not
 };

@@ -169,6 +169,12 @@ TEST(GnssInWindow, WgioWithRtkFixesFollowsTheTruthInEnuWithoutAlignment) {
   EXPECT_GT(error.poses, 150);
   EXPECT_LT(error.horizontal_rmse, 0.05) << "max " << error.max_horizontal;
   EXPECT_LT(error.vertical_rmse, 0.1);
+  // Every fix placed after the alignment's start was tested before its factor (the pairs of the start too);
+  // with RTK fixes the prediction is centimetres from them.
+  const SensorFactorStats::Innovations& innovations = run.factors.gnss_innovations;
+  EXPECT_EQ(innovations.tested, run.factors.gnss.added + run.factors.gnss.rejected);
+  EXPECT_LT(innovations.horizontal_median_m, 0.05);
+  EXPECT_LE(innovations.horizontal_median_m, innovations.horizontal_p95_m);
 }
 
 TEST(GnssInWindow, WgioWithSingleFixesStaysWithinTheirAccuracy) {

@@ -188,6 +188,18 @@ void Summarize(const RunPlan& plan, StageOutputs& o, RunSummary& summary) {
                               std::to_string(factors.gnss.skipped) +
                               " fixes skipped (screening, time order, no node near); ENU alignment " +
                               (factors.gnss_alignment.empty() ? "never tried" : factors.gnss_alignment));
+    if (plan.mode.gnss && factors.gnss_innovations.tested > 0) {
+      const estimator::SensorFactorStats::Innovations& innovations = factors.gnss_innovations;
+      char text[512];
+      std::snprintf(
+          text, sizeof(text),
+          "GNSS innovations (%d fixes tested before their factor): horizontal median %.3f m, 95 %% "
+          "%.3f m; mean d^2 %.2f (3 for errors as large as the test assumes: lower, it is cautious; "
+          "higher, the fixes or the prediction are worse than their sigmas)",
+          innovations.tested, innovations.horizontal_median_m, innovations.horizontal_p95_m,
+          innovations.mean_d2);
+      summary.notes.push_back(text);
+    }
   }
   if (o.from_trajectory) {
     for (std::string& note : o.from_trajectory->notes) summary.notes.push_back(std::move(note));
