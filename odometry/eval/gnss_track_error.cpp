@@ -67,6 +67,8 @@ Expected<GnssTrackError> CompareWithGnssTrack(const Trajectory& trajectory, std:
     ++segments;
   }
   if (segments > 0) result.segment_error_percent = 100.0 * sum / segments;
+  result.antenna_enu = std::move(antenna);
+  result.fixes_enu = std::move(enu);
   return result;
 }
 

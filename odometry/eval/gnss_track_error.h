@@ -15,6 +15,7 @@
 
 #include <optional>
 #include <span>
+#include <vector>
 
 #include "odometry/types/geodetic.h"
 #include "odometry/types/measurements.h"
@@ -29,7 +30,8 @@ struct GnssTrackError {
   double horizontal_rmse_m = 0, vertical_rmse_m = 0;
   double track_length_m = 0;
   double segment_m = 100;
-  std::optional<double> segment_error_percent;  // none when the track is shorter than one segment
+  std::optional<double> segment_error_percent;          // none when the track is shorter than one segment
+  std::vector<Eigen::Vector3d> antenna_enu, fixes_enu;  // the pairs compared, ENU at the origin (for plots)
 };
 
 // `georeferenced_origin`: the trajectory's ENU origin when it is georeferenced. Errors: no fix with a

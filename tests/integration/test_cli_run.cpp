@@ -260,6 +260,7 @@ TEST(CliRunHusky, WheelInertialOdometryOnARealRobotAgainstItsGnssTrack) {
   EXPECT_GE(georeferenced, 0) << wgio.output;
   EXPECT_LT(georeferenced, 1.5) << wgio.output;
   EXPECT_TRUE(fs::exists(out.File("wgio") + "/trajectory_wgs84.csv"));
+  EXPECT_TRUE(fs::exists(out.File("wgio") + "/plots/gnss_track_top_view.png"));
   // WIO: the IMU and the wheel alone, fitted to the fixes after the run: within 1.5 % of the track.
   const auto wio = Ultrafusion("run " + bag + " --config " + config + " --mode wio --out " + out.File("wio"));
   ASSERT_EQ(wio.code, 0) << wio.output;

@@ -136,6 +136,8 @@ std::string FormatRunReport(const pipeline::RunSummary& r) {
     md += "\n";
   }
   if (!r.accuracy.gnss_track_note.empty()) md += r.accuracy.gnss_track_note + "\n";
+  if (r.accuracy.gnss_track)
+    for (const std::string& plot : r.accuracy.plots) md += "\n![" + plot + "](" + plot + ")\n";
   md += "\n## Warnings\n\n";
   const std::vector<ReadWarning> odometry = GroupWarnings(o.odometry_warnings);
   const std::vector<ReadWarning> map = r.map ? GroupWarnings(r.map->warnings) : std::vector<ReadWarning>{};

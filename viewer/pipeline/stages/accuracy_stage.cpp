@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "odometry/eval/plots.h"
 #include "odometry/io/geo_trajectory_file.h"
 #include "odometry/io/trajectory_file.h"
 
@@ -114,9 +115,28 @@ GroundTruthCheck CheckAgainstGnssTrack(const fs::path& out, const std::optional<
     context.SetMessage(check.note + "; " + check.gnss_track_note);
     return check;
   }
-  check.gnss_track = *track;
+  // The top view: the fixes (grey) and the trajectory's antenna coloured by its horizontal error.
+  std::vector<double> horizontal;
+  for (std::size_t i = 0; i < track->antenna_enu.size(); ++i)
+    horizontal.push_back((track->antenna_enu[i] - track->fixes_enu[i]).head<2>().norm());
+  const std::string plot = "plots/gnss_track_top_view.png";
+  std::error_code error;
+  fs::create_directories(out / "plots", error);
+  if (Status s = WriteTopViewPlot((out / plot).string(), track->fixes_enu, track->antenna_enu, horizontal,
+                                  std::string("Trajectory against the GNSS track (") +
+                                      (track->aligned ? "fitted" : "georeferenced") + ")",
+                                  "horizontal error [m]");
+      s.ok()) {
+    check.plots.push_back(plot);
+    context.AddOutput(plot);
+  } else {
+    check.gnss_track_note = "plot not written: " + s.message();
+  }
+  track->antenna_enu.clear();
+  track->fixes_enu.clear();
+  check.gnss_track = std::move(*track);
   context.SetUnit("fixes");
-  context.Progress(track->fixes, track->fixes);
+  context.Progress(check.gnss_track->fixes, check.gnss_track->fixes);
   return check;
 }
 
