@@ -180,6 +180,7 @@ void GnssProvider::Reset() {
 
 void GnssProvider::Report(SensorFactorStats& stats) const {
   stats.gnss = counts_;
+  stats.gnss_alignment = alignment_summary_;
   stats.gnss_horizontal_only = horizontal_only_;
   SensorFactorStats::Innovations& innovations = stats.gnss_innovations;
   innovations.tested = static_cast<int>(horizontal_innovations_.size());
@@ -194,7 +195,6 @@ void GnssProvider::Report(SensorFactorStats& stats) const {
   innovations.horizontal_median_m = rank(0.5);
   innovations.horizontal_p95_m = rank(0.95);
   innovations.mean_d2 = d2_sum_ / static_cast<double>(sorted.size());
-  stats.gnss_alignment = alignment_summary_;
 }
 
 std::optional<Georeference> GnssProvider::georeference() const {
