@@ -74,7 +74,8 @@ struct WheelFactorConfig {
 
   // The wheel scale s multiplies the reported linear velocity (wrong wheel radius, tyre pressure, load).
   // Estimated by default, as one parameter block shared by the wheel factors; with false the caller holds
-  // the block constant at 1.
+  // the block constant at 1. The LIO window frees it only in the solves where the LiDAR observes it
+  // (WheelScaleObservable, lidar_odometry/window_solve.cpp) and holds it at its current value otherwise.
   bool estimate_scale = true;
   // The scale block's prior, (s - 1) / scale_prior_sigma (relative): 0.05 allows the few percent a tyre's
   // rolling radius differs from its nominal value, and keeps s near 1 while the motion does not observe it

@@ -146,8 +146,10 @@ bool LidarOdometry::Impl::RegisterNewScan(ScanState& current) {
   const bool finite = AllFinite(nodes);
   const SE3 correction = guess.inverse() * (finite ? NodePose(current.end_node) : guess);
   if (solved && finite && correction.translation().norm() <= config.max_correction_m &&
-      correction.so3().angle() <= config.max_correction_rad && current.residuals >= 6)
+      correction.so3().angle() <= config.max_correction_rad && current.residuals >= 6) {
+    if (wheel) current.forward_sigma_m = ForwardSigma(current);
     return true;
+  }
   Restore(saved, nodes);
   graph.Remove(FactorKind::kLidar, current.id);
   current.residuals = 0;

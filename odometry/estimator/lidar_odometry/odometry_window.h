@@ -9,6 +9,7 @@
 #include <array>
 #include <chrono>
 #include <deque>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -58,6 +59,10 @@ struct ScanState {
   std::vector<CachedPlane> plane_cache;
   std::uint64_t plane_cache_revision = 0;
   bool in_map = false;  // registered and inserted into the map
+  // With wheel factors: the standard deviation of the scan's position along the wheel's forward axis that
+  // its own point-to-plane factors give (ForwardSigma); infinite when it has none. For the wheel scale's
+  // observability test (WheelScaleObservable).
+  double forward_sigma_m = std::numeric_limits<double>::infinity();
 };
 
 // Adds the wall time of its scope to a millisecond counter (the per-stage figures of OdometryStats).
@@ -131,11 +136,13 @@ struct LidarOdometry::Impl {
   void InsertIntoMap(ScanState& scan);
   void Release(ScanState& scan);
   void PopOldest();
+  double ForwardSigma(const ScanState& scan);
 
   // Solve and marginalize (window_solve.cpp).
   bool Solve(int* iterations, bool new_scan_only = false);
   void Relinearize();
   void MarginalizeBefore(long keep_from, Stamp stamp);
+  bool WheelScaleObservable();
 
   // Scan flow (lidar_odometry.cpp).
   Status AddScan(const LidarScan& scan);

@@ -3,7 +3,9 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <Eigen/Eigenvalues>
 #include <cmath>
+#include <limits>
 
 #include "odometry/estimator/factors/point_to_plane_factor.h"
 #include "odometry/estimator/lidar_odometry/odometry_window.h"
@@ -118,6 +120,43 @@ void LidarOdometry::Impl::Release(ScanState& scan) {
     }
   });
   finished.push_back(std::move(keyframe));
+}
+
+// The standard deviation of the scan's position along the wheel's forward axis f = R_world_body R_body_wheel
+// e_x that its own point-to-plane factors give: their Gauss-Newton information H = sum rho' J^T J (rho': the
+// Huber weight at the residual) for a rigid move of the scan (the same tangent step on its begin and end
+// node, J = J_b + J_e), and the variance [f; 0]^T H^-1 [f; 0], the rotation free. Infinite where H leaves f
+// unconstrained (no planes; a straight corridor without a feature along its axis).
+double LidarOdometry::Impl::ForwardSigma(const ScanState& scan) {
+  Matrix6d H = Matrix6d::Zero();
+  for (const Factor& factor : graph.Entries(FactorKind::kLidar)) {
+    if (factor.tag != scan.id) continue;
+    const auto* cost = dynamic_cast<const TangentJacobianCost*>(factor.cost.get());
+    if (cost == nullptr) continue;
+    const double* parameters[2] = {factor.blocks[0], factor.blocks.size() > 1 ? factor.blocks[1] : nullptr};
+    Eigen::Matrix<double, 1, 6> J_b, J_e = Eigen::Matrix<double, 1, 6>::Zero();
+    double* jacobians[2] = {J_b.data(), factor.blocks.size() > 1 ? J_e.data() : nullptr};
+    double r = 0;
+    if (!cost->EvaluateTangent(parameters, &r, jacobians)) continue;
+    double rho[3] = {r * r, 1.0, 0.0};
+    if (factor.loss) factor.loss->Evaluate(r * r, rho);
+    const Eigen::Matrix<double, 1, 6> J = J_b + J_e;
+    H.noalias() += rho[1] * J.transpose() * J;
+  }
+  Vector6d e = Vector6d::Zero();
+  e.head<3>() = NodePose(scan.end_node).rotation() * config.T_body_wheel.rotation().col(0);
+  const Eigen::SelfAdjointEigenSolver<Matrix6d> eigen(H);
+  const double largest = eigen.eigenvalues().maxCoeff();
+  double variance = 0;
+  for (int i = 0; i < 6; ++i) {
+    const double along = eigen.eigenvectors().col(i).dot(e);
+    if (eigen.eigenvalues()(i) <= 1e-12 * largest) {
+      if (std::abs(along) > 1e-9) return std::numeric_limits<double>::infinity();
+      continue;
+    }
+    variance += along * along / eigen.eigenvalues()(i);
+  }
+  return largest > 0 ? std::sqrt(variance) : std::numeric_limits<double>::infinity();
 }
 
 // Releases the oldest scan, folds what leaves with it into the marginalization prior, and drops the nodes

@@ -1,5 +1,9 @@
 // Solving the window and marginalizing its oldest states (see odometry_window.h): which blocks move and
 // which factors take part; the graph (window/factor_graph.h) does the rest.
+#include <cmath>
+#include <unordered_map>
+
+#include "odometry/estimator/factors/wheel_factor.h"
 #include "odometry/estimator/lidar_odometry/odometry_window.h"
 
 namespace uf::estimator {
@@ -27,7 +31,8 @@ bool LidarOdometry::Impl::Solve(int* iterations, bool new_scan_only) {
     if (inertial && (id >= first_free || (!new_scan_only && id >= window.front().begin_node)))
       request.free.push_back(node.speed_bias.data());
   }
-  if (wheel && wheel->scale_free() && !new_scan_only) request.free.push_back(wheel->scale_block());
+  if (wheel && wheel->scale_free() && !new_scan_only && WheelScaleObservable())
+    request.free.push_back(wheel->scale_block());
   if (gnss && gnss->aligned() && !new_scan_only) request.free.push_back(gnss->alignment_block());
   if (new_scan_only) {
     const long scan = window.back().id;
@@ -38,6 +43,63 @@ bool LidarOdometry::Impl::Solve(int* iterations, bool new_scan_only) {
   const WindowSolveResult result = graph.Solve(request);
   *iterations += result.iterations;
   return result.usable;
+}
+
+// Whether the LiDAR observes the wheel scale over the window (docs/METHOD.md "Wheel factor"). The scale is
+// the ratio of the distance driven to the distance the wheel reports. Besides the wheel, only the LiDAR
+// measures that distance: the IMU sees it only through the accelerations, where the scale is confounded with
+// the accelerometer bias (driving off from rest with acceleration a, a bias error b makes the wheel look
+// scaled by 1 - b / a). So the scale is left free only where the LiDAR pins the forward motion, by two tests
+// on the window's scans, each with its LiDAR standard deviation sigma_k along the wheel's forward axis
+// (ScanState::forward_sigma_m) at the distance d_k driven:
+//  - the LiDAR constrains the forward direction at least as well as the wheel does over the same intervals:
+//    sum_k 1 / sigma_k^2 >= sum_k 1 / sigma_wheel,k^2 (sigma_wheel,k: the forward standard deviation of the
+//    wheel factors across scan k). In a corridor or a tunnel the LiDAR is degenerate along the axis (sigma_k
+//    of several cm against the wheel's 1.6 cm per 0.1 s, LWIO's forward_velocity_density of 0.05) and cannot
+//    calibrate the wheel; on urban streets it is a few mm against the wheel's 1.6 cm.
+//  - the LiDAR alone would know the scale at least as well as its prior: fitting the scale to the positions
+//    is a weighted linear regression of position on d_k, whose slope has the variance
+//    1 / sum_k w_k (d_k - d_mean)^2 (w_k = 1 / sigma_k^2, d_mean the w-weighted mean), which must be at
+//    most scale_prior_sigma^2; at a standstill or a crawl nothing observes the scale.
+// Otherwise the scale block is held at its current value for the solve.
+bool LidarOdometry::Impl::WheelScaleObservable() {
+  std::unordered_map<long, double> wheel_variance;  // forward variance of the wheel factor ending at a node
+  for (const Factor& factor : graph.Entries(FactorKind::kWheel)) {
+    if (const auto* cost = dynamic_cast<const WheelFactor*>(factor.cost.get()))
+      wheel_variance[factor.tag] = cost->preintegration().covariance()(kWheelPosition, kWheelPosition);
+  }
+  double lidar_information = 0, wheel_information = 0;
+  double sum_w = 0, sum_wd = 0, sum_wdd = 0, distance = 0;
+  Eigen::Vector3d previous = Eigen::Vector3d::Zero();
+  for (std::size_t k = 0; k < window.size(); ++k) {
+    const ScanState& scan = window[k];
+    const Eigen::Vector3d position = NodePose(scan.end_node).translation();
+    if (k > 0) distance += (position - previous).norm();
+    previous = position;
+    const double sigma = scan.forward_sigma_m;
+    if (!std::isfinite(sigma) || sigma <= 0) continue;
+    double variance = 0;  // the wheel's, over the scan
+    bool covered = scan.end_node > scan.begin_node;
+    for (long id = scan.begin_node + 1; id <= scan.end_node; ++id) {
+      const auto it = wheel_variance.find(id);
+      if (it == wheel_variance.end()) {
+        covered = false;
+        break;
+      }
+      variance += it->second;
+    }
+    if (!covered || variance <= 0) continue;
+    const double w = 1.0 / (sigma * sigma);
+    lidar_information += w;
+    wheel_information += 1.0 / variance;
+    sum_w += w;
+    sum_wd += w * distance;
+    sum_wdd += w * distance * distance;
+  }
+  if (sum_w <= 0 || lidar_information < wheel_information) return false;
+  const double spread = sum_wdd - sum_wd * sum_wd / sum_w;
+  const double prior = config.wheel.scale_prior_sigma;
+  return spread > 0 && 1.0 <= spread * prior * prior;
 }
 
 // IMU factors whose start state's biases moved far from their linearization point integrate again there.
