@@ -13,6 +13,10 @@ struct VoxelMapConfig {
   double plane_eigen_ratio = 0.12;  // plane gate lambda_min / lambda_mid (paper: 0.12)
   int min_plane_points = 5;         // points needed in the 3x3x3 block for a plane
   double min_plane_sigma_m = 0.05;  // floor of Plane::sigma, m
+  // Distinct LiDAR rings needed in the 3x3x3 block for a plane, when every point's ring is known (1: off).
+  // One ring is one scan line: a curve on the beam's cone, whose PCA plane may be the cone's, not the
+  // surface's.
+  int min_plane_rings = 1;
 
   // "lidar_map.<field>: must be ..., got <value>" for the first bad field.
   Status Validate() const;

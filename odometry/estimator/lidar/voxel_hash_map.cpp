@@ -1,5 +1,6 @@
 #include "odometry/estimator/lidar/voxel_hash_map.h"
 
+#include <bit>
 #include <cassert>
 #include <string>
 
@@ -9,6 +10,12 @@ namespace {
 // Block offset o = 9 (dx + 1) + 3 (dy + 1) + (dz + 1) and back.
 VoxelIndex OffsetOf(int o) { return VoxelIndex(o / 9 - 1, (o / 3) % 3 - 1, o % 3 - 1); }
 constexpr int kSelf = 13;
+
+// Rings as a 64-bit set: ring r sets bit r % 63 (rings 63 apart share a bit: on a 128-ring sensor they are
+// tens of degrees apart, never both in one block at a range where a block could hold one line), an unknown
+// ring sets bit 63, which lifts the ring gate for the block.
+constexpr std::uint64_t kUnknownRing = std::uint64_t{1} << 63;
+std::uint64_t RingBit(int ring) { return ring < 0 ? kUnknownRing : std::uint64_t{1} << (ring % 63); }
 
 }  // namespace
 
@@ -40,6 +47,7 @@ VoxelHashMap::Slot VoxelHashMap::Create(const VoxelIndex& index) {
   voxel.points.clear();
   voxel.points.reserve(config_.max_points_per_voxel);
   voxel.moments = PointMoments();
+  voxel.rings = 0;
   for (int o = 0; o < kBlockSize; ++o) {
     const Slot neighbour = o == kSelf ? slot : Find(index + OffsetOf(o));
     voxel.block[o] = neighbour;
@@ -62,10 +70,11 @@ void VoxelHashMap::Remove(Slot slot) {
   free_slots_.push_back(slot);
 }
 
-void VoxelHashMap::Insert(const std::vector<Eigen::Vector3d>& world_points) {
+void VoxelHashMap::Insert(const std::vector<Eigen::Vector3d>& world_points, const std::vector<int>& rings) {
   ++revision_;
   const double limit = static_cast<double>(kVoxelIndexLimit - 2) * config_.voxel_m;
-  for (const Eigen::Vector3d& p : world_points) {
+  for (std::size_t k = 0; k < world_points.size(); ++k) {
+    const Eigen::Vector3d& p = world_points[k];
     if (!p.allFinite() || p.cwiseAbs().maxCoeff() >= limit) continue;
     const VoxelIndex index = VoxelOf(p, inverse_voxel_m_);
     Slot slot = Find(index);
@@ -74,6 +83,7 @@ void VoxelHashMap::Insert(const std::vector<Eigen::Vector3d>& world_points) {
     if (static_cast<int>(voxel.points.size()) >= config_.max_points_per_voxel) continue;
     voxel.points.push_back(p.cast<float>());
     voxel.moments.Add(p - CenterOf(index));
+    voxel.rings |= RingBit(k < rings.size() ? rings[k] : -1);
     ++point_count_;
   }
 }
@@ -90,20 +100,32 @@ std::optional<Plane> VoxelHashMap::FitBlock(const Voxel& voxel) const {
   // Moments of the block relative to the centre c_v of voxel v: a neighbour u's moments are relative to
   // c_u, so shift by c_u - c_v = (u - v) voxel_m.
   ShiftedMomentSum block;
+  std::uint64_t rings = 0;
   for (int o = 0; o < kBlockSize; ++o)
-    if (voxel.block[o] != kNoVoxel)
+    if (voxel.block[o] != kNoVoxel) {
       block.Add(voxels_[voxel.block[o]].moments, OffsetOf(o).cast<double>() * config_.voxel_m);
+      rings |= voxels_[voxel.block[o]].rings;
+    }
+  if (!EnoughRings(rings)) return std::nullopt;
   return FitPlane(block.Total(), CenterOf(voxel.index), gate_);
 }
 
 std::optional<Plane> VoxelHashMap::FitBlockAround(const VoxelIndex& index) const {
   ShiftedMomentSum block;
+  std::uint64_t rings = 0;
   for (int o = 0; o < kBlockSize; ++o) {
     const Slot neighbour = Find(index + OffsetOf(o));
-    if (neighbour != kNoVoxel)
+    if (neighbour != kNoVoxel) {
       block.Add(voxels_[neighbour].moments, OffsetOf(o).cast<double>() * config_.voxel_m);
+      rings |= voxels_[neighbour].rings;
+    }
   }
+  if (!EnoughRings(rings)) return std::nullopt;
   return FitPlane(block.Total(), CenterOf(index), gate_);
+}
+
+bool VoxelHashMap::EnoughRings(std::uint64_t rings) const {
+  return (rings & kUnknownRing) != 0 || std::popcount(rings) >= config_.min_plane_rings;
 }
 
 std::uint64_t VoxelHashMap::QueryKey(const Eigen::Vector3d& world_point) const {

@@ -4,7 +4,8 @@
 //
 // Each voxel keeps at most max_points_per_voxel points (later ones are ignored) and their moments relative
 // to its centre. The plane of voxel v is the PCA plane (plane_fit.h) of the points of v and its 26
-// neighbours (a 3x3x3 block of voxels, 1.5 m wide at 0.5 m voxels), gated by lambda_min / lambda_mid; a
+// neighbours (a 3x3x3 block of voxels, 1.5 m wide at 0.5 m voxels), gated by lambda_min / lambda_mid and,
+// optionally, by the number of distinct LiDAR rings (scan lines) among its points (min_plane_rings); a
 // voxel that holds no points gets the plane of its neighbours' points the same way. Planes are fitted on
 // each query from the block's moments (27 moment sums and a 3x3 eigen-decomposition), never cached: every
 // scan inserts a point into most voxels in view, so a per-voxel cache would rarely survive until the next
@@ -34,12 +35,14 @@ class VoxelHashMap {
  public:
   explicit VoxelHashMap(const VoxelMapConfig& config = {});  // asserts config.Validate().ok()
 
-  // Adds world points (non-finite ones are skipped); voxels keep <= max_points_per_voxel points.
-  void Insert(const std::vector<Eigen::Vector3d>& world_points);
+  // Adds world points (non-finite ones are skipped); voxels keep <= max_points_per_voxel points. rings: the
+  // LiDAR ring of each point (-1 or missing: unknown), for the gate min_plane_rings.
+  void Insert(const std::vector<Eigen::Vector3d>& world_points, const std::vector<int>& rings = {});
   // Bounded memory: drops every voxel whose centre is farther than max_range_m from `center`.
   void RemoveFarFrom(const Eigen::Vector3d& center);
   // The plane of the voxel holding world_point (see the top of this file), or nullopt when the block has
-  // fewer than min_plane_points points or fails the eigen-ratio gate. Thread-safe (const, no cache).
+  // fewer than min_plane_points points, fails the eigen-ratio gate, or holds fewer than min_plane_rings
+  // distinct rings (only when every point of the block has a known ring). Thread-safe (const, no cache).
   std::optional<Plane> PlaneNear(const Eigen::Vector3d& world_point) const;
   // What PlaneNear's answer depends on: the packed key of the voxel holding world_point, or kNoQueryKey for
   // a point PlaneNear rejects (non-finite, beyond the key range). While revision() is unchanged, points
@@ -69,6 +72,7 @@ class VoxelHashMap {
     std::array<Slot, kBlockSize> block;   // slots of the block's voxels, kNoVoxel where empty
     std::vector<Eigen::Vector3f> points;  // world, m (float: 30 um at 500 m, plenty for display)
     PointMoments moments;                 // relative to the voxel centre, double
+    std::uint64_t rings = 0;              // RingBit of each point's ring
   };
 
   Eigen::Vector3d CenterOf(const VoxelIndex& index) const {
@@ -78,6 +82,7 @@ class VoxelHashMap {
   Slot Create(const VoxelIndex& index);  // links the new voxel with its existing neighbours
   void Remove(Slot slot);
   std::optional<Plane> FitBlock(const Voxel& voxel) const;
+  bool EnoughRings(std::uint64_t rings) const;  // the block's OR of Voxel::rings passes min_plane_rings
   std::optional<Plane> FitBlockAround(const VoxelIndex& index) const;  // for a voxel that holds no points
 
   VoxelMapConfig config_;

@@ -19,7 +19,7 @@ std::vector<PreparedPoint> PrepareScan(const LidarScan& scan, double min_range_m
     const double r2 = q.squaredNorm();
     if (r2 < min2 || r2 > max2) continue;
     const double alpha = timed ? std::clamp(p.offset_ns / duration_ns, 0.0, 1.0) : 0.0;
-    out.push_back({q, alpha, p.intensity});
+    out.push_back({q, alpha, p.intensity, scan.has_ring ? static_cast<int>(p.ring) : -1});
   }
   return out;
 }

@@ -15,6 +15,7 @@ struct PreparedPoint {
   Eigen::Vector3d point_lidar;  // m, lidar frame at the point's own time
   double alpha = 0;             // in [0, 1]
   float intensity = 0;
+  int ring = -1;  // the scan's ring (laser) of the point; -1 when the scan has none
 };
 
 std::vector<PreparedPoint> PrepareScan(const LidarScan& scan, double min_range_m, double max_range_m);

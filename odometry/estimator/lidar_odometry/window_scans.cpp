@@ -85,10 +85,15 @@ void LidarOdometry::Impl::Associate(ScanState& scan) {
 void LidarOdometry::Impl::InsertIntoMap(ScanState& scan) {
   const StageTimer timer(stats.map_ms);
   std::vector<Eigen::Vector3d> world;
+  std::vector<int> rings;
   world.reserve(scan.map_points.size());
+  rings.reserve(scan.map_points.size());
   const SweepPoses sweep = Sweep(scan);
-  for (const PreparedPoint& p : scan.map_points) world.push_back(sweep.At(p.alpha) * p.point_lidar);
-  map.Insert(world);
+  for (const PreparedPoint& p : scan.map_points) {
+    world.push_back(sweep.At(p.alpha) * p.point_lidar);
+    rings.push_back(p.ring);
+  }
+  map.Insert(world, rings);
   map.RemoveFarFrom(NodePose(scan.end_node).translation());
   scan.in_map = true;
 }

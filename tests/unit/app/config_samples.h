@@ -129,7 +129,7 @@ inline estimator::LidarOdometryConfig NonDefaultOdometry() {
   c.max_plane_distance_m = 0.8;
   c.marginalize = false;
   c.motion = {3.5, 1.25};
-  c.map = {0.25, 7, 80, 0.2, 6, 0.02};
+  c.map = {0.25, 7, 80, 0.2, 6, 0.02, 2};
   c.imu_max_gap_s = 0.1;
   c.imu_max_wait_s = 0.75;
   c.max_speed_mps = 40;

@@ -185,6 +185,7 @@ inline void ExpectSameLo(const estimator::LidarOdometryConfig& a, const estimato
   EXPECT_FIELD(map.plane_eigen_ratio);
   EXPECT_FIELD(map.min_plane_points);
   EXPECT_FIELD(map.min_plane_sigma_m);
+  EXPECT_FIELD(map.min_plane_rings);
 }
 
 // The parts that lio: and wio: share: imu, init (but its window_scans), wheel, gnss.
