@@ -134,8 +134,10 @@ void GnssProvider::AddFactor(FactorGraph& graph, std::span<const NodeView> nodes
   const double distance_m = last_accepted_antenna_ ? (antenna - *last_accepted_antenna_).norm() : 0.0;
   const IntegrityResult check =
       CheckIntegrity(antenna, alignment, fix.enu, fix.covariance, distance_m, config_);
-  horizontal_innovations_.push_back(check.innovation.head<2>().norm());
-  if (std::isfinite(check.d2)) d2_sum_ += check.d2;
+  if (std::isfinite(check.d2)) {  // a non-finite prediction is rejected below, and not in the statistics
+    horizontal_innovations_.push_back(check.innovation.head<2>().norm());
+    d2_sum_ += check.d2;
+  }
   if (!check.horizontal_accepted) {
     ++counts_.rejected;
     std::ostringstream why;
