@@ -44,6 +44,7 @@ Expected<GnssTrackError> CompareWithGnssTrack(const Trajectory& trajectory, std:
   double horizontal = 0, vertical = 0;
   for (std::size_t i = 0; i < antenna.size(); ++i) {
     const Eigen::Vector3d e = antenna[i] - enu[i];
+    result.horizontal_error_m.push_back(e.head<2>().norm());
     horizontal += e.head<2>().squaredNorm();
     vertical += e.z() * e.z();
   }

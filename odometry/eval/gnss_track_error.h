@@ -30,8 +30,10 @@ struct GnssTrackError {
   double horizontal_rmse_m = 0, vertical_rmse_m = 0;
   double track_length_m = 0;
   double segment_m = 100;
-  std::optional<double> segment_error_percent;          // none when the track is shorter than one segment
-  std::vector<Eigen::Vector3d> antenna_enu, fixes_enu;  // the pairs compared, ENU at the origin (for plots)
+  std::optional<double> segment_error_percent;  // none when the track is shorter than one segment
+  // The pairs compared, ENU at the origin, and each pair's horizontal error (for plots).
+  std::vector<Eigen::Vector3d> antenna_enu, fixes_enu;
+  std::vector<double> horizontal_error_m;
 };
 
 // `georeferenced_origin`: the trajectory's ENU origin when it is georeferenced. Errors: no fix with a

@@ -116,13 +116,11 @@ GroundTruthCheck CheckAgainstGnssTrack(const fs::path& out, const std::optional<
     return check;
   }
   // The top view: the fixes (grey) and the trajectory's antenna coloured by its horizontal error.
-  std::vector<double> horizontal;
-  for (std::size_t i = 0; i < track->antenna_enu.size(); ++i)
-    horizontal.push_back((track->antenna_enu[i] - track->fixes_enu[i]).head<2>().norm());
   const std::string plot = "plots/gnss_track_top_view.png";
   std::error_code error;
   fs::create_directories(out / "plots", error);
-  if (Status s = WriteTopViewPlot((out / plot).string(), track->fixes_enu, track->antenna_enu, horizontal,
+  if (Status s = WriteTopViewPlot((out / plot).string(), track->fixes_enu, track->antenna_enu,
+                                  track->horizontal_error_m,
                                   std::string("Trajectory against the GNSS track (") +
                                       (track->aligned ? "fitted" : "georeferenced") + ")",
                                   "horizontal error [m]");
@@ -132,11 +130,9 @@ GroundTruthCheck CheckAgainstGnssTrack(const fs::path& out, const std::optional<
   } else {
     check.gnss_track_note = "plot not written: " + s.message();
   }
-  track->antenna_enu.clear();
-  track->fixes_enu.clear();
-  check.gnss_track = std::move(*track);
   context.SetUnit("fixes");
-  context.Progress(check.gnss_track->fixes, check.gnss_track->fixes);
+  context.Progress(track->fixes, track->fixes);
+  check.gnss_track = std::move(*track);
   return check;
 }
 

@@ -8,16 +8,17 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Processing times of the odometry's steps, in order, and (G modes) the world -> ENU alignment as it was
-// when each pose left the window (none before the alignment started).
-struct StepTimes {
+// What the stage collects beside the trajectory: the processing time of each of the odometry's steps, in
+// order, and (WIO) the world -> ENU alignment as it was when each pose left the window (none before the
+// alignment started; InEnuPerPose).
+struct Collected {
   std::vector<Stamp> stamps;
   std::vector<double> ms;
   std::vector<std::optional<SE3>> T_enu_world_at_pose;
 };
 
 // Moves the keyframes that left the odometry's window into the trajectory (and the mapper), in time order.
-Status CollectFinished(const OdometryStageInput& in, OdometryStageOutput& out, StepTimes& times,
+Status CollectFinished(const OdometryStageInput& in, OdometryStageOutput& out, Collected& collected,
                        std::int64_t& keyframes) {
   for (Keyframe& k : in.odometry->TakeFinished()) {
     ++keyframes;
@@ -26,16 +27,19 @@ Status CollectFinished(const OdometryStageInput& in, OdometryStageOutput& out, S
       continue;  // keep stamps increasing
     trajectory.stamps.push_back(k.stamp);
     trajectory.poses.push_back(k.T_world_body);
-    const std::optional<Georeference> georef = in.odometry->georeference();
-    times.T_enu_world_at_pose.push_back(georef ? std::optional<SE3>(georef->T_enu_world) : std::nullopt);
+    if (in.frames.mode == OdometryMode::kWio) {
+      const std::optional<Georeference> georef = in.odometry->georeference();
+      collected.T_enu_world_at_pose.push_back(georef ? std::optional<SE3>(georef->T_enu_world)
+                                                     : std::nullopt);
+    }
     if (in.mapper) {
       if (Status s = in.mapper->AddKeyframe(std::move(k)); !s.ok()) return s;
       ++out.keyframes_mapped;
     }
   }
   for (const StepTime& step : in.odometry->TakeStepTimes()) {
-    times.stamps.push_back(step.stamp);
-    times.ms.push_back(step.ms);
+    collected.stamps.push_back(step.stamp);
+    collected.ms.push_back(step.ms);
   }
   return {};
 }
@@ -80,13 +84,13 @@ Status WriteGeoTrajectory(const std::filesystem::path& folder, const Trajectory&
 // trajectory.tum, trajectory_kitti.txt (in ENU, with the geographic files, when the estimator georeferenced
 // the run), timing.json and the timing plot.
 Status WriteOdometryFiles(const OdometryStageInput& in, const OdometryStageOutput& out,
-                          const StepTimes& times, OdometrySummary& summary, StageContext& context) {
+                          const Collected& collected, OdometrySummary& summary, StageContext& context) {
   const std::int64_t warnings =
       static_cast<std::int64_t>(summary.reader_warnings.size() + summary.odometry_warnings.size());
   Trajectory written = in.frames.OutputTrajectory(out.estimated);
   if (out.georef) {
     written = in.frames.mode == OdometryMode::kWio
-                  ? InEnuPerPose(std::move(written), times.T_enu_world_at_pose, out.georef->T_enu_world)
+                  ? InEnuPerPose(std::move(written), collected.T_enu_world_at_pose, out.georef->T_enu_world)
                   : InEnu(std::move(written), out.georef->T_enu_world);
     if (Status s = WriteGeoTrajectory(in.out, written, *out.georef, context); !s.ok()) return s;
   }
@@ -96,12 +100,13 @@ Status WriteOdometryFiles(const OdometryStageInput& in, const OdometryStageOutpu
       !s.ok())
     return s;
   for (const char* file : {"trajectory.tum", "trajectory_kitti.txt", "timing.json"}) context.AddOutput(file);
-  if (times.ms.empty()) return {};
+  if (collected.ms.empty()) return {};
   std::error_code error;
   fs::create_directories(in.out / "plots", error);
   if (error) return Status::Error((in.out / "plots").string() + ": cannot create: " + error.message());
   const std::string plot = "plots/timing_per_" + summary.step + ".png";
-  if (Status s = WriteTimingPlot(in.out / plot, times.stamps, times.ms, summary.step); !s.ok()) return s;
+  if (Status s = WriteTimingPlot(in.out / plot, collected.stamps, collected.ms, summary.step); !s.ok())
+    return s;
   summary.timing_plot = plot;
   context.AddOutput(summary.timing_plot);
   return {};
@@ -115,7 +120,7 @@ int PacedStream(const DatasetSensors& sensors, OdometryMode mode) {
 
 Expected<OdometryStageOutput> RunOdometryStage(const OdometryStageInput& in, StageContext& context) {
   OdometryStageOutput out;
-  StepTimes times;
+  Collected collected;
   std::int64_t scans = 0, keyframes = 0, paced = 0;
   const DatasetSensors& sensors = in.sensors;
   RunEstimator& odometry = *in.odometry;
@@ -144,13 +149,13 @@ Expected<OdometryStageOutput> RunOdometryStage(const OdometryStageInput& in, Sta
     } else {
       return Status();
     }
-    if (status.ok()) status = CollectFinished(in, out, times, keyframes);
+    if (status.ok()) status = CollectFinished(in, out, collected, keyframes);
     if (status.ok()) context.Progress(paced, in.paced_messages);
     return status;
   });
   if (!read.ok()) return read;
   odometry.Finish();
-  if (Status s = CollectFinished(in, out, times, keyframes); !s.ok()) return s;
+  if (Status s = CollectFinished(in, out, collected, keyframes); !s.ok()) return s;
 
   OdometrySummary& summary = out.summary;
   summary.step = odometry.step();
@@ -158,7 +163,7 @@ Expected<OdometryStageOutput> RunOdometryStage(const OdometryStageInput& in, Sta
   summary.scans = scans;
   summary.keyframes = static_cast<std::int64_t>(out.estimated.size());
   summary.skipped = summary.step == "scan" ? scans - keyframes : 0;  // WIO nodes are not skipped
-  summary.timing = SummarizeTimings(times.ms);
+  summary.timing = SummarizeTimings(collected.ms);
   summary.reader_warnings = in.stream->warnings();
   summary.odometry_warnings = odometry.warnings();
   summary.sensor_factors = odometry.sensor_factors();
@@ -168,9 +173,9 @@ Expected<OdometryStageOutput> RunOdometryStage(const OdometryStageInput& in, Sta
   if (out.georef) out.frames.T_map_world = in.frames.T_map_world * out.georef->T_enu_world.inverse();
   if (out.estimated.empty())
     return Status::Error(in.stream->description().path.string() + ": the odometry produced no pose (" +
-                         std::to_string(times.ms.size()) + " " + summary.step + "s, " +
+                         std::to_string(collected.ms.size()) + " " + summary.step + "s, " +
                          std::to_string(summary.odometry_warnings.size()) + " warnings)");
-  if (Status s = WriteOdometryFiles(in, out, times, summary, context); !s.ok()) return s;
+  if (Status s = WriteOdometryFiles(in, out, collected, summary, context); !s.ok()) return s;
   return out;
 }
 
