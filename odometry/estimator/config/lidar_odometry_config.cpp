@@ -33,8 +33,12 @@ Status LidarOdometryConfig::Validate() const {
   if (!Positive(motion.angular_acc_density))
     return Bad("motion.angular_acc_density", "> 0", motion.angular_acc_density);
   if (!Positive(max_plane_distance_m)) return Bad("max_plane_distance_m", "> 0", max_plane_distance_m);
-  if (!Positive(max_correction_m)) return Bad("max_correction_m", "> 0", max_correction_m);
-  if (!Positive(max_correction_rad)) return Bad("max_correction_rad", "> 0", max_correction_rad);
+  if (!std::isfinite(min_match_ratio) || min_match_ratio < 0 || min_match_ratio > 1)
+    return Bad("min_match_ratio", "in [0, 1]", min_match_ratio);
+  if (!Positive(max_speed_mps)) return Bad("max_speed_mps", "> 0", max_speed_mps);
+  if (!Positive(max_angular_rate_rad_s)) return Bad("max_angular_rate_rad_s", "> 0", max_angular_rate_rad_s);
+  if (max_rejected_scans < 1) return Bad("max_rejected_scans", ">= 1", max_rejected_scans);
+  if (!Positive(max_prediction_s)) return Bad("max_prediction_s", "> 0", max_prediction_s);
   if (min_points < 6) return Bad("min_points", ">= 6", min_points);
   if (Status s = marginalization.Validate(); !s.ok()) return Status::Error("lo." + s.message());
   if (use_wheel)
@@ -53,7 +57,6 @@ Status LidarOdometryConfig::Validate() const {
                          "), got " + std::to_string(init.window_scans));
   if (!Positive(imu_max_gap_s)) return Bad("imu_max_gap_s", "> 0", imu_max_gap_s, "lio");
   if (!Positive(imu_max_wait_s)) return Bad("imu_max_wait_s", "> 0", imu_max_wait_s, "lio");
-  if (!Positive(max_speed_mps)) return Bad("max_speed_mps", "> 0", max_speed_mps, "lio");
   return {};
 }
 

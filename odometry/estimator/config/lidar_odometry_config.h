@@ -30,10 +30,16 @@ struct LidarOdometryConfig {
   int association_rounds = 10;        // at most this many solve + re-query rounds per scan (ICP style)
   double max_plane_distance_m = 1.0;  // correspondences farther from their plane are dropped, m
   ConstantVelocityNoise motion;       // constant-velocity prior between consecutive pose nodes
-  double max_correction_m = 5.0;      // a solve moving the new scan farther than this from its guess
-  double max_correction_rad = 0.5;    //   (or rotating it more) is treated as divergence
-  int min_points = 50;                // scans with fewer prepared points are skipped
-  bool marginalize = true;            // oldest states into a Gaussian prior (else: oldest pose held fixed)
+  // Registration acceptance and recovery (docs/METHOD.md "Registration, acceptance and recovery"):
+  double min_match_ratio = 0.5;  // a registration whose fraction of points near a map plane is below this
+                                 //   share of the recent scans' (their median) is rejected
+  double max_speed_mps = 80;     // a scan registered farther from the last registered one than this
+                                 //   speed allows is rejected; in LIO also a faster state is divergence
+  double max_angular_rate_rad_s = 10;  // likewise for its rotation (10 rad/s = 573 deg/s)
+  int max_rejected_scans = 3;          // this many consecutive rejections restart the local map
+  double max_prediction_s = 0.5;       // the constant-velocity guess extrapolates at most this far
+  int min_points = 50;                 // scans with fewer prepared points are skipped
+  bool marginalize = true;             // oldest states into a Gaussian prior (else: oldest pose held fixed)
   MarginalizationConfig marginalization;
 
   // LIO: IMU preintegration factors between the states instead of the constant-velocity prior.
@@ -47,7 +53,6 @@ struct LidarOdometryConfig {
   double imu_max_gap_s = 0.05;  // a longer step between IMU samples is a gap: bridged with the
                                 //   constant-velocity prior and a warning
   double imu_max_wait_s = 0.5;  // a scan waits this long (stream time) for the IMU to cover its end
-  double max_speed_mps = 80;    // a faster state is divergence: logged re-initialization
 
   // Wheel odometry factors between consecutive nodes (LWIO; providers/wheel_provider.h). A scan then also
   // waits (at most imu_max_wait_s of stream time) for the wheel samples to cover its end.

@@ -8,13 +8,6 @@
 #include "odometry/estimator/lidar_odometry/odometry_window.h"
 
 namespace uf::estimator {
-namespace {
-
-constexpr double kConvergedTranslation = 0.005;  // m, registration converged when a round moves less
-constexpr double kConvergedRotation = 0.001;     // rad
-
-}  // namespace
-
 Status LidarOdometry::Impl::AddScan(const LidarScan& input) {
   if (input.end < input.stamp)
     return Status::Error("lidar scan at " + StampText(input.stamp) + ": end before stamp");
@@ -86,23 +79,27 @@ void LidarOdometry::Impl::ProcessScan(const LidarScan& input) {
   // it is mapped as if at rest, which is the pose at its middle to first order; two nodes would leave its
   // end node without data. Later sweeps share the previous end node when they start where it ended.
   if (nodes.empty()) {
-    scan.begin_node = scan.end_node = AddNode(input.stamp + (input.end - input.stamp) / 2);
-    window.push_back(std::move(scan));
-    InsertIntoMap(window.back());
+    StartMap(std::move(scan));
   } else {
     const bool share = std::llabs(input.stamp - nodes.back().stamp) < kSharedNodeTolerance;
     scan.begin_node = share ? LastNodeId() : AddNode(input.stamp);
     scan.end_node = input.end - NodeAt(scan.begin_node).stamp >= kSharedNodeTolerance ? AddNode(input.end)
                                                                                       : scan.begin_node;
     window.push_back(std::move(scan));
-    if (RegisterNewScan(window.back())) InsertIntoMap(window.back());
+    if (RegisterNewScan(window.back())) {
+      InsertIntoMap(window.back());
+    } else if (consecutive_rejections >= config.max_rejected_scans) {
+      Restart();
+    }
     if (config.use_imu && !inertial) TryInitializeInertial();
   }
   if (std::optional<std::string> why;
       config.use_imu && (why = DivergenceReason(nodes, inertial, config.max_speed_mps))) {
     // The window's states are not trusted: its scans are dropped, not emitted as keyframes.
-    warnings.push_back("LIO diverged (" + *why + "): re-initializing at " + StampText(input.end) + ", " +
-                       std::to_string(window.size()) + " scans of the window dropped");
+    const std::string what = "LIO diverged (" + *why + "): re-initializing at " + StampText(input.end) +
+                             ", " + std::to_string(window.size()) + " scans of the window dropped";
+    warnings.push_back(what);
+    events.push_back({TrackEvent::Kind::kRestarted, input.stamp, what});
     Reset();
   }
   while (static_cast<int>(window.size()) > config.window_size) PopOldest();
@@ -110,53 +107,39 @@ void LidarOdometry::Impl::ProcessScan(const LidarScan& input) {
   processed.push_back(stats);
 }
 
-// Registration of the newest scan (the window's last): ICP-style rounds that move only its nodes, then one
-// solve of the whole window. A failed, non-finite or implausible result restores the guess (not in the map).
-bool LidarOdometry::Impl::RegisterNewScan(ScanState& current) {
-  const SavedStates saved = Save(nodes);
-  const SE3 guess = NodePose(current.end_node);
-  bool solved = true;
-  // Re-query the planes after each solve until the new scan's begin and end poses move less than
-  // kConvergedTranslation / kConvergedRotation in a round, or come back to where an earlier round left them
-  // (the association then cycles through the same few plane sets: further rounds only repeat the cycle), or
-  // association_rounds is reached.
-  std::vector<std::pair<SE3, SE3>> visited;  // (begin, end) poses after each round
-  auto near = [](const SE3& a, const SE3& b) {
-    const SE3 step = a.inverse() * b;
-    return step.translation().norm() < kConvergedTranslation && step.so3().angle() < kConvergedRotation;
-  };
-  visited.emplace_back(NodePose(current.begin_node), NodePose(current.end_node));
-  for (int round = 0; round < config.association_rounds && solved; ++round) {
-    Associate(current);
-    solved = Solve(&stats.iterations, /*new_scan_only=*/true);
-    const SE3 begin = NodePose(current.begin_node), end = NodePose(current.end_node);
-    const bool repeated = std::any_of(visited.begin(), visited.end(), [&](const std::pair<SE3, SE3>& seen) {
-      return near(seen.first, begin) && near(seen.second, end);
-    });
-    if (repeated) break;
-    visited.emplace_back(begin, end);
-  }
-  if (solved && (config.window_size > 2 || inertial)) {
-    LinkGnss();  // the new nodes are registered: a fair prediction for the integrity test
-    Relinearize();
-    solved = Solve(&stats.iterations);  // the whole window, once
-  }
-  stats.residuals = current.residuals;
-  current.plane_cache = {};  // the map changes next
-  const bool finite = AllFinite(nodes);
-  const SE3 correction = guess.inverse() * (finite ? NodePose(current.end_node) : guess);
-  if (solved && finite && correction.translation().norm() <= config.max_correction_m &&
-      correction.so3().angle() <= config.max_correction_rad && current.residuals >= 6) {
-    if (wheel) current.forward_sigma_m = ForwardSigma(current);
-    return true;
-  }
-  Restore(saved, nodes);
-  graph.Remove(FactorKind::kLidar, current.id);
-  current.residuals = 0;
-  warnings.push_back("lidar scan at " + StampText(current.stamp) +
-                     ": registration rejected (solver failure, too few planes or implausible jump); kept the "
-                     "predicted pose");
-  return false;
+// The first scan of a (new) local map: nothing to register against, so it gets a single node at its middle:
+// its motion is unknown, so it is mapped as if at rest, which is the pose at its middle to first order; two
+// nodes would leave its end node without data.
+void LidarOdometry::Impl::StartMap(ScanState scan) {
+  scan.begin_node = scan.end_node = AddNode(scan.stamp + (scan.end - scan.stamp) / 2);
+  window.push_back(std::move(scan));
+  InsertIntoMap(window.back());
+  last_registered = RegisteredPose{window.back().end, NodePose(window.back().end_node)};
+}
+
+// Recovery after max_rejected_scans consecutive rejections (the map no longer matches what the LiDAR sees):
+// the window's scans leave as keyframes (the rejected ones with their predicted pose and no points), and a
+// new local map starts with the newest scan, at the last registered pose (in initialized LIO at the newest
+// scan's IMU prediction, which carries the motion through the failure). The trajectory goes on from there;
+// the event marks the discontinuity.
+void LidarOdometry::Impl::Restart() {
+  ScanState current = std::move(window.back());
+  window.pop_back();
+  const SE3 predicted = PoseAt(NodePose(current.begin_node), NodePose(current.end_node), 0.5);
+  const bool imu_carries = inertial && predicted.matrix().allFinite();
+  const SE3 anchor = imu_carries ? predicted : last_registered ? last_registered->pose : restart_pose;
+  for (ScanState& scan : window) Release(scan);
+  const int rejected = consecutive_rejections;
+  Reset();
+  restart_pose = anchor;
+  current.plane_cache = {};
+  current.residuals = current.visited = 0;
+  StartMap(std::move(current));
+  events.push_back({TrackEvent::Kind::kRestarted, window.back().stamp,
+                    "local map restarted after " + std::to_string(rejected) + " rejected scans, at " +
+                        (imu_carries ? "the IMU prediction" : "the last registered pose") +
+                        " (a discontinuity)"});
+  warnings.push_back("lidar scan at " + StampText(window.back().stamp) + ": " + events.back().detail);
 }
 
 LidarOdometry::LidarOdometry(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -191,6 +174,24 @@ std::vector<Keyframe> LidarOdometry::TakeFinished() {
   std::vector<Keyframe> out = std::move(impl_->finished);
   impl_->finished.clear();
   return out;
+}
+
+std::vector<TrackEvent> LidarOdometry::TakeEvents() {
+  std::vector<TrackEvent> out = std::move(impl_->events);
+  impl_->events.clear();
+  return out;
+}
+
+std::string_view TrackEventName(TrackEvent::Kind kind) {
+  switch (kind) {
+    case TrackEvent::Kind::kRejected:
+      return "rejected";
+    case TrackEvent::Kind::kFallbackGuess:
+      return "fallback guess";
+    case TrackEvent::Kind::kRestarted:
+      return "restarted";
+  }
+  return "?";
 }
 
 std::vector<OdometryStats> LidarOdometry::TakeProcessedStats() {

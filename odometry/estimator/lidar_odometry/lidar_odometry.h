@@ -35,9 +35,16 @@
 // - Threads: the plane association of the new scan, the solver's evaluation and the keyframe's deskew run
 //   on all cores (TBB); the residuals are taken in visiting order and partial sums added in a fixed order,
 //   so the results do not depend on the number of threads.
-// - Divergence: a non-finite result, a solver failure or a correction beyond max_correction_m / _rad keeps
-//   the scan's guess, records a warning, and the scan is not inserted into the map. In LIO a non-finite or
-//   faster-than-max_speed_mps state re-initializes (logged), starting again at the last pose.
+// - Registration acceptance and recovery (docs/METHOD.md "Registration, acceptance and recovery"): a
+//   registration is rejected when its solve fails or leaves a non-finite state, when fewer of its points lie
+//   near a map plane than min_match_ratio of what the recent scans reached, or when it moved faster than
+//   max_speed_mps / max_angular_rate_rad_s since the last registered scan. A rejected first guess is
+//   followed by fallback guesses (no motion; in LIO also constant velocity); the accepted result matching
+//   the most points is kept. A scan rejected from every guess keeps its predicted pose, stays out of the map,
+//   and leaves as a keyframe without points; after max_rejected_scans rejections in a row the local map
+//   restarts with the newest scan at the last registered pose (a discontinuity). Every rejection, fallback
+//   and restart is a TrackEvent. In LIO a non-finite or faster-than-max_speed_mps state re-initializes
+//   (logged), starting again at the last pose.
 #pragma once
 
 #include <memory>
@@ -46,6 +53,7 @@
 #include <vector>
 
 #include "odometry/estimator/config/lidar_odometry_config.h"
+#include "odometry/estimator/lidar_odometry/track_event.h"
 #include "odometry/estimator/providers/sensor_factor_stats.h"
 #include "odometry/types/georeference.h"
 #include "odometry/types/keyframe.h"
@@ -94,6 +102,8 @@ class LidarOdometry {
   void Finish();
   // The statistics of each scan processed since the last call.
   std::vector<OdometryStats> TakeProcessedStats();
+  // The tracking events since the last call, in scan order.
+  std::vector<TrackEvent> TakeEvents();
   const std::vector<std::string>& warnings() const;
   const OdometryStats& last_stats() const;    // of the last processed scan
   bool inertial() const;                      // LIO initialized (IMU factors active)

@@ -48,6 +48,10 @@ struct ScanState {
   std::vector<PreparedPoint> map_points;           // downsampled at map_insert_voxel_m, for the map
   std::vector<PreparedPoint> registration_points;  // downsampled at input_voxel_m
   int residuals = 0;                               // point-to-plane factors of the last association
+  int visited = 0;  // registration points its last association looked at to find them (a spread sample)
+  // The fraction of the points looked at that lie near a map plane (within max_plane_distance_m): the
+  // registration's quality for the acceptance test.
+  double MatchFraction() const { return visited > 0 ? static_cast<double>(residuals) / visited : 0.0; }
   // The map's plane for each registration point, from its last query: within the ICP rounds of one scan
   // the map does not change, so a point still in the same voxel gets the same plane (VoxelHashMap::QueryKey)
   // and needs no new query. Valid for map revision plane_cache_revision; dropped after registration.
@@ -58,7 +62,7 @@ struct ScanState {
   };
   std::vector<CachedPlane> plane_cache;
   std::uint64_t plane_cache_revision = 0;
-  bool in_map = false;  // registered and inserted into the map
+  bool in_map = false;  // registered (or the first scan of a map) and inserted into the map
   // With wheel factors: the standard deviation of the scan's position along the wheel's forward axis that
   // its own point-to-plane factors give (ForwardSigma); infinite when it has none. For the wheel scale's
   // observability test (WheelScaleObservable).
@@ -103,6 +107,15 @@ struct LidarOdometry::Impl {
   SE3 restart_pose;  // the first node's guess (identity, or where a re-initialization starts)
   bool has_last = false;
   Stamp last_stamp = 0, last_end = 0;
+  // Registration acceptance and recovery (window_registration.cpp).
+  struct RegisteredPose {
+    Stamp stamp = 0;  // the scan's end
+    SE3 pose;         // its end node's pose when it was registered
+  };
+  std::optional<RegisteredPose> last_registered;  // the last scan accepted (or the first of a map)
+  std::deque<double> recent_match_fractions;      // of the last registered scans
+  int consecutive_rejections = 0;
+  std::vector<TrackEvent> events;  // since the last TakeEvents
   // LIO.
   ImuBuffer imu;                  // from before the oldest node on
   std::deque<LidarScan> pending;  // scans waiting for the IMU (and the wheel) to cover their end
@@ -117,7 +130,8 @@ struct LidarOdometry::Impl {
   long LastNodeId() const { return first_node_id + static_cast<long>(nodes.size()) - 1; }
   SE3 NodePose(long id) { return PoseFromBlock(NodeAt(id).pose.data()); }
   NavState NodeState(long id) { return NodeNavState(NodeAt(id)); }
-  SE3 Extrapolate(Stamp stamp);
+  SE3 Extrapolate(Stamp stamp) { return ExtrapolateFrom(LastNodeId(), stamp, 0); }
+  SE3 ExtrapolateFrom(long id, Stamp stamp, Stamp baseline);
   long AddNode(Stamp stamp);
   void AddImuFactor(long id, std::unique_ptr<ImuFactor> factor);
   void AddMotionPrior(long id);
@@ -129,6 +143,7 @@ struct LidarOdometry::Impl {
   void TryInitializeInertial();
   void ApplyInertialAlignment(const InertialAlignment& alignment);
   void Reset();
+  void Restart();
 
   // Scans (window_scans.cpp).
   SweepPoses Sweep(const ScanState& scan);
@@ -148,7 +163,19 @@ struct LidarOdometry::Impl {
   Status AddScan(const LidarScan& scan);
   void ProcessReady(bool flush);
   void ProcessScan(const LidarScan& scan);
+  void StartMap(ScanState scan);
+
+  // Registration (window_registration.cpp).
   bool RegisterNewScan(ScanState& current);
+  bool RegisterRounds(ScanState& current);
+  double ReferenceMatchFraction() const;
+  std::optional<std::string> RejectionReason(const ScanState& current, bool solved);
+  struct Guess {
+    std::string name;
+    SE3 begin, end;  // the scan's begin and end poses
+  };
+  std::vector<Guess> FallbackGuesses(const ScanState& current);
+  bool SharesBeginNode(const ScanState& current) const;
 };
 
 }  // namespace uf::estimator

@@ -8,17 +8,21 @@
 
 namespace uf::estimator {
 
-// Constant-velocity extrapolation from the last two nodes to `stamp` (identity before any node):
-// xi = Log(T_{n-1}^-1 T_n) / (t_n - t_{n-1}),  T(stamp) = T_n Exp(xi (stamp - t_n)).
-SE3 LidarOdometry::Impl::Extrapolate(Stamp stamp) {
+// Constant-velocity extrapolation from node id to `stamp` (restart_pose before any node), with the twist
+// between node id and the latest node at least `baseline` before it (else the oldest), over at most
+// max_prediction_s (after a longer gap the pose holds there: a velocity seen seconds ago says little):
+// xi = Log(T_base^-1 T_id) / (t_id - t_base),  T(stamp) = T_id Exp(xi min(stamp - t_id, max_prediction_s)).
+// Baseline 0 takes the last node pair (a sweep's begin and end node): the current twist, but resting on the
+// deskew alone and noisy; a longer one averages, and lags where the motion changes.
+SE3 LidarOdometry::Impl::ExtrapolateFrom(long id, Stamp stamp, Stamp baseline) {
   if (nodes.empty()) return restart_pose;
-  const long last = LastNodeId();
-  const SE3 T_last = NodePose(last);
-  if (nodes.size() < 2) return T_last;
-  const Node& previous = NodeAt(last - 1);
-  const double dt = ToSeconds(NodeAt(last).stamp - previous.stamp);
-  const Vector6d xi = (PoseFromBlock(previous.pose.data()).inverse() * T_last).Log() / dt;
-  return T_last * SE3::Exp(xi * ToSeconds(stamp - NodeAt(last).stamp));
+  const SE3 T_last = NodePose(id);
+  if (id <= first_node_id) return T_last;
+  long base = id - 1;
+  while (base > first_node_id && NodeAt(id).stamp - NodeAt(base).stamp < baseline) --base;
+  const double dt = ToSeconds(NodeAt(id).stamp - NodeAt(base).stamp);
+  const Vector6d xi = (NodePose(base).inverse() * T_last).Log() / dt;
+  return T_last * SE3::Exp(xi * std::min(ToSeconds(stamp - NodeAt(id).stamp), config.max_prediction_s));
 }
 
 // A new node at `stamp`. Initialized LIO: the IMU prediction from the last node and an IMU factor to it.
@@ -178,6 +182,9 @@ void LidarOdometry::Impl::Reset() {
   map.Clear();
   inertial = false;
   last_init_failure.clear();
+  last_registered.reset();
+  recent_match_fractions.clear();
+  consecutive_rejections = 0;
 }
 
 }  // namespace uf::estimator

@@ -25,7 +25,7 @@ SweepPoses LidarOdometry::Impl::Sweep(const ScanState& scan) {
 void LidarOdometry::Impl::Associate(ScanState& scan) {
   const StageTimer timer(stats.associate_ms);
   graph.Remove(FactorKind::kLidar, scan.id);
-  scan.residuals = 0;
+  scan.residuals = scan.visited = 0;
   const auto& points = scan.registration_points;
   const std::size_t n = points.size(), cap = static_cast<std::size_t>(config.max_residuals_per_scan);
   const std::size_t step = std::max<std::size_t>(1, n / cap);
@@ -80,6 +80,7 @@ void LidarOdometry::Impl::Associate(ScanState& scan) {
       ++scan.residuals;
     }
   }
+  scan.visited = static_cast<int>(next);
 }
 
 void LidarOdometry::Impl::InsertIntoMap(ScanState& scan) {
@@ -113,7 +114,9 @@ void LidarOdometry::Impl::Release(ScanState& scan) {
   } else if (scan.end > scan.stamp) {
     keyframe.velocity = (end.translation() - begin.translation()) / ToSeconds(scan.end - scan.stamp);
   }
-  const std::size_t n = scan.points.size();
+  // A scan whose registration was rejected keeps its predicted pose but brings no points: where they lie is
+  // not known.
+  const std::size_t n = scan.in_map ? scan.points.size() : 0;
   keyframe.scan_world.resize(n);
   keyframe.scan_intensity.resize(n);
   const SweepPoses sweep = Sweep(scan);

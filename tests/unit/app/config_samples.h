@@ -123,8 +123,11 @@ inline estimator::LidarOdometryConfig NonDefaultOdometry() {
   c.max_range_m = 70;
   c.map_insert_voxel_m = 0.3;
   c.association_rounds = 4;
-  c.max_correction_m = 2.5;
-  c.max_correction_rad = 0.25;
+  c.min_match_ratio = 0.4;
+  c.max_speed_mps = 40;
+  c.max_angular_rate_rad_s = 6.5;
+  c.max_rejected_scans = 5;
+  c.max_prediction_s = 0.75;
   c.min_points = 60;
   c.max_plane_distance_m = 0.8;
   c.marginalize = false;
@@ -132,7 +135,6 @@ inline estimator::LidarOdometryConfig NonDefaultOdometry() {
   c.map = {0.25, 7, 80, 0.2, 6, 0.02, 2};
   c.imu_max_gap_s = 0.1;
   c.imu_max_wait_s = 0.75;
-  c.max_speed_mps = 40;
   c.imu = {0.03, 0.002, 0.004, 2.5e-5, 9.81, 0.2, 0.02};
   c.init = {4, 0.03, 0.4, 0.06, 0.15};
   c.wheel = {.forward_velocity_density = 0.07,

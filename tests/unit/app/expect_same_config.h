@@ -172,8 +172,11 @@ inline void ExpectSameLo(const estimator::LidarOdometryConfig& a, const estimato
   EXPECT_FIELD(max_range_m);
   EXPECT_FIELD(map_insert_voxel_m);
   EXPECT_FIELD(association_rounds);
-  EXPECT_FIELD(max_correction_m);
-  EXPECT_FIELD(max_correction_rad);
+  EXPECT_FIELD(min_match_ratio);
+  EXPECT_FIELD(max_speed_mps);
+  EXPECT_FIELD(max_angular_rate_rad_s);
+  EXPECT_FIELD(max_rejected_scans);
+  EXPECT_FIELD(max_prediction_s);
   EXPECT_FIELD(min_points);
   EXPECT_FIELD(max_plane_distance_m);
   EXPECT_FIELD(marginalize);
@@ -235,7 +238,6 @@ inline void ExpectSameInertialParts(const Config& a, const Config& b) {
 inline void ExpectSameLio(const estimator::LidarOdometryConfig& a, const estimator::LidarOdometryConfig& b) {
   EXPECT_FIELD(imu_max_gap_s);
   EXPECT_FIELD(imu_max_wait_s);
-  EXPECT_FIELD(max_speed_mps);
   EXPECT_FIELD(init.window_scans);
   ExpectSameInertialParts(a, b);
 }

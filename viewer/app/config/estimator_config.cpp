@@ -28,9 +28,18 @@ Schema<LidarOdometryConfig> MakeLoSchema() {
         "downsampling of the deskewed scan inserted into the map");
   s.Key("association_rounds", &C::association_rounds, "rounds",
         "at most this many solve + re-query rounds per scan (until the pose moves < 5 mm / 1 mrad)");
-  s.Key("max_correction_m", &C::max_correction_m, "m",
-        "a solve moving a scan farther from its guess diverged");
-  s.Key("max_correction_rad", &C::max_correction_rad, "rad", "a solve rotating a scan more diverged");
+  s.Key("min_match_ratio", &C::min_match_ratio, "",
+        "a registration matching fewer of its points to map planes than this share of the recent scans' "
+        "median is rejected");
+  s.Key("max_speed_mps", &C::max_speed_mps, "m/s",
+        "a registration moving faster since the last registered scan is rejected; in LIO a faster state is "
+        "divergence (re-initialization)");
+  s.Key("max_angular_rate_rad_s", &C::max_angular_rate_rad_s, "rad/s",
+        "a registration turning faster since the last registered scan is rejected");
+  s.Key("max_rejected_scans", &C::max_rejected_scans, "scans",
+        "consecutive rejected registrations that restart the local map (a discontinuity in the report)");
+  s.Key("max_prediction_s", &C::max_prediction_s, "s",
+        "the constant-velocity guess extrapolates at most this far (the pose holds after a longer gap)");
   s.Key("min_points", &C::min_points, "points", "scans with fewer prepared points are skipped");
   s.Key("max_plane_distance_m", &C::max_plane_distance_m, "m",
         "correspondences farther from their plane are dropped");
@@ -66,7 +75,6 @@ Schema<LidarOdometryConfig> MakeLioSchema() {
         "a longer step between IMU samples is a gap, bridged by the constant-velocity prior");
   s.Key("imu_max_wait_s", &C::imu_max_wait_s, "s (stream time)",
         "how long a scan waits for the IMU to cover it");
-  s.Key("max_speed_mps", &C::max_speed_mps, "m/s", "a faster state is divergence (re-initialization)");
   s.Nest("imu", &C::imu,
          config::ImuNoiseSchema("10x the ADIS16448 datasheet: a margin for the budgeted solves"));
   s.Nest("init", &C::init, config::InitSchema(true));

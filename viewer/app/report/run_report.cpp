@@ -51,6 +51,31 @@ SplatSummary Summarize(const pipeline::SplatJobResult& result) {
   return summary;
 }
 
+// The tracking section: how many scans were rejected, registered from a fallback guess, or restarted the
+// local map, and each event with its stamp (the first kMaxListed).
+std::string FormatTracking(const std::vector<estimator::TrackEvent>& events, std::int64_t scans) {
+  constexpr std::size_t kMaxListed = 100;
+  using Kind = estimator::TrackEvent::Kind;
+  const auto count = [&](Kind kind) {
+    return std::to_string(std::count_if(events.begin(), events.end(),
+                                        [&](const estimator::TrackEvent& e) { return e.kind == kind; }));
+  };
+  std::string md = "\n## Tracking\n\n";
+  if (events.empty())
+    return md + "Every one of the " + std::to_string(scans) +
+           " scans was registered from its first guess: no rejection, no restart.\n";
+  md += count(Kind::kRejected) + " scans rejected (predicted pose kept, not mapped), " +
+        count(Kind::kFallbackGuess) + " registered from a fallback guess, " + count(Kind::kRestarted) +
+        " restarts of the local map (the trajectory is discontinuous there):\n\n| stamp [s] | event | detail "
+        "|\n|---|---|---|\n";
+  for (std::size_t i = 0; i < events.size() && i < kMaxListed; ++i)
+    md += "| " + FormatSeconds(events[i].stamp) + " | " +
+          std::string(estimator::TrackEventName(events[i].kind)) + " | " + events[i].detail + " |\n";
+  if (events.size() > kMaxListed)
+    md += "\n(" + std::to_string(events.size() - kMaxListed) + " more events not listed)\n";
+  return md;
+}
+
 }  // namespace
 
 std::vector<ReadWarning> GroupWarnings(const std::vector<std::string>& warnings) {
@@ -91,6 +116,7 @@ std::string FormatRunReport(const pipeline::RunSummary& r) {
     md += "| trajectory poses | " + std::to_string(o.keyframes) + " |\n";
   }
   md += "| wall time [s] | " + FormatValue("%.2f", r.wall_seconds) + " |\n";
+  if (o.step == "scan") md += FormatTracking(o.track_events, o.scans);
   md += "\n## Timing per " + o.step + " (" + (o.step == "scan" ? "AddScan" : "the node's solve") +
         " + TakeFinished, wall time)\n\n";
   md += "| mean [ms] | median [ms] | p95 [ms] | max [ms] |\n|---|---|---|---|\n";

@@ -29,6 +29,12 @@ class WindowEstimator final : public RunEstimator {
     for (const auto& stats : odometry_.TakeProcessedStats()) times.push_back({stats.stamp, stats.solve_ms});
     return times;
   }
+  std::vector<estimator::TrackEvent> TakeEvents() override {
+    if constexpr (requires(Odometry & o) { o.TakeEvents(); })
+      return odometry_.TakeEvents();
+    else
+      return {};
+  }
   void Finish() override { odometry_.Finish(); }
 
   const std::vector<std::string>& warnings() const override { return odometry_.warnings(); }

@@ -11,6 +11,7 @@
 
 #include "odometry/estimator/config/inertial_odometry_config.h"
 #include "odometry/estimator/config/lidar_odometry_config.h"
+#include "odometry/estimator/lidar_odometry/track_event.h"
 #include "odometry/estimator/providers/sensor_factor_stats.h"
 #include "odometry/types/georeference.h"
 #include "odometry/types/keyframe.h"
@@ -40,6 +41,8 @@ class RunEstimator {
   virtual std::vector<Keyframe> TakeFinished() = 0;
   // The steps processed since the last call.
   virtual std::vector<StepTime> TakeStepTimes() = 0;
+  // The LiDAR window's tracking events since the last call (none in the wheel-inertial window).
+  virtual std::vector<estimator::TrackEvent> TakeEvents() = 0;
   // End of data: every remaining state is released.
   virtual void Finish() = 0;
 

@@ -41,6 +41,8 @@ Status CollectFinished(const OdometryStageInput& in, OdometryStageOutput& out, C
     collected.stamps.push_back(step.stamp);
     collected.ms.push_back(step.ms);
   }
+  for (estimator::TrackEvent& event : in.odometry->TakeEvents())
+    out.summary.track_events.push_back(std::move(event));
   return {};
 }
 

@@ -44,9 +44,10 @@ struct OdometrySummary {
   TimingSummary timing;  // per step
   std::vector<ReadWarning> reader_warnings;
   std::vector<std::string> odometry_warnings;
-  std::string initialization;                   // LIO and WIO: how it initialized ("" never); LO: ""
-  estimator::SensorFactorStats sensor_factors;  // wheel (and GNSS) factors added and skipped
-  std::string timing_plot;                      // "plots/timing_per_scan.png" once written
+  std::string initialization;                       // LIO and WIO: how it initialized ("" never); LO: ""
+  std::vector<estimator::TrackEvent> track_events;  // rejections, fallback guesses, restarts
+  estimator::SensorFactorStats sensor_factors;      // wheel (and GNSS) factors added and skipped
+  std::string timing_plot;                          // "plots/timing_per_scan.png" once written
 };
 
 // The stream whose messages pace the odometry, for the progress line: the LiDAR's, or the IMU's in WIO.

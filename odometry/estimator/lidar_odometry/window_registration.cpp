@@ -1,0 +1,174 @@
+// Registration of the newest scan (see odometry_window.h and docs/METHOD.md "Registration, acceptance and
+// recovery"): ICP rounds from the first guess, fallback guesses when it fails, the acceptance test, and the
+// restart of the local map after repeated rejections.
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+
+#include "odometry/estimator/lidar_odometry/odometry_window.h"
+
+namespace uf::estimator {
+namespace {
+
+constexpr double kConvergedTranslation = 0.005;  // m, registration converged when a round moves less
+constexpr double kConvergedRotation = 0.001;     // rad
+constexpr int kMinResiduals = 6;                 // a rigid pose has 6 dof
+constexpr std::size_t kMatchHistory = 10;        // registered scans behind the reference match fraction
+
+std::string Format(const char* format, double a, double b = 0, double c = 0) {
+  char text[160];
+  std::snprintf(text, sizeof text, format, a, b, c);
+  return text;
+}
+
+}  // namespace
+
+// The ICP rounds of the new scan from the poses its nodes hold now: re-query the planes after each solve
+// until the scan's begin and end poses move less than kConvergedTranslation / kConvergedRotation in a
+// round, or come back to where an earlier round left them (the association then cycles through the same few
+// plane sets: further rounds only repeat the cycle), or association_rounds is reached. Only the new scan's
+// nodes move. Returns false when a solve fails.
+bool LidarOdometry::Impl::RegisterRounds(ScanState& current) {
+  std::vector<std::pair<SE3, SE3>> visited;  // (begin, end) poses after each round
+  auto near = [](const SE3& a, const SE3& b) {
+    const SE3 step = a.inverse() * b;
+    return step.translation().norm() < kConvergedTranslation && step.so3().angle() < kConvergedRotation;
+  };
+  visited.emplace_back(NodePose(current.begin_node), NodePose(current.end_node));
+  for (int round = 0; round < config.association_rounds; ++round) {
+    Associate(current);
+    if (!Solve(&stats.iterations, /*new_scan_only=*/true)) return false;
+    const SE3 begin = NodePose(current.begin_node), end = NodePose(current.end_node);
+    const bool repeated = std::any_of(visited.begin(), visited.end(), [&](const std::pair<SE3, SE3>& seen) {
+      return near(seen.first, begin) && near(seen.second, end);
+    });
+    if (repeated) break;
+    visited.emplace_back(begin, end);
+  }
+  return true;
+}
+
+// The match fraction the recent registered scans reached (their median), the yardstick of the acceptance
+// test; 0 before any.
+double LidarOdometry::Impl::ReferenceMatchFraction() const {
+  if (recent_match_fractions.empty()) return 0;
+  std::vector<double> sorted(recent_match_fractions.begin(), recent_match_fractions.end());
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+  return sorted[sorted.size() / 2];
+}
+
+// Why the new scan's registration is not to be trusted, or nullopt (docs/METHOD.md "Registration,
+// acceptance and recovery"): a failed solve or non-finite state, fewer than 6 planes, a match fraction
+// below min_match_ratio of what the recent scans reached (a wrong alignment leaves most points away from
+// any plane, whatever the size of the correction), or a motion since the last registered scan faster than
+// max_speed_mps / max_angular_rate_rad_s allow.
+std::optional<std::string> LidarOdometry::Impl::RejectionReason(const ScanState& current, bool solved) {
+  if (!solved) return "solver failure";
+  if (!AllFinite(nodes)) return "non-finite state";
+  if (current.residuals < kMinResiduals)
+    return std::to_string(current.residuals) + " of its points near a map plane, need " +
+           std::to_string(kMinResiduals);
+  const double reference = ReferenceMatchFraction();
+  if (current.MatchFraction() < config.min_match_ratio * reference)
+    return Format("%.0f %% of its points near a map plane, the recent scans %.0f %%",
+                  100 * current.MatchFraction(), 100 * reference);
+  if (last_registered) {
+    const double dt = std::max(ToSeconds(current.end - last_registered->stamp), 1e-3);
+    const SE3 motion = last_registered->pose.inverse() * NodePose(current.end_node);
+    const double distance = motion.translation().norm(), angle = motion.so3().angle();
+    if (distance > config.max_speed_mps * dt || angle > config.max_angular_rate_rad_s * dt)
+      return Format("moved %.2f m and %.0f deg in %.2f s since the last registered scan", distance,
+                    angle * 180 / std::numbers::pi, dt);
+  }
+  return std::nullopt;
+}
+
+// The guesses tried when the first one (the IMU prediction in LIO, the constant-velocity extrapolation over
+// the last node pair in LO) fails or matches poorly: constant velocity over the last scan interval (at least
+// kLongTwistBaseline: steadier than one sweep's twist, which rests on the deskew alone), and no motion since
+// the last registered scan.
+std::vector<LidarOdometry::Impl::Guess> LidarOdometry::Impl::FallbackGuesses(const ScanState& current) {
+  constexpr Stamp kLongTwistBaseline = 150'000'000;  // 0.15 s
+  std::vector<Guess> guesses;
+  const long last_old = SharesBeginNode(current) ? current.begin_node : current.begin_node - 1;
+  if (last_old > first_node_id)
+    guesses.push_back({"steady velocity", ExtrapolateFrom(last_old, current.stamp, kLongTwistBaseline),
+                       ExtrapolateFrom(last_old, current.end, kLongTwistBaseline)});
+  if (last_registered) guesses.push_back({"zero motion", last_registered->pose, last_registered->pose});
+  return guesses;
+}
+
+// Whether the scan's begin node is the previous scan's end node (it started where that one ended).
+bool LidarOdometry::Impl::SharesBeginNode(const ScanState& current) const {
+  return window.size() >= 2 && window[window.size() - 2].end_node == current.begin_node;
+}
+
+// Registration of the newest scan (the window's last): ICP rounds from the first guess. When the acceptance
+// test rejects them, or they match fewer points than kRetryRatio of the recent scans (a registration that
+// slid into a wrong minimum still matches many points, fewer than usual), the same from each fallback
+// guess, keeping the accepted result that matches the most points; then one solve of the whole window. When
+// nothing is accepted the guess is restored, the scan's factors dropped, and the scan stays out of the map.
+bool LidarOdometry::Impl::RegisterNewScan(ScanState& current) {
+  constexpr double kRetryRatio = 0.9, kClearlyMore = 1.05;
+  const SavedStates saved = Save(nodes);
+  bool solved = RegisterRounds(current);
+  std::optional<std::string> why = RejectionReason(current, solved);
+  if (why || current.MatchFraction() < kRetryRatio * ReferenceMatchFraction()) {
+    std::optional<SavedStates> best;
+    double best_fraction = -1;
+    std::string best_guess;
+    if (!why) {  // the first guess's result stays unless a fallback matches clearly more
+      best = Save(nodes);
+      best_fraction = kClearlyMore * current.MatchFraction();
+    }
+    const std::string first =
+        why ? *why : Format("matched %.0f %% of its points", 100 * current.MatchFraction());
+    for (const Guess& guess : FallbackGuesses(current)) {
+      Restore(saved, nodes);
+      if (!SharesBeginNode(current)) NodeAt(current.begin_node).pose = PoseBlock(guess.begin);
+      NodeAt(current.end_node).pose = PoseBlock(guess.end);
+      const bool ok = RegisterRounds(current);
+      if (RejectionReason(current, ok) || current.MatchFraction() <= best_fraction) continue;
+      best = Save(nodes);
+      best_fraction = current.MatchFraction();
+      best_guess = guess.name;
+    }
+    if (best) {
+      Restore(*best, nodes);
+      Associate(current);  // the factors of the kept result (the graph holds the last attempt's)
+      if (!best_guess.empty())
+        events.push_back({TrackEvent::Kind::kFallbackGuess, current.stamp,
+                          "registered from the " + best_guess + " guess, " +
+                              Format("%.0f %% of its points matched", 100 * best_fraction) +
+                              " (the first guess: " + first + ")"});
+      why.reset();
+    }
+  }
+  if (!why && (config.window_size > 2 || inertial)) {
+    LinkGnss();  // the new nodes are registered: a fair prediction for the integrity test
+    Relinearize();
+    solved = Solve(&stats.iterations);  // the whole window, once
+    if (!solved || !AllFinite(nodes)) why = solved ? "non-finite window state" : "window solver failure";
+  }
+  stats.residuals = current.residuals;
+  current.plane_cache = {};  // the map changes next
+  if (!why) {
+    if (wheel) current.forward_sigma_m = ForwardSigma(current);
+    recent_match_fractions.push_back(current.MatchFraction());
+    if (recent_match_fractions.size() > kMatchHistory) recent_match_fractions.pop_front();
+    last_registered = RegisteredPose{current.end, NodePose(current.end_node)};
+    consecutive_rejections = 0;
+    return true;
+  }
+  Restore(saved, nodes);
+  graph.Remove(FactorKind::kLidar, current.id);
+  current.residuals = 0;
+  ++consecutive_rejections;
+  warnings.push_back("lidar scan at " + StampText(current.stamp) + ": registration rejected (" + *why +
+                     "); the scan keeps its predicted pose and stays out of the map");
+  events.push_back({TrackEvent::Kind::kRejected, current.stamp, *why});
+  return false;
+}
+
+}  // namespace uf::estimator
