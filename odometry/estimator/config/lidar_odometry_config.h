@@ -31,10 +31,10 @@ struct LidarOdometryConfig {
   double max_plane_distance_m = 1.0;  // correspondences farther from their plane are dropped, m
   ConstantVelocityNoise motion;       // constant-velocity prior between consecutive pose nodes
   // Registration acceptance and recovery (docs/METHOD.md "Registration, acceptance and recovery"):
-  double min_match_ratio = 0.5;  // a registration whose fraction of points near a map plane is below this
-                                 //   share of the recent scans' (their median) is rejected
-  double max_speed_mps = 80;     // a scan registered farther from the last registered one than this
-                                 //   speed allows is rejected; in LIO also a faster state is divergence
+  double min_match_ratio = 0.6;        // a registration whose fraction of points on a map plane is below this
+                                       //   share of the recent scans' (their median) is rejected
+  double max_speed_mps = 80;           // a scan registered farther from the last registered one than this
+                                       //   speed allows is rejected; in LIO also a faster state is divergence
   double max_angular_rate_rad_s = 10;  // likewise for its rotation (10 rad/s = 573 deg/s)
   int max_rejected_scans = 3;          // this many consecutive rejections restart the local map
   double max_prediction_s = 0.5;       // the constant-velocity guess extrapolates at most this far

@@ -133,7 +133,7 @@ void LidarOdometry::Impl::Restart() {
   Reset();
   restart_pose = anchor;
   current.plane_cache = {};
-  current.residuals = current.visited = 0;
+  current.residuals = current.visited = current.on_plane = 0;
   StartMap(std::move(current));
   events.push_back({TrackEvent::Kind::kRestarted, window.back().stamp,
                     "local map restarted after " + std::to_string(rejected) + " rejected scans, at " +

@@ -48,10 +48,12 @@ struct ScanState {
   std::vector<PreparedPoint> map_points;           // downsampled at map_insert_voxel_m, for the map
   std::vector<PreparedPoint> registration_points;  // downsampled at input_voxel_m
   int residuals = 0;                               // point-to-plane factors of the last association
-  int visited = 0;  // registration points its last association looked at to find them (a spread sample)
-  // The fraction of the points looked at that lie near a map plane (within max_plane_distance_m): the
-  // registration's quality for the acceptance test.
-  double MatchFraction() const { return visited > 0 ? static_cast<double>(residuals) / visited : 0.0; }
+  int visited = 0;   // registration points its last association looked at to find them (a spread sample)
+  int on_plane = 0;  // of those, the points within 2 sigmas of their map plane
+  // The fraction of the points looked at that lie on a map plane: the registration's quality for the
+  // acceptance test. A registration in a wrong minimum still has many points NEAR planes (within
+  // max_plane_distance_m: floors, ceilings, long walls), but far fewer ON them.
+  double MatchFraction() const { return visited > 0 ? static_cast<double>(on_plane) / visited : 0.0; }
   // The map's plane for each registration point, from its last query: within the ICP rounds of one scan
   // the map does not change, so a point still in the same voxel gets the same plane (VoxelHashMap::QueryKey)
   // and needs no new query. Valid for map revision plane_cache_revision; dropped after registration.

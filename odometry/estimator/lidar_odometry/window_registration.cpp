@@ -71,7 +71,7 @@ std::optional<std::string> LidarOdometry::Impl::RejectionReason(const ScanState&
            std::to_string(kMinResiduals);
   const double reference = ReferenceMatchFraction();
   if (current.MatchFraction() < config.min_match_ratio * reference)
-    return Format("%.0f %% of its points near a map plane, the recent scans %.0f %%",
+    return Format("%.0f %% of its points on a map plane, the recent scans %.0f %%",
                   100 * current.MatchFraction(), 100 * reference);
   if (last_registered) {
     const double dt = std::max(ToSeconds(current.end - last_registered->stamp), 1e-3);
@@ -110,7 +110,7 @@ bool LidarOdometry::Impl::SharesBeginNode(const ScanState& current) const {
 // guess, keeping the accepted result that matches the most points; then one solve of the whole window. When
 // nothing is accepted the guess is restored, the scan's factors dropped, and the scan stays out of the map.
 bool LidarOdometry::Impl::RegisterNewScan(ScanState& current) {
-  constexpr double kRetryRatio = 0.9, kClearlyMore = 1.05;
+  constexpr double kRetryRatio = 0.85, kClearlyMore = 1.05;
   const SavedStates saved = Save(nodes);
   bool solved = RegisterRounds(current);
   std::optional<std::string> why = RejectionReason(current, solved);
@@ -123,7 +123,7 @@ bool LidarOdometry::Impl::RegisterNewScan(ScanState& current) {
       best_fraction = kClearlyMore * current.MatchFraction();
     }
     const std::string first =
-        why ? *why : Format("matched %.0f %% of its points", 100 * current.MatchFraction());
+        why ? *why : Format("%.0f %% of its points on a map plane", 100 * current.MatchFraction());
     for (const Guess& guess : FallbackGuesses(current)) {
       Restore(saved, nodes);
       if (!SharesBeginNode(current)) NodeAt(current.begin_node).pose = PoseBlock(guess.begin);
@@ -140,7 +140,7 @@ bool LidarOdometry::Impl::RegisterNewScan(ScanState& current) {
       if (!best_guess.empty())
         events.push_back({TrackEvent::Kind::kFallbackGuess, current.stamp,
                           "registered from the " + best_guess + " guess, " +
-                              Format("%.0f %% of its points matched", 100 * best_fraction) +
+                              Format("%.0f %% of its points on a map plane", 100 * best_fraction) +
                               " (the first guess: " + first + ")"});
       why.reset();
     }

@@ -11,6 +11,11 @@
 #include "odometry/estimator/lidar_odometry/odometry_window.h"
 
 namespace uf::estimator {
+namespace {
+
+constexpr double kOnPlaneSigmas = 2;  // a point this many plane sigmas from its plane lies on it
+
+}  // namespace
 
 SweepPoses LidarOdometry::Impl::Sweep(const ScanState& scan) {
   return SweepPoses(NodePose(scan.begin_node), NodePose(scan.end_node), config.T_body_lidar,
@@ -25,7 +30,7 @@ SweepPoses LidarOdometry::Impl::Sweep(const ScanState& scan) {
 void LidarOdometry::Impl::Associate(ScanState& scan) {
   const StageTimer timer(stats.associate_ms);
   graph.Remove(FactorKind::kLidar, scan.id);
-  scan.residuals = scan.visited = 0;
+  scan.residuals = scan.visited = scan.on_plane = 0;
   const auto& points = scan.registration_points;
   const std::size_t n = points.size(), cap = static_cast<std::size_t>(config.max_residuals_per_scan);
   const std::size_t step = std::max<std::size_t>(1, n / cap);
@@ -41,7 +46,10 @@ void LidarOdometry::Impl::Associate(ScanState& scan) {
   order.reserve(n);
   for (std::size_t offset = 0; offset < step; ++offset)
     for (std::size_t i = offset; i < n; i += step) order.push_back(i);
-  std::vector<char> usable(order.size(), 0);  // the point has a plane within max_plane_distance_m
+  // Per point: no plane within max_plane_distance_m (no residual), a plane near it, or the point on it
+  // (within kOnPlaneSigmas of the plane's sigma: the registration's quality, ScanState::MatchFraction).
+  enum : char { kNoPlane, kNearPlane, kOnPlane };
+  std::vector<char> usable(order.size(), kNoPlane);
   std::size_t next = 0;
   while (next < order.size() && static_cast<std::size_t>(scan.residuals) < cap) {
     // A batch a little larger than the residuals still wanted; where fewer of its points find a plane (on
@@ -61,12 +69,19 @@ void LidarOdometry::Impl::Associate(ScanState& scan) {
         }
         // Correspondence gate: a plane farther than max_plane_distance_m from the point is another surface.
         const std::optional<Plane>& plane = cached.plane;
-        usable[k] =
-            plane && std::abs(plane->normal.dot(p_world - plane->point)) <= config.max_plane_distance_m;
+        if (!plane) {
+          usable[k] = kNoPlane;
+          continue;
+        }
+        const double distance = std::abs(plane->normal.dot(p_world - plane->point));
+        usable[k] = distance > config.max_plane_distance_m      ? kNoPlane
+                    : distance <= kOnPlaneSigmas * plane->sigma ? kOnPlane
+                                                                : kNearPlane;
       }
     });
     for (; next < end && static_cast<std::size_t>(scan.residuals) < cap; ++next) {
       if (!usable[next]) continue;
+      if (usable[next] == kOnPlane) ++scan.on_plane;
       const PreparedPoint& p = points[order[next]];
       const Plane& plane = *scan.plane_cache[order[next]].plane;
       std::unique_ptr<ceres::CostFunction> cost;

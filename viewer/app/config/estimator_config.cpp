@@ -29,8 +29,8 @@ Schema<LidarOdometryConfig> MakeLoSchema() {
   s.Key("association_rounds", &C::association_rounds, "rounds",
         "at most this many solve + re-query rounds per scan (until the pose moves < 5 mm / 1 mrad)");
   s.Key("min_match_ratio", &C::min_match_ratio, "",
-        "a registration matching fewer of its points to map planes than this share of the recent scans' "
-        "median is rejected");
+        "a registration with fewer of its points on map planes (within 2 plane sigmas) than this share of "
+        "the recent scans' median is rejected");
   s.Key("max_speed_mps", &C::max_speed_mps, "m/s",
         "a registration moving faster since the last registered scan is rejected; in LIO a faster state is "
         "divergence (re-initialization)");
