@@ -67,9 +67,9 @@ Gait DrawGait(std::mt19937_64& rng) {
   g.heel_phase = Uniform(rng, 0.0, 2.0 * kPi);
   g.sway = Uniform(rng, 0.015, 0.025);
   g.sway_phase = Uniform(rng, 0.0, 2.0 * kPi);
-  g.yaw = LookWaves(rng, 50.0 * kDegree, 8.0 * kDegree, 9.0 * kDegree);
-  g.pitch = LookWaves(rng, 14.0 * kDegree, 4.0 * kDegree, 5.0 * kDegree);
-  g.roll = LookWaves(rng, 10.0 * kDegree, 3.0 * kDegree, 4.0 * kDegree);
+  g.yaw = LookWaves(rng, 38 * kDegree, 3 * kDegree, 5 * kDegree);
+  g.pitch = LookWaves(rng, 12 * kDegree, 3 * kDegree, 4 * kDegree);
+  g.roll = LookWaves(rng, 8 * kDegree, 2 * kDegree, 3 * kDegree);
   return g;
 }
 

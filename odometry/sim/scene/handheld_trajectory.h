@@ -13,14 +13,17 @@
 //             sway   = A_s sin(phi / 2 + chi)                 A_s 1.5-2.5 cm, at half the step frequency
 //             phi    = 2 pi f_step (t - 1 s) + phi_0          f_step 1.8-2 Hz (a step every ~0.7 m)
 //   attitude  R(t) = Rz(heading_c(t) + k r yaw(t)) Ry(k r pitch(t)) Rx(k r roll(t))   (x forward, z up)
-//             yaw, pitch, roll: sums of three sinusoids, frequencies drawn in [0.15, 0.3], [0.4, 0.8] and
-//             [0.9, 1.5] Hz with random phases; before scaling, yaw (looking around the path's heading)
-//             reaches +-55 deg, pitch +-20 and roll +-15.
+//             yaw, pitch, roll: sums of three sinusoids with random phases, at frequencies drawn in
+//             [0.1, 0.2] Hz (looking around), [0.4, 0.8] and [0.9, 1.5] Hz (quick turns of the wrist), of
+//             amplitudes 38, 3, 5 deg (yaw about the path's heading), 12, 3, 4 (pitch), 8, 2, 3 (roll).
 //             k scales them so that the peak body rate over the whole sequence is kHandheldPeakRateDegS:
 //             fixed-point iterations k <- k * target / peak(k) on the central differences
 //             |Log(R_{i-1}^T R_{i+1})| / 20 ms of the 10 ms poses (the path's turns included), k in [0.25,
 //             2]. A sequence shorter than ~6 s may stay below the target (k is capped).
-//   At 2 Hz, consecutive scans are then up to ~30 deg and ~0.65 m apart.
+//   Over 20 s (30 draws, five scenes): k 0.8-1.25, yaw within +-35-56 deg, tilt of the body's z axis up to
+//   15-26 deg, and 25-37 deg (mean 32) and 0.68 m at most between poses 0.5 s apart (2 Hz scans): the
+//   largest rotation over 0.5 s is about a third of the peak rate times 1 s whatever the amplitudes, so
+//   the target is 95 deg/s, not more.
 // Every quantity is drawn from SubSeed(seed, "handheld/" + scene), so the path is the vehicle's whatever
 // the motion and the handheld draws do not move it.
 #pragma once
@@ -32,8 +35,8 @@
 
 namespace uf::sim {
 
-inline constexpr double kHandheldPeakRateDegS = 100.0;  // peak body rate the look-around is scaled to
-inline constexpr double kWalkingSpeed = 1.3;            // m/s
+inline constexpr double kHandheldPeakRateDegS = 95.0;  // the peak body rate the look-around is scaled to
+inline constexpr double kWalkingSpeed = 1.3;           // m/s
 
 struct HandheldTrajectory {
   Trajectory poses;  // the device, T_world_body every 10 ms

@@ -127,7 +127,7 @@ void AddTopLevel(Schema<SimulationConfig>& s) {
                                       [](sim::Motion m) { return std::string(sim::MotionName(m)); }),
       "",
       "vehicle | handheld: how the body moves along the scene's default path (no file): driven, or "
-      "carried by a person walking 1.3 m/s, bouncing and looking around (peak body rate 100 deg/s); "
+      "carried by a person walking 1.3 m/s, bouncing and looking around (peak body rate 95 deg/s); "
       "the command line's --motion handheld also sets body_height_m 1.4");
   s.Nest("trajectory", &C::trajectory, trajectory);
   s.Flow("trajectory");
