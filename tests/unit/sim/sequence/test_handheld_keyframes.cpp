@@ -18,6 +18,7 @@
 #include "odometry/sim/sequence/sim_trajectory.h"
 #include "tests/support/temp_dir.h"
 #include "tests/support/triangle_distance.h"
+#include "tests/unit/sim/sequence/sequence_test_support.h"
 
 namespace uf::sim {
 namespace {
@@ -36,16 +37,6 @@ SimulationConfig SmallConfig() {
   config.lidar.model.range_noise_std_m = 0.0;
   config.camera.enabled = false;
   return config;
-}
-
-std::vector<Measurement> ReadAll(DatasetReader& reader) {
-  std::vector<Measurement> all;
-  while (true) {
-    auto next = reader.Next();
-    EXPECT_TRUE(next.ok()) << next.error();
-    if (!next.ok() || !next->has_value()) return all;
-    all.push_back(std::move(**next));
-  }
 }
 
 std::vector<LidarScan> Scans(const std::vector<Measurement>& measurements) {
