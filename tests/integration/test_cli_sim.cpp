@@ -48,6 +48,53 @@ TEST(CliSim, PrintConfigShowsTheResolvedSettings) {
   EXPECT_NE(result.output.find("seed: 9"), std::string::npos);
 }
 
+TEST(CliSim, HandheldWithKeyframes) {
+  TempDir dir;
+  const std::string out = dir.File("hh");
+  const auto result =
+      Ultrafusion("sim --scene wild --motion handheld --lidar-rate 2 --no-camera --out " + out + kSmall);
+  ASSERT_EQ(result.code, 0) << result.output;
+  EXPECT_NE(result.output.find("motion: peak body rate"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("between consecutive scans up to"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("spline fit to the poses: max"), std::string::npos) << result.output;
+  // Sweeps at 0, 0.5, 1 and 1.5 s of the 2; the dataset states the rate of the scans it holds.
+  EXPECT_NE(result.output.find("  lidar             4       2.00"), std::string::npos) << result.output;
+  const std::string dataset = testing::ReadText(out + "/dataset.yaml");
+  EXPECT_NE(dataset.find("file: lidar.bin\n    rate_hz: 2\n"), std::string::npos) << dataset;
+  // --motion handheld holds the device at 1.4 m; the saved config repeats the run exactly.
+  const std::string saved = testing::ReadText(out + "/sim_config.yaml");
+  for (const char* line : {"motion: handheld}", "body_height_m: 1.4\n", "keyframe_rate_hz: 2\n"})
+    EXPECT_NE(saved.find(line), std::string::npos) << line << " in\n" << saved;
+  const auto again = Ultrafusion("sim --config " + out + "/sim_config.yaml --out " + dir.File("again"));
+  ASSERT_EQ(again.code, 0) << again.output;
+  for (const char* file : {"lidar.bin", "imu.csv", "groundtruth.tum"})
+    EXPECT_EQ(testing::ReadText(out + "/" + file), testing::ReadText(dir.File("again/") + file)) << file;
+
+  // --body-height after --motion wins; --print-config shows both keys.
+  const auto printed =
+      Ultrafusion("sim --motion handheld --body-height 1.6 --lidar-rate 5 --print-config", false);
+  ASSERT_EQ(printed.code, 0) << printed.output;
+  for (const char* line : {"motion: handheld}", "body_height_m: 1.6\n", "keyframe_rate_hz: 5\n"})
+    EXPECT_NE(printed.output.find(line), std::string::npos) << line << " in\n" << printed.output;
+
+  auto bad = Ultrafusion("sim --lidar-rate 20 --out " + dir.File("bad"));
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.output.find("sim.lidar.keyframe_rate_hz: must be in [0, sim.lidar.rate_hz = 10] (0: every "
+                            "sweep), got 20"),
+            std::string::npos)
+      << bad.output;
+  const std::string poses = dir.Write("poses.tum",
+                                      "1 0 0 0 0 0 0 1\n2 1 0 0 0 0 0 1\n3 2 0 0 0 0 0 1\n"
+                                      "4 3 0 0 0 0 0 1\n");
+  bad = Ultrafusion("sim --motion handheld --trajectory " + poses + " --out " + dir.File("bad"));
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.output.find("sim.trajectory.motion: handheld"), std::string::npos) << bad.output;
+  bad = Ultrafusion("sim --motion walking --out " + dir.File("bad"));
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.output.find("--motion"), std::string::npos) << bad.output;
+  EXPECT_FALSE(fs::exists(dir.File("bad")));
+}
+
 TEST(CliSim, FollowsARecordedKittiTrajectory) {
   const std::string data = testing::SharedData();
   if (data.empty()) GTEST_SKIP() << "../shared/data is absent: the KITTI trajectory is not available";

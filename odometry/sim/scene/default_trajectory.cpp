@@ -184,7 +184,66 @@ MotionProfile MakeProfile(std::string_view scene, double distance, std::mt19937_
   return m;
 }
 
+// The scene's path: its profile (drawn from the seed exactly as for the vehicle, so that every motion
+// follows the same curvature and heights over arc length) and the checks of the inputs.
+Expected<MotionProfile> ScenePathProfile(std::string_view scene, double duration_s, std::uint64_t seed) {
+  if (DefaultCruiseSpeed(scene) == 0.0) {
+    std::string names;
+    for (const std::string_view name : SceneNames()) names += (names.empty() ? "" : ", ") + std::string(name);
+    return Status::Error("trajectory.scene: unknown scene '" + std::string(scene) +
+                         "', expected one of: " + names);
+  }
+  if (!(duration_s >= 2.0 && duration_s <= 7200.0)) {
+    return Status::Error("trajectory.duration_s: must be in [2, 7200], got " + std::to_string(duration_s));
+  }
+  std::mt19937_64 rng(SubSeed(seed, std::string("trajectory/") + std::string(scene)));
+  return MakeProfile(scene, DefaultCruiseSpeed(scene) * 1.3 * duration_s + 100.0, rng);
+}
+
+// Integrates the track over duration_s and calls visit(i, t, q) at each output sample i (t = i * kDt s from
+// the start) with q = (s, heading, x, y): RK4, two 5 ms steps per output, of ds/dt = v(t),
+// dheading/dt = v kappa(s), dx/dt = v cos(heading), dy/dt = v sin(heading).
+using TrackState = Eigen::Vector4d;
+template <typename Visit>
+void IntegrateTrack(const MotionProfile& m, double duration_s, Visit visit) {
+  auto derivative = [&](double t, const TrackState& q) {
+    const double v = Speed(m, t);
+    return TrackState(v, v * Curvature(m, q[0]), v * std::cos(q[1]), v * std::sin(q[1]));
+  };
+  const auto count = static_cast<std::int64_t>(std::llround(duration_s / kDt));
+  TrackState q = TrackState::Zero();
+  for (std::int64_t i = 0; i <= count; ++i) {
+    const double t = static_cast<double>(i) * kDt;
+    if (i > 0) {
+      for (int sub = 0; sub < 2; ++sub) {
+        const double h = 0.5 * kDt, t0 = t - kDt + sub * h;
+        const TrackState k1 = derivative(t0, q), k2 = derivative(t0 + 0.5 * h, q + 0.5 * h * k1);
+        const TrackState k3 = derivative(t0 + 0.5 * h, q + 0.5 * h * k2), k4 = derivative(t0 + h, q + h * k3);
+        q += h / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+      }
+    }
+    visit(i, t, q);
+  }
+}
+
+Stamp SampleStamp(Stamp start_stamp, std::int64_t i) {
+  return start_stamp + i * (kNanosecondsPerSecond / 100);
+}
+
 }  // namespace
+
+const std::vector<std::string_view>& MotionNames() {
+  static const std::vector<std::string_view> names = {"vehicle", "handheld"};
+  return names;
+}
+
+std::string_view MotionName(Motion motion) { return MotionNames()[motion == Motion::kVehicle ? 0 : 1]; }
+
+Expected<Motion> ParseMotion(std::string_view name) {
+  for (Motion motion : {Motion::kVehicle, Motion::kHandheld})
+    if (MotionName(motion) == name) return motion;
+  return Status::Error("unknown motion '" + std::string(name) + "' (vehicle, handheld)");
+}
 
 double DefaultCruiseSpeed(std::string_view scene) {
   if (scene == "urban") return 8.0;
@@ -197,40 +256,11 @@ double DefaultCruiseSpeed(std::string_view scene) {
 
 Expected<Trajectory> DefaultSceneTrajectory(std::string_view scene, double duration_s, std::uint64_t seed,
                                             Stamp start_stamp) {
-  if (DefaultCruiseSpeed(scene) == 0.0) {
-    std::string names;
-    for (const std::string_view name : SceneNames()) names += (names.empty() ? "" : ", ") + std::string(name);
-    return Status::Error("trajectory.scene: unknown scene '" + std::string(scene) +
-                         "', expected one of: " + names);
-  }
-  if (!(duration_s >= 2.0 && duration_s <= 7200.0)) {
-    return Status::Error("trajectory.duration_s: must be in [2, 7200], got " + std::to_string(duration_s));
-  }
-  std::mt19937_64 rng(SubSeed(seed, std::string("trajectory/") + std::string(scene)));
-  const MotionProfile m = MakeProfile(scene, DefaultCruiseSpeed(scene) * 1.3 * duration_s + 100.0, rng);
-
-  // State (s, heading, x, y) integrated with RK4 (two 5 ms steps per output): ds/dt = v(t),
-  // dheading/dt = v kappa(s), dx/dt = v cos(heading), dy/dt = v sin(heading).
-  using State = Eigen::Vector4d;
-  auto derivative = [&](double t, const State& q) {
-    const double v = Speed(m, t);
-    return State(v, v * Curvature(m, q[0]), v * std::cos(q[1]), v * std::sin(q[1]));
-  };
-  const auto count = static_cast<std::int64_t>(std::llround(duration_s / kDt));
+  Expected<MotionProfile> profile = ScenePathProfile(scene, duration_s, seed);
+  if (!profile) return profile.status();
+  const MotionProfile& m = *profile;
   Trajectory out;
-  out.stamps.reserve(count + 1);
-  out.poses.reserve(count + 1);
-  State q = State::Zero();
-  for (std::int64_t i = 0; i <= count; ++i) {
-    const double t = static_cast<double>(i) * kDt;
-    if (i > 0) {
-      for (int sub = 0; sub < 2; ++sub) {
-        const double h = 0.5 * kDt, t0 = t - kDt + sub * h;
-        const State k1 = derivative(t0, q), k2 = derivative(t0 + 0.5 * h, q + 0.5 * h * k1);
-        const State k3 = derivative(t0 + 0.5 * h, q + 0.5 * h * k2), k4 = derivative(t0 + h, q + h * k3);
-        q += h / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
-      }
-    }
+  IntegrateTrack(m, duration_s, [&](std::int64_t i, double t, const TrackState& q) {
     double a_long = 0.0;
     const double v = Speed(m, t, &a_long);
     const double a_lat = v * v * Curvature(m, q[0]);
@@ -244,9 +274,25 @@ Expected<Trajectory> DefaultSceneTrajectory(std::string_view scene, double durat
     const Eigen::Matrix3d R = SO3::Exp(Eigen::Vector3d(0, 0, q[1])).matrix() *
                               SO3::Exp(Eigen::Vector3d(0, pitch, 0)).matrix() *
                               SO3::Exp(Eigen::Vector3d(roll, 0, 0)).matrix();
-    out.stamps.push_back(start_stamp + i * (kNanosecondsPerSecond / 100));
+    out.stamps.push_back(SampleStamp(start_stamp, i));
     out.poses.emplace_back(SO3(R), Eigen::Vector3d(q[2], q[3], z));
-  }
+  });
+  return out;
+}
+
+Expected<Trajectory> DefaultScenePath(std::string_view scene, double duration_s, std::uint64_t seed,
+                                      Stamp start_stamp, const PathSpeed& speed) {
+  Expected<MotionProfile> profile = ScenePathProfile(scene, duration_s, seed);
+  if (!profile) return profile.status();
+  MotionProfile& m = *profile;
+  m.cruise = speed.cruise_m_s, m.ramp_s = speed.ramp_s;
+  m.wobble = speed.wobble, m.wobble_period = speed.wobble_period_s;
+  Trajectory out;
+  IntegrateTrack(m, duration_s, [&](std::int64_t i, double, const TrackState& q) {
+    out.stamps.push_back(SampleStamp(start_stamp, i));
+    out.poses.emplace_back(SO3::Exp(Eigen::Vector3d(0, 0, q[1])),
+                           Eigen::Vector3d(q[2], q[3], Sum(m.z_waves, q[0])));
+  });
   return out;
 }
 

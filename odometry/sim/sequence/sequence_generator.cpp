@@ -1,5 +1,6 @@
 #include "odometry/sim/sequence/sequence_generator.h"
 
+#include <algorithm>
 #include <chrono>
 #include <optional>
 
@@ -42,6 +43,15 @@ Status WriteBiasTruth(const fs::path& path, const SimulatedImu& imu) {
                   << ',' << b.gyro.x() << ',' << b.gyro.y() << ',' << b.gyro.z() << '\n';
   }
   return file.Commit();
+}
+
+// The largest |angular velocity| of the spline on a 5 ms grid.
+double PeakBodyRate(const SimulationTrajectory& motion) {
+  constexpr Stamp kStep = 5'000'000;
+  double peak = 0.0;
+  for (Stamp t = motion.begin; t <= motion.end; t += kStep)
+    peak = std::max(peak, motion.spline.Evaluate(t).angular_velocity_body.norm());
+  return peak;
 }
 
 double PathLength(const Trajectory& poses) {
@@ -91,7 +101,8 @@ Expected<SimulationSummary> GenerateSequence(const SimulationConfig& config, con
   auto motion = MakeSimulationTrajectory(config);
   if (!motion) return motion.status();
   report("scene", 0, 1);
-  SceneOptions scene_options{config.scene, config.seed, motion->poses, config.body_height_m, config.origin};
+  SceneOptions scene_options{config.scene, config.seed, motion->scene_path, config.body_height_m,
+                             config.origin};
   auto scene = BuildScene(scene_options);
   if (!scene) return scene.status();
   auto caster = RayCaster::Create(*scene);
@@ -100,6 +111,9 @@ Expected<SimulationSummary> GenerateSequence(const SimulationConfig& config, con
   summary.duration_s = ToSeconds(motion->end - motion->begin);
   summary.path_length_m = PathLength(motion->poses);
   summary.scene_triangles = scene->mesh.triangle_count();
+  summary.peak_body_rate_rad_s = PeakBodyRate(*motion);
+  summary.fit_position_error_m = motion->fit_position_error_m;
+  summary.fit_rotation_error_rad = motion->fit_rotation_error_rad;
 
   // 2. The sensors, and the order in which their measurements are stamped.
   const auto sensors_start = std::chrono::steady_clock::now();
@@ -126,8 +140,19 @@ Expected<SimulationSummary> GenerateSequence(const SimulationConfig& config, con
   for (const Event& e : events)
     heavy_total +=
         streams[e.stream].kind == SensorKind::kLidar || streams[e.stream].kind == SensorKind::kCamera;
+  std::optional<SE3> previous_scan_pose;  // T_world_lidar at the middle of the last written sweep
   for (const Event& event : events) {
     const SequenceStream& stream = streams[event.stream];
+    if (stream.kind == SensorKind::kLidar) {
+      const LidarSimulator& lidar = *simulators->lidar;
+      const SE3 pose = motion->spline.Pose(event.true_time + lidar.period() / 2) * lidar.T_body_lidar();
+      if (previous_scan_pose) {
+        const SE3 step = previous_scan_pose->inverse() * pose;
+        summary.max_scan_rotation_rad = std::max(summary.max_scan_rotation_rad, step.so3().Log().norm());
+        summary.max_scan_translation_m = std::max(summary.max_scan_translation_m, step.translation().norm());
+      }
+      previous_scan_pose = pose;
+    }
     auto data = Produce(event, stream, *simulators);
     if (!data) return data.status();
     if (const auto* scan = std::get_if<LidarScan>(&*data))

@@ -44,6 +44,13 @@ struct SimulationSummary {
   std::vector<StreamSummary> streams;
   std::vector<std::string> files;                     // written into DIR, relative names
   double seconds_scene = 0.0, seconds_sensors = 0.0;  // wall time: scene + BVH, then measurements
+  // The motion, from the spline all sensors derive from: the largest body rate |omega| (on a 5 ms grid),
+  // and between consecutive written LiDAR scans the largest rotation and translation of the LiDAR (its
+  // pose at mid-sweep); zero without a LiDAR or with fewer than two scans.
+  double peak_body_rate_rad_s = 0.0;
+  double max_scan_rotation_rad = 0.0, max_scan_translation_m = 0.0;
+  // How closely that spline follows the poses it was fitted to (SimulationTrajectory).
+  double fit_position_error_m = 0.0, fit_rotation_error_rad = 0.0;
 };
 
 struct ExtraFile {

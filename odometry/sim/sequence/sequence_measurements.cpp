@@ -1,6 +1,7 @@
 #include "odometry/sim/sequence/sequence_measurements.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "odometry/io/image_decode.h"
 
@@ -64,6 +65,19 @@ Expected<Simulators> MakeSimulators(const SimulationConfig& config, const Simula
   return s;
 }
 
+std::vector<Stamp> WrittenSweepStarts(Stamp begin, Stamp end, Stamp period, double rate_hz,
+                                      double keyframe_rate_hz) {
+  std::vector<Stamp> starts;
+  const double sweeps_per_scan = keyframe_rate_hz > 0.0 ? rate_hz / keyframe_rate_hz : 1.0;
+  for (std::int64_t k = 0;; ++k) {
+    const std::int64_t j = std::llround(static_cast<double>(k) * sweeps_per_scan);
+    const Stamp t = begin + j * period;
+    if (t + period > end) break;
+    starts.push_back(t);
+  }
+  return starts;
+}
+
 std::vector<Event> Schedule(const std::vector<SequenceStream>& streams, const Simulators& s,
                             const SimulationTrajectory& motion) {
   std::vector<Event> events;
@@ -80,8 +94,10 @@ std::vector<Event> Schedule(const std::vector<SequenceStream>& streams, const Si
       case SensorKind::kGnss:
         for (std::size_t k = 0; k < s.gnss.size(); ++k) add(s.gnss[k].stamp, k);
         break;
-      case SensorKind::kLidar:  // whole sweeps inside the span
-        for (Stamp t = motion.begin; t + s.lidar->period() <= motion.end; t += s.lidar->period()) add(t, 0);
+      case SensorKind::kLidar:
+        for (Stamp t : WrittenSweepStarts(motion.begin, motion.end, s.lidar->period(),
+                                          s.lidar->config().rate_hz, streams[i].keyframe_rate_hz))
+          add(t, 0);
         break;
       case SensorKind::kCamera: {
         const double period_ns = 1e9 / streams[i].rate_hz;

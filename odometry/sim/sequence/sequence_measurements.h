@@ -34,7 +34,13 @@ struct Event {
   std::size_t index = 0;
 };
 
-// Every event of the sequence in stamp order (ties in stream order). LiDAR: whole sweeps inside the span.
+// The start of every LiDAR sweep that is written: whole sweeps of `period` inside [begin, end], sweep j
+// starting at begin + j * period; with keyframe_rate_hz > 0 only j = round(k * rate_hz / keyframe_rate_hz),
+// k = 0, 1, ... (the others are never cast).
+std::vector<Stamp> WrittenSweepStarts(Stamp begin, Stamp end, Stamp period, double rate_hz,
+                                      double keyframe_rate_hz);
+
+// Every event of the sequence in stamp order (ties in stream order). LiDAR: WrittenSweepStarts.
 std::vector<Event> Schedule(const std::vector<SequenceStream>& streams, const Simulators& simulators,
                             const SimulationTrajectory& motion);
 

@@ -11,11 +11,13 @@ std::vector<SequenceStream> SequenceStreams(const SimulationConfig& config) {
     if (!enabled) return;
     topic.kind = kind;
     const Stamp delay = placement ? FromSeconds(placement->stamp_delay_s) : 0;
-    streams.push_back({kind, name, std::move(topic), rate_hz, placement, delay});
+    streams.push_back({kind, name, std::move(topic), rate_hz, 0.0, placement, delay});
   };
   add(config.imu.enabled, SensorKind::kImu, "imu", {"/imu/data", "imu_link"}, config.imu.rate_hz, nullptr);
+  const double keyframe_rate_hz = config.lidar.keyframe_rate_hz;
   add(config.lidar.enabled, SensorKind::kLidar, "lidar", {"/lidar/points", "lidar"},
-      config.lidar.model.rate_hz, &config.lidar.placement);
+      keyframe_rate_hz > 0.0 ? keyframe_rate_hz : config.lidar.model.rate_hz, &config.lidar.placement);
+  if (config.lidar.enabled) streams.back().keyframe_rate_hz = keyframe_rate_hz;
   add(config.camera.enabled, SensorKind::kCamera, "cam0", {"/cam0/image_raw/compressed", "cam0"},
       config.camera.model.rate_hz, &config.camera.placement);
   add(config.wheel.enabled, SensorKind::kWheel, "wheel", {"/wheel/odom", "base_link"},

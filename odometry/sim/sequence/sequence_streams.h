@@ -15,9 +15,11 @@ namespace uf::sim {
 // One enabled sensor: its stream in the dataset and its topic in the bag.
 struct SequenceStream {
   SensorKind kind = SensorKind::kImu;
-  std::string name;  // "imu", "lidar", "cam0", "wheel", "gnss"
-  BagTopic topic;    // "/imu/data", ...
-  double rate_hz = 0.0;
+  std::string name;      // "imu", "lidar", "cam0", "wheel", "gnss"
+  BagTopic topic;        // "/imu/data", ...
+  double rate_hz = 0.0;  // measurements per second: for the LiDAR, its keyframe rate where one is set
+  // LiDAR: scans written per second (SimulatedLidarConfig::keyframe_rate_hz); 0: every sweep.
+  double keyframe_rate_hz = 0.0;
   const SensorPlacement* placement = nullptr;  // null for the imu (it is the body frame)
   Stamp stamp_delay = 0;                       // ns
 };

@@ -1,9 +1,11 @@
 #include "odometry/sim/sequence/sim_trajectory.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "odometry/io/trajectory_file.h"
 #include "odometry/sim/scene/default_trajectory.h"
+#include "odometry/sim/scene/handheld_trajectory.h"
 
 namespace uf::sim {
 namespace {
@@ -52,20 +54,44 @@ Expected<Trajectory> ReadPoseFile(const SimulationConfig& config) {
 }  // namespace
 
 Expected<SimulationTrajectory> MakeSimulationTrajectory(const SimulationConfig& config) {
-  Expected<Trajectory> poses =
-      config.trajectory.file.empty()
-          ? DefaultSceneTrajectory(config.scene, config.duration_s, config.seed, config.start_stamp)
-          : ReadPoseFile(config);
-  if (!poses) return poses.status();
-  const Stamp knot_spacing = FromSeconds(config.trajectory.knot_spacing_s);
-  auto spline = TrajectorySpline::FitPoses(*poses, knot_spacing);
+  Trajectory poses, scene_path;
+  double knot_spacing_s = config.trajectory.knot_spacing_s;
+  if (!config.trajectory.file.empty()) {
+    Expected<Trajectory> read = ReadPoseFile(config);
+    if (!read) return read.status();
+    poses = std::move(*read);
+  } else if (config.trajectory.motion == Motion::kHandheld) {
+    Expected<HandheldTrajectory> handheld =
+        HandheldSceneTrajectory(config.scene, config.duration_s, config.seed, config.start_stamp);
+    if (!handheld) return handheld.status();
+    poses = std::move(handheld->poses);
+    scene_path = std::move(handheld->path);
+    knot_spacing_s = std::min(knot_spacing_s, kHandheldKnotSpacingS);
+  } else {
+    Expected<Trajectory> driven =
+        DefaultSceneTrajectory(config.scene, config.duration_s, config.seed, config.start_stamp);
+    if (!driven) return driven.status();
+    poses = std::move(*driven);
+  }
+  if (scene_path.empty()) scene_path = poses;
+  auto spline = TrajectorySpline::FitPoses(poses, FromSeconds(knot_spacing_s));
   if (!spline) {
     const std::string where =
         config.trajectory.file.empty() ? "the default trajectory" : config.trajectory.file;
     return Status::Error(where + ": " + spline.error());
   }
-  const Stamp begin = poses->stamps.front(), end = poses->stamps.back();
-  return SimulationTrajectory{std::move(*poses), std::move(*spline), begin, end};
+  SimulationTrajectory out{std::move(poses), std::move(scene_path), std::move(*spline)};
+  out.begin = out.poses.stamps.front();
+  out.end = out.poses.stamps.back();
+  for (std::size_t i = 0; i < out.poses.size(); ++i) {
+    const SE3 fitted = out.spline.Pose(out.poses.stamps[i]);
+    const SE3& given = out.poses.poses[i];
+    out.fit_position_error_m =
+        std::max(out.fit_position_error_m, (fitted.translation() - given.translation()).norm());
+    out.fit_rotation_error_rad =
+        std::max(out.fit_rotation_error_rad, (given.so3().inverse() * fitted.so3()).Log().norm());
+  }
+  return out;
 }
 
 }  // namespace uf::sim

@@ -100,6 +100,10 @@ Status ValidateSimulationConfig(const SimulationConfig& config) {
           Range("trajectory.knot_spacing_s", config.trajectory.knot_spacing_s, 0.001, 10.0, "(0.001, 10]");
       !s.ok())
     return s;
+  if (config.trajectory.motion != Motion::kVehicle && !config.trajectory.file.empty())
+    return Status::Error("sim.trajectory.motion: " + std::string(MotionName(config.trajectory.motion)) +
+                         " moves along the scene's default path; the trajectory file '" +
+                         config.trajectory.file + "' brings its own motion (use vehicle)");
   if (Status s = Range("body_height_m", config.body_height_m, -1e-12, 100.0, "[0, 100]"); !s.ok()) return s;
   if (Status s = Range("ground_truth_rate_hz", config.ground_truth_rate_hz, 0.0, 10000.0, "(0, 10000]");
       !s.ok())
@@ -115,6 +119,12 @@ Status ValidateSimulationConfig(const SimulationConfig& config) {
     if (Status s = ValidateImu(config.imu); !s.ok()) return s;
   if (config.lidar.enabled) {
     if (Status s = InSim(ValidateLidarConfig(config.lidar.model)); !s.ok()) return s;
+    const double keyframe_rate = config.lidar.keyframe_rate_hz;
+    if (!(std::isfinite(keyframe_rate) && keyframe_rate >= 0.0 &&
+          keyframe_rate <= config.lidar.model.rate_hz))
+      return Status::Error("sim.lidar.keyframe_rate_hz: must be in [0, sim.lidar.rate_hz = " +
+                           Text(config.lidar.model.rate_hz) + "] (0: every sweep), got " +
+                           Text(keyframe_rate));
     if (Status s = ValidatePlacement("lidar", config.lidar.placement); !s.ok()) return s;
   }
   if (config.camera.enabled) {

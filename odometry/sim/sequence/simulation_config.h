@@ -13,6 +13,7 @@
 
 #include "odometry/sim/gnss_model.h"
 #include "odometry/sim/imu_model.h"
+#include "odometry/sim/scene/default_trajectory.h"
 #include "odometry/sim/sensors/camera_renderer.h"
 #include "odometry/sim/sensors/lidar_model.h"
 #include "odometry/sim/wheel_model.h"
@@ -51,6 +52,10 @@ struct SimulatedImuConfig {
 struct SimulatedLidarConfig {
   bool enabled = true;
   LidarConfig model;  // spinning32 at 10 Hz by default
+  // Scans written per second, in [0, model.rate_hz]; 0: every sweep. Sweeps keep their duration
+  // 1 / model.rate_hz; only sweep j = round(k * model.rate_hz / keyframe_rate_hz), k = 0, 1, ..., is cast
+  // and written (every 5th at 10 and 2 Hz; unevenly spaced when the ratio is no whole number).
+  double keyframe_rate_hz = 0.0;
   SensorPlacement placement = {SE3(SO3(), Eigen::Vector3d(0.0, 0.0, 0.25))};
 };
 
@@ -77,8 +82,16 @@ struct TrajectorySource {
   std::string file;             // TUM or KITTI pose file; empty: the scene's default trajectory
   std::string format = "auto";  // auto | tum | kitti | euroc
   double kitti_rate_hz = 10.0;  // KITTI pose files have no stamps: poses are this far apart
-  double knot_spacing_s = 0.1;  // spline resampling of the file (continuous acceleration)
+  // Spline resampling of the poses (continuous acceleration). The handheld motion uses at most
+  // kHandheldKnotSpacingS: its bounce has a ~4 Hz harmonic that 0.1 s knots smooth away.
+  double knot_spacing_s = 0.1;
+  // How the body moves along the scene's default path (no file): kVehicle (default_trajectory.h) or
+  // kHandheld (handheld_trajectory.h). A trajectory file brings its own motion: kHandheld is an error there.
+  Motion motion = Motion::kVehicle;
 };
+
+inline constexpr double kHandheldKnotSpacingS = 0.02;
+inline constexpr double kHandheldBodyHeightM = 1.4;  // the command line's --motion handheld sets it
 
 struct SimulationConfig {
   std::string scene = "urban";

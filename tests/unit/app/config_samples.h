@@ -32,7 +32,8 @@ inline SimulationConfig NonDefaultConfig() {
   c.trajectory = {.file = "/data/path with spaces/poses.txt",
                   .format = "kitti",
                   .kitti_rate_hz = 9.5,
-                  .knot_spacing_s = 0.1 + 0.2};
+                  .knot_spacing_s = 0.1 + 0.2,
+                  .motion = sim::Motion::kHandheld};
   c.body_height_m = 1e-300;
   c.ground_truth_rate_hz = 123.456;
   c.origin = {-33.8688197, 151.2092955, -12.5};
@@ -53,6 +54,7 @@ inline SimulationConfig NonDefaultConfig() {
                    .max_range_m = 150.0,
                    .range_noise_std_m = 0.033,
                    .dropout_probability = 0.125};
+  c.lidar.keyframe_rate_hz = 2.5;
   c.lidar.placement = {Pose(0.1, -0.2, 0.3, 0.11, -0.22, 0.33), 0.1, {1.0, -2.0, 3.0}, {0.01, 0.02, -0.03}};
 
   sim::CameraConfig& m = c.camera.model;

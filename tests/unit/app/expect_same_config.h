@@ -68,6 +68,7 @@ inline void ExpectSameConfig(const SimulationConfig& a, const SimulationConfig& 
   EXPECT_FIELD(trajectory.format);
   EXPECT_FIELD(trajectory.kitti_rate_hz);
   EXPECT_FIELD(trajectory.knot_spacing_s);
+  EXPECT_FIELD(trajectory.motion);
   EXPECT_FIELD(body_height_m);
   EXPECT_FIELD(ground_truth_rate_hz);
   EXPECT_FIELD(origin.latitude_deg);
@@ -95,6 +96,7 @@ inline void ExpectSameConfig(const SimulationConfig& a, const SimulationConfig& 
   EXPECT_FIELD(lidar.model.max_range_m);
   EXPECT_FIELD(lidar.model.range_noise_std_m);
   EXPECT_FIELD(lidar.model.dropout_probability);
+  EXPECT_FIELD(lidar.keyframe_rate_hz);
   ExpectSamePlacement(a.lidar.placement, b.lidar.placement, "lidar", extrinsic_tolerance);
 
   const sim::CameraConfig &ca = a.camera.model, &cb = b.camera.model;

@@ -63,6 +63,10 @@ TEST(SimConfig, ErrorsNameTheFileTheKeyTheLineAndTheValue) {
       {"sim:\n  lidar:\n    extrinsic: {matrix: [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1], "
        "translation_m: [1, 2, 3]}\n",
        {"sim.lidar.extrinsic (line 3): give either matrix or"}},
+      {"sim:\n  trajectory: {motion: walking}\n",
+       {"sim.trajectory.motion (line 2): unknown motion 'walking' (vehicle, handheld)"}},
+      {"sim:\n  lidar:\n    keyframe_rate_hz: often\n",
+       {"sim.lidar.keyframe_rate_hz (line 3): expected a number, got 'often'"}},
       {"sim:\n  start_time_s: noon\n",
        {"sim.start_time_s (line 2): expected a number of seconds, got 'noon'"}},
       {"dataset: {}\nestimator:\n  window: 10\n",

@@ -1,5 +1,6 @@
 #include "viewer/app/cli/sim_command.h"
 
+#include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <optional>
@@ -21,7 +22,8 @@ namespace fs = std::filesystem;
 struct SimArguments {
   std::string out, config, trajectory, trajectory_format, lidar;
   std::optional<std::string> scene;
-  std::optional<double> duration_s;
+  std::optional<double> duration_s, body_height_m, lidar_rate_hz;
+  std::optional<std::string> motion;
   std::optional<std::uint64_t> seed;
   std::optional<int> threads;
   bool bag = false, no_camera = false, no_wheel = false, no_gnss = false, print_config = false;
@@ -38,8 +40,16 @@ Eigen::Vector3d SeededDirection(double length, std::uint64_t seed, std::uint64_t
   return length * direction.normalized();
 }
 
-void ApplyArguments(const SimArguments& a, sim::SimulationConfig& config) {
+Status ApplyArguments(const SimArguments& a, sim::SimulationConfig& config) {
   if (a.scene) config.scene = *a.scene;
+  if (a.motion) {
+    Expected<sim::Motion> motion = sim::ParseMotion(*a.motion);
+    if (!motion) return Status::Error("--motion: " + motion.error());
+    config.trajectory.motion = *motion;
+    if (*motion == sim::Motion::kHandheld) config.body_height_m = sim::kHandheldBodyHeightM;
+  }
+  if (a.body_height_m) config.body_height_m = *a.body_height_m;
+  if (a.lidar_rate_hz) config.lidar.keyframe_rate_hz = *a.lidar_rate_hz;
   if (a.duration_s) config.duration_s = *a.duration_s;
   if (a.seed) config.seed = *a.seed;
   if (a.threads) config.threads = *a.threads;
@@ -61,6 +71,7 @@ void ApplyArguments(const SimArguments& a, sim::SimulationConfig& config) {
   if (a.camera_rotation_error_deg)
     config.camera.placement.rotation_error_deg =
         SeededDirection(*a.camera_rotation_error_deg, config.seed, 3);
+  return {};
 }
 
 void PrintSummary(const sim::SimulationSummary& summary, const fs::path& out) {
@@ -72,6 +83,13 @@ void PrintSummary(const sim::SimulationSummary& summary, const fs::path& out) {
                 stream.rate_hz);
   if (summary.lidar_points > 0)
     std::printf("  lidar points: %lld\n", static_cast<long long>(summary.lidar_points));
+  constexpr double kDeg = 180.0 / M_PI;
+  std::printf("  motion: peak body rate %.1f deg/s", summary.peak_body_rate_rad_s * kDeg);
+  if (summary.max_scan_translation_m > 0.0)
+    std::printf("; between consecutive scans up to %.1f deg and %.2f m", summary.max_scan_rotation_rad * kDeg,
+                summary.max_scan_translation_m);
+  std::printf("\n  spline fit to the poses: max %.2g mm, %.2g deg\n", summary.fit_position_error_m * 1e3,
+              summary.fit_rotation_error_rad * kDeg);
   std::printf("  wall time: %.1f s scene + %.1f s sensors\n", summary.seconds_scene, summary.seconds_sensors);
   std::printf("  wrote %s: dataset.yaml, groundtruth.tum", out.string().c_str());
   for (const std::string& file : summary.files) std::printf(", %s", file.c_str());
@@ -85,7 +103,7 @@ int RunSim(const SimArguments& arguments) {
     if (!loaded) return ReportUsageError(loaded.status());
     config = loaded->sim;
   }
-  ApplyArguments(arguments, config);
+  if (Status s = ApplyArguments(arguments, config); !s.ok()) return ReportUsageError(s);
   if (Status s = sim::ValidateSimulationConfig(config); !s.ok()) return ReportUsageError(s);
   const std::string resolved = EmitSimConfig(config);
   if (arguments.print_config) {
@@ -123,6 +141,13 @@ Subcommand AddSimCommand(CLI::App& app) {
   sim->add_option("--scene", a->scene, "Scene: " + scenes + " (default urban)");
   sim->add_option("--out", a->out, "Output folder (new or empty)");
   sim->add_option("--duration", a->duration_s, "Seconds to simulate (default 60)");
+  sim->add_option(
+         "--motion", a->motion,
+         "How the body moves along the scene's path: vehicle (default) or handheld (a person walking "
+         "with the device, bouncing and looking around; also sets --body-height 1.4)")
+      ->check(CLI::IsMember({"vehicle", "handheld"}));
+  sim->add_option("--body-height", a->body_height_m,
+                  "Metres of the body (IMU) above the ground (default 1.8)");
   sim->add_option("--seed", a->seed, "Random seed: the same seed gives the same sequence (default 1)");
   sim->add_option("--trajectory", a->trajectory,
                   "Follow this TUM/EuRoC/KITTI trajectory instead of the default")
@@ -134,6 +159,9 @@ Subcommand AddSimCommand(CLI::App& app) {
   sim->add_flag("--bag", a->bag, "Also write the measurements as a ROS1 bag (sim.bag)");
   sim->add_option("--lidar", a->lidar,
                   "LiDAR model: spinning16, spinning32, spinning64, spinning128, livox_avia, or none");
+  sim->add_option("--lidar-rate", a->lidar_rate_hz,
+                  "LiDAR scans written per second (keyframes, e.g. 2): sweeps keep their duration, one in "
+                  "rate / this is written (default 0: every sweep)");
   sim->add_flag("--no-camera", a->no_camera, "No camera");
   sim->add_flag("--no-wheel", a->no_wheel, "No wheel odometry");
   sim->add_flag("--no-gnss", a->no_gnss, "No GNSS");

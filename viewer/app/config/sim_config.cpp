@@ -118,8 +118,17 @@ void AddTopLevel(Schema<SimulationConfig>& s) {
   trajectory.Key("format", &T::format, "", "auto | tum | kitti | euroc");
   trajectory.Key("kitti_rate_hz", &T::kitti_rate_hz, "Hz",
                  "in (0, 1000]: KITTI poses have no stamps and are this far apart");
-  trajectory.Key("knot_spacing_s", &T::knot_spacing_s, "s",
-                 "in (0.001, 10]: spline fitted to the file (continuous acceleration)");
+  trajectory.Key(
+      "knot_spacing_s", &T::knot_spacing_s, "s",
+      "in (0.001, 10]: spline fitted to the poses (continuous acceleration); handheld: at most 0.02");
+  trajectory.Key(
+      "motion", &T::motion,
+      config::NamedCodec<sim::Motion>([](const std::string& name) { return sim::ParseMotion(name); },
+                                      [](sim::Motion m) { return std::string(sim::MotionName(m)); }),
+      "",
+      "vehicle | handheld: how the body moves along the scene's default path (no file): driven, or "
+      "carried by a person walking 1.3 m/s, bouncing and looking around (peak body rate 95 deg/s); "
+      "the command line's --motion handheld also sets body_height_m 1.4");
   s.Nest("trajectory", &C::trajectory, trajectory);
   s.Flow("trajectory");
 
@@ -171,6 +180,10 @@ void AddLidar(Schema<SimulationConfig>& s) {
   model.Key("range_noise_std_m", &M::range_noise_std_m, "m", ">= 0: Gaussian, along the beam");
   model.Key("dropout_probability", &M::dropout_probability, "", "in [0, 1]: each return lost independently");
   AddSensor(s, "lidar", &SimulationConfig::lidar, "simulate the LiDAR", model);
+  s.Key(
+      "lidar.keyframe_rate_hz", [](auto& c) -> auto& { return c.lidar.keyframe_rate_hz; }, "Hz",
+      "scans written per second, in [0, rate_hz]; 0: every sweep. Sweeps keep their 1 / rate_hz duration; "
+      "one in rate_hz / keyframe_rate_hz is cast and written (2 at 10 Hz: every 5th)");
   AddPlacement(s, "lidar", &SimulationConfig::lidar);
 }
 

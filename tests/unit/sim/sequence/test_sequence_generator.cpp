@@ -14,6 +14,7 @@
 #include "odometry/sim/sequence/sequence_generator.h"
 #include "odometry/sim/sequence/sim_trajectory.h"
 #include "tests/support/temp_dir.h"
+#include "tests/unit/sim/sequence/sequence_test_support.h"
 
 namespace uf::sim {
 namespace {
@@ -35,16 +36,6 @@ SimulationConfig SmallConfig() {
   config.lidar.placement.rotation_error_deg = Eigen::Vector3d(0.0, 0.0, 2.0);
   config.camera.model.pinhole = {.width = 160, .height = 120, .fx = 100, .fy = 100, .cx = 79.5, .cy = 59.5};
   return config;
-}
-
-std::vector<Measurement> ReadAll(DatasetReader& reader) {
-  std::vector<Measurement> all;
-  while (true) {
-    auto next = reader.Next();
-    EXPECT_TRUE(next.ok()) << next.error();
-    if (!next.ok() || !next->has_value()) return all;
-    all.push_back(std::move(**next));
-  }
 }
 
 // T_world_body at t from the ground-truth file (200 Hz): slerp/lerp between the two poses around t.
