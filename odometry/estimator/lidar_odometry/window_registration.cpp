@@ -60,8 +60,8 @@ double LidarOdometry::Impl::ReferenceMatchFraction() const {
 
 // Why the new scan's registration is not to be trusted, or nullopt (docs/METHOD.md "Registration,
 // acceptance and recovery"): a failed solve or non-finite state, fewer than 6 planes, a match fraction
-// below min_match_ratio of what the recent scans reached (a wrong alignment leaves most points away from
-// any plane, whatever the size of the correction), or a motion since the last registered scan faster than
+// below min_match_ratio of what the recent scans reached (a wrong alignment leaves most points off the
+// planes, whatever the size of the correction), or a motion since the last registered scan faster than
 // max_speed_mps / max_angular_rate_rad_s allow.
 std::optional<std::string> LidarOdometry::Impl::RejectionReason(const ScanState& current, bool solved) {
   if (!solved) return "solver failure";
@@ -105,10 +105,11 @@ bool LidarOdometry::Impl::SharesBeginNode(const ScanState& current) const {
 }
 
 // Registration of the newest scan (the window's last): ICP rounds from the first guess. When the acceptance
-// test rejects them, or they match fewer points than kRetryRatio of the recent scans (a registration that
-// slid into a wrong minimum still matches many points, fewer than usual), the same from each fallback
-// guess, keeping the accepted result that matches the most points; then one solve of the whole window. When
-// nothing is accepted the guess is restored, the scan's factors dropped, and the scan stays out of the map.
+// test rejects them, or their match fraction is below kRetryRatio of the recent scans' (a registration that
+// slid into a wrong minimum may still pass the test, with fewer points on planes than usual), the same from
+// each fallback guess, keeping the accepted result with the highest match fraction; then one solve of the
+// whole window. When nothing is accepted the guess is restored, the scan's factors dropped, and the scan
+// stays out of the map.
 bool LidarOdometry::Impl::RegisterNewScan(ScanState& current) {
   constexpr double kRetryRatio = 0.85, kClearlyMore = 1.05;
   const SavedStates saved = Save(nodes);
