@@ -32,6 +32,8 @@
 
 namespace uf::estimator {
 
+constexpr double kCoarseScale = 4;  // the coarse map's voxels (and correspondence gate) relative to the map's
+
 constexpr Stamp kSharedNodeTolerance = 1'000'000;  // 1 ms: a scan starting this close to the last node
                                                    // shares that node
 
@@ -64,7 +66,8 @@ struct ScanState {
   };
   std::vector<CachedPlane> plane_cache;
   std::uint64_t plane_cache_revision = 0;
-  bool in_map = false;  // registered (or the first scan of a map) and inserted into the map
+  bool plane_cache_coarse = false;  // the planes are the coarse map's
+  bool in_map = false;              // registered (or the first scan of a map) and inserted into the map
   // With wheel factors: the standard deviation of the scan's position along the wheel's forward axis that
   // its own point-to-plane factors give (ForwardSigma); infinite when it has none. For the wheel scale's
   // observability test (WheelScaleObservable).
@@ -97,6 +100,8 @@ struct LidarOdometry::Impl {
 
   LidarOdometryConfig config;
   VoxelHashMap map;
+  std::unique_ptr<VoxelHashMap> coarse_map;  // CoarseMap(), for map revision coarse_map_revision
+  std::uint64_t coarse_map_revision = 0;
   FactorGraph graph;
   std::deque<Node> nodes;  // ids first_node_id ...
   long first_node_id = 0;
@@ -149,7 +154,8 @@ struct LidarOdometry::Impl {
 
   // Scans (window_scans.cpp).
   SweepPoses Sweep(const ScanState& scan);
-  void Associate(ScanState& scan);
+  void Associate(ScanState& scan, bool coarse = false);
+  const VoxelHashMap& CoarseMap();
   void InsertIntoMap(ScanState& scan);
   void Release(ScanState& scan);
   void PopOldest();
@@ -169,14 +175,14 @@ struct LidarOdometry::Impl {
 
   // Registration (window_registration.cpp).
   bool RegisterNewScan(ScanState& current);
-  bool RegisterRounds(ScanState& current);
+  bool RegisterRounds(ScanState& current, bool coarse = false);
   double ReferenceMatchFraction() const;
   std::optional<std::string> RejectionReason(const ScanState& current, bool solved);
   struct Guess {
     std::string name;
     SE3 begin, end;  // the scan's begin and end poses
   };
-  std::vector<Guess> FallbackGuesses(const ScanState& current);
+  std::vector<Guess> FallbackGuesses(const ScanState& current, bool poor);
   bool SharesBeginNode(const ScanState& current) const;
 };
 

@@ -28,8 +28,8 @@ std::string Format(const char* format, double a, double b = 0, double c = 0) {
 // until the scan's begin and end poses move less than kConvergedTranslation / kConvergedRotation in a
 // round, or come back to where an earlier round left them (the association then cycles through the same few
 // plane sets: further rounds only repeat the cycle), or association_rounds is reached. Only the new scan's
-// nodes move. Returns false when a solve fails.
-bool LidarOdometry::Impl::RegisterRounds(ScanState& current) {
+// nodes move. Returns false when a solve fails. coarse: against the coarse map (Associate).
+bool LidarOdometry::Impl::RegisterRounds(ScanState& current, bool coarse) {
   std::vector<std::pair<SE3, SE3>> visited;  // (begin, end) poses after each round
   auto near = [](const SE3& a, const SE3& b) {
     const SE3 step = a.inverse() * b;
@@ -37,7 +37,7 @@ bool LidarOdometry::Impl::RegisterRounds(ScanState& current) {
   };
   visited.emplace_back(NodePose(current.begin_node), NodePose(current.end_node));
   for (int round = 0; round < config.association_rounds; ++round) {
-    Associate(current);
+    Associate(current, coarse);
     if (!Solve(&stats.iterations, /*new_scan_only=*/true)) return false;
     const SE3 begin = NodePose(current.begin_node), end = NodePose(current.end_node);
     const bool repeated = std::any_of(visited.begin(), visited.end(), [&](const std::pair<SE3, SE3>& seen) {
@@ -84,18 +84,23 @@ std::optional<std::string> LidarOdometry::Impl::RejectionReason(const ScanState&
   return std::nullopt;
 }
 
-// The guesses tried when the first one (the IMU prediction in LIO, the constant-velocity extrapolation over
-// the last node pair in LO) fails or matches poorly: constant velocity over the last scan interval (at least
-// kLongTwistBaseline: steadier than one sweep's twist, which rests on the deskew alone), and no motion since
+// The guesses tried (each with coarse rounds first) when the first one (the IMU prediction in LIO, the
+// constant-velocity extrapolation over the last node pair in LO) fails or matches poorly, from the nodes as
+// they were before its rounds: the first guess itself, and when the first result was poor (rejected, or
+// below kPoorRatio of the recent match fraction) also constant velocity over the last scan interval (at least
+// kLongTwistBaseline: steadier than one sweep's twist, which rests on the deskew alone) and no motion since
 // the last registered scan.
-std::vector<LidarOdometry::Impl::Guess> LidarOdometry::Impl::FallbackGuesses(const ScanState& current) {
+std::vector<LidarOdometry::Impl::Guess> LidarOdometry::Impl::FallbackGuesses(const ScanState& current,
+                                                                             bool poor) {
   constexpr Stamp kLongTwistBaseline = 150'000'000;  // 0.15 s
-  std::vector<Guess> guesses;
+  std::vector<Guess> guesses = {
+      {"first guess (coarse to fine)", NodePose(current.begin_node), NodePose(current.end_node)}};
+  if (!poor) return guesses;
   const long last_old = SharesBeginNode(current) ? current.begin_node : current.begin_node - 1;
   if (last_old > first_node_id)
-    guesses.push_back({"steady velocity", ExtrapolateFrom(last_old, current.stamp, kLongTwistBaseline),
+    guesses.push_back({"steady-velocity guess", ExtrapolateFrom(last_old, current.stamp, kLongTwistBaseline),
                        ExtrapolateFrom(last_old, current.end, kLongTwistBaseline)});
-  if (last_registered) guesses.push_back({"zero motion", last_registered->pose, last_registered->pose});
+  if (last_registered) guesses.push_back({"zero-motion guess", last_registered->pose, last_registered->pose});
   return guesses;
 }
 
@@ -111,11 +116,12 @@ bool LidarOdometry::Impl::SharesBeginNode(const ScanState& current) const {
 // whole window. When nothing is accepted the guess is restored, the scan's factors dropped, and the scan
 // stays out of the map.
 bool LidarOdometry::Impl::RegisterNewScan(ScanState& current) {
-  constexpr double kRetryRatio = 0.85, kClearlyMore = 1.05;
+  constexpr double kRetryRatio = 0.85, kPoorRatio = 0.75, kClearlyMore = 1.05;
   const SavedStates saved = Save(nodes);
   bool solved = RegisterRounds(current);
   std::optional<std::string> why = RejectionReason(current, solved);
-  if (why || current.MatchFraction() < kRetryRatio * ReferenceMatchFraction()) {
+  const double ratio = current.MatchFraction() / std::max(ReferenceMatchFraction(), 1e-9);
+  if (why || ratio < kRetryRatio) {
     std::optional<SavedStates> best;
     double best_fraction = -1;
     std::string best_guess;
@@ -125,11 +131,15 @@ bool LidarOdometry::Impl::RegisterNewScan(ScanState& current) {
     }
     const std::string first =
         why ? *why : Format("%.0f %% of its points on a map plane", 100 * current.MatchFraction());
-    for (const Guess& guess : FallbackGuesses(current)) {
+    Restore(saved, nodes);  // the guesses start from the nodes as they were before the rounds
+    for (const Guess& guess : FallbackGuesses(current, why || ratio < kPoorRatio)) {
       Restore(saved, nodes);
       if (!SharesBeginNode(current)) NodeAt(current.begin_node).pose = PoseBlock(guess.begin);
       NodeAt(current.end_node).pose = PoseBlock(guess.end);
-      const bool ok = RegisterRounds(current);
+      // A fallback guess may be far off: the rounds against the coarse map first (planes from blocks
+      // kCoarseScale times wider, a gate as much wider) reach surfaces that far from where the guess puts the
+      // points; the rounds against the map refine.
+      const bool ok = RegisterRounds(current, /*coarse=*/true) && RegisterRounds(current);
       if (RejectionReason(current, ok) || current.MatchFraction() <= best_fraction) continue;
       best = Save(nodes);
       best_fraction = current.MatchFraction();
@@ -140,7 +150,7 @@ bool LidarOdometry::Impl::RegisterNewScan(ScanState& current) {
       Associate(current);  // the factors of the kept result (the graph holds the last attempt's)
       if (!best_guess.empty())
         events.push_back({TrackEvent::Kind::kFallbackGuess, current.stamp,
-                          "registered from the " + best_guess + " guess, " +
+                          "registered from the " + best_guess + ", " +
                               Format("%.0f %% of its points on a map plane", 100 * best_fraction) +
                               " (the first guess: " + first + ")"});
       why.reset();

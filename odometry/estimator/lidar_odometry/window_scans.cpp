@@ -27,8 +27,13 @@ SweepPoses LidarOdometry::Impl::Sweep(const ScanState& scan) {
 // that they spread over the whole scan. The planes of a batch of points are found in parallel (the map's
 // queries are const), then the batch is taken in visiting order until the cap: the same residuals as a
 // serial pass.
-void LidarOdometry::Impl::Associate(ScanState& scan) {
+//
+// coarse: against the coarse map (CoarseMap) with a correspondence gate kCoarseScale times wider, for the
+// first rounds from a far guess.
+void LidarOdometry::Impl::Associate(ScanState& scan, bool coarse) {
   const StageTimer timer(stats.associate_ms);
+  const VoxelHashMap& map = coarse ? CoarseMap() : this->map;
+  const double max_plane_distance_m = config.max_plane_distance_m * (coarse ? kCoarseScale : 1.0);
   graph.Remove(FactorKind::kLidar, scan.id);
   scan.residuals = scan.visited = scan.on_plane = 0;
   const auto& points = scan.registration_points;
@@ -38,9 +43,11 @@ void LidarOdometry::Impl::Associate(ScanState& scan) {
   const SweepPoses sweep = Sweep(scan);
   std::vector<double*> blocks = {NodeAt(scan.begin_node).pose.data()};
   if (!single) blocks.push_back(NodeAt(scan.end_node).pose.data());
-  if (scan.plane_cache.size() != n || scan.plane_cache_revision != map.revision()) {
+  if (scan.plane_cache.size() != n || scan.plane_cache_revision != map.revision() ||
+      scan.plane_cache_coarse != coarse) {
     scan.plane_cache.assign(n, {});
     scan.plane_cache_revision = map.revision();
+    scan.plane_cache_coarse = coarse;
   }
   std::vector<std::size_t> order;  // point indices in visiting order
   order.reserve(n);
@@ -74,7 +81,7 @@ void LidarOdometry::Impl::Associate(ScanState& scan) {
           continue;
         }
         const double distance = std::abs(plane->normal.dot(p_world - plane->point));
-        usable[k] = distance > config.max_plane_distance_m      ? kNoPlane
+        usable[k] = distance > max_plane_distance_m             ? kNoPlane
                     : distance <= kOnPlaneSigmas * plane->sigma ? kOnPlane
                                                                 : kNearPlane;
       }
@@ -96,6 +103,21 @@ void LidarOdometry::Impl::Associate(ScanState& scan) {
     }
   }
   scan.visited = static_cast<int>(next);
+}
+
+// The coarse map, brought up to date with the map when it changed: the map's points in voxels kCoarseScale
+// times larger, so that a plane query reaches surfaces that far from a point (a 3x3x3 block 6 m wide at the
+// default 0.5 m voxels). Built only when a fallback guess needs it.
+const VoxelHashMap& LidarOdometry::Impl::CoarseMap() {
+  if (!coarse_map || coarse_map_revision != map.revision()) {
+    VoxelMapConfig coarse = config.map;
+    coarse.voxel_m *= kCoarseScale;
+    coarse.min_plane_sigma_m *= kCoarseScale;
+    coarse_map = std::make_unique<VoxelHashMap>(coarse);
+    coarse_map->Insert(map.Points());
+    coarse_map_revision = map.revision();
+  }
+  return *coarse_map;
 }
 
 void LidarOdometry::Impl::InsertIntoMap(ScanState& scan) {
