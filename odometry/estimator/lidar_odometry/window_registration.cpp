@@ -15,6 +15,8 @@ constexpr double kConvergedTranslation = 0.005;  // m, registration converged wh
 constexpr double kConvergedRotation = 0.001;     // rad
 constexpr int kMinResiduals = 6;                 // a rigid pose has 6 dof
 constexpr std::size_t kMatchHistory = 10;        // registered scans behind the reference match fraction
+constexpr double kMovedTranslation = 0.1;        // m: a scan this far from the last registered one moved
+constexpr double kMovedRotation = 0.035;         // rad (2 deg): or turned this much
 
 std::string Format(const char* format, double a, double b = 0, double c = 0) {
   char text[160];
@@ -49,8 +51,8 @@ bool LidarOdometry::Impl::RegisterRounds(ScanState& current, bool coarse) {
   return true;
 }
 
-// The match fraction the recent registered scans reached (their median), the yardstick of the acceptance
-// test; 0 before any.
+// The match fraction the recent registered scans that moved reached (their median), the yardstick of the
+// acceptance test; 0 before any.
 double LidarOdometry::Impl::ReferenceMatchFraction() const {
   if (recent_match_fractions.empty()) return 0;
   std::vector<double> sorted(recent_match_fractions.begin(), recent_match_fractions.end());
@@ -166,8 +168,13 @@ bool LidarOdometry::Impl::RegisterNewScan(ScanState& current) {
   current.plane_cache = {};  // the map changes next
   if (!why) {
     if (wheel) current.forward_sigma_m = ForwardSigma(current);
-    recent_match_fractions.push_back(current.MatchFraction());
-    if (recent_match_fractions.size() > kMatchHistory) recent_match_fractions.pop_front();
+    // A scan taken where the last one was matches the map it just made almost fully: at a standstill the
+    // match fraction says nothing of what a moving scan reaches, so only scans that moved count.
+    const SE3 moved = last_registered ? last_registered->pose.inverse() * NodePose(current.end_node) : SE3();
+    if (moved.translation().norm() >= kMovedTranslation || moved.so3().angle() >= kMovedRotation) {
+      recent_match_fractions.push_back(current.MatchFraction());
+      if (recent_match_fractions.size() > kMatchHistory) recent_match_fractions.pop_front();
+    }
     last_registered = RegisteredPose{current.end, NodePose(current.end_node)};
     consecutive_rejections = 0;
     return true;
