@@ -183,6 +183,7 @@ struct LidarOdometry::Impl {
     SE3 begin, end;  // the scan's begin and end poses
   };
   std::vector<Guess> FallbackGuesses(const ScanState& current, bool poor);
+  std::vector<Guess> TurnedGuesses();
   bool SharesBeginNode(const ScanState& current) const;
 };
 

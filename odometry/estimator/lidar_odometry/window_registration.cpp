@@ -106,6 +106,23 @@ std::vector<LidarOdometry::Impl::Guess> LidarOdometry::Impl::FallbackGuesses(con
   return guesses;
 }
 
+// The last resort when no guess was accepted: the zero-motion guess turned about the body's z axis by
+// +-kTurnStep and +-2 kTurnStep. A device carried by hand looks around mostly about its vertical axis, and at
+// 2 Hz keyframes it turns by up to ~35 deg between scans (simulated handheld), beyond what even the coarse
+// rounds reach from a guess that far off.
+std::vector<LidarOdometry::Impl::Guess> LidarOdometry::Impl::TurnedGuesses() {
+  constexpr double kTurnStep = 20 * std::numbers::pi / 180;
+  std::vector<Guess> guesses;
+  if (!last_registered) return guesses;
+  for (const double turn : {kTurnStep, -kTurnStep, 2 * kTurnStep, -2 * kTurnStep}) {
+    const SE3 turned =
+        last_registered->pose * SE3(SO3::Exp(Eigen::Vector3d(0, 0, turn)), Eigen::Vector3d::Zero());
+    guesses.push_back(
+        {Format("zero-motion guess turned by %+.0f deg", turn * 180 / std::numbers::pi), turned, turned});
+  }
+  return guesses;
+}
+
 // Whether the scan's begin node is the previous scan's end node (it started where that one ended).
 bool LidarOdometry::Impl::SharesBeginNode(const ScanState& current) const {
   return window.size() >= 2 && window[window.size() - 2].end_node == current.begin_node;
@@ -133,20 +150,25 @@ bool LidarOdometry::Impl::RegisterNewScan(ScanState& current) {
     }
     const std::string first =
         why ? *why : Format("%.0f %% of its points on a map plane", 100 * current.MatchFraction());
+    const auto try_guesses = [&](const std::vector<Guess>& guesses) {
+      for (const Guess& guess : guesses) {
+        Restore(saved, nodes);
+        if (!SharesBeginNode(current)) NodeAt(current.begin_node).pose = PoseBlock(guess.begin);
+        NodeAt(current.end_node).pose = PoseBlock(guess.end);
+        // A fallback guess may be far off: the rounds against the coarse map first (planes from blocks
+        // kCoarseScale times wider, a gate as much wider) reach surfaces that far from where the guess puts
+        // the points; the rounds against the map refine.
+        const bool ok = RegisterRounds(current, /*coarse=*/true) && RegisterRounds(current);
+        if (RejectionReason(current, ok) || current.MatchFraction() <= best_fraction) continue;
+        best = Save(nodes);
+        best_fraction = current.MatchFraction();
+        best_guess = guess.name;
+      }
+    };
     Restore(saved, nodes);  // the guesses start from the nodes as they were before the rounds
-    for (const Guess& guess : FallbackGuesses(current, why || ratio < kPoorRatio)) {
-      Restore(saved, nodes);
-      if (!SharesBeginNode(current)) NodeAt(current.begin_node).pose = PoseBlock(guess.begin);
-      NodeAt(current.end_node).pose = PoseBlock(guess.end);
-      // A fallback guess may be far off: the rounds against the coarse map first (planes from blocks
-      // kCoarseScale times wider, a gate as much wider) reach surfaces that far from where the guess puts the
-      // points; the rounds against the map refine.
-      const bool ok = RegisterRounds(current, /*coarse=*/true) && RegisterRounds(current);
-      if (RejectionReason(current, ok) || current.MatchFraction() <= best_fraction) continue;
-      best = Save(nodes);
-      best_fraction = current.MatchFraction();
-      best_guess = guess.name;
-    }
+    const bool poor = why || ratio < kPoorRatio;
+    try_guesses(FallbackGuesses(current, poor));
+    if (!best && poor) try_guesses(TurnedGuesses());
     if (best) {
       Restore(*best, nodes);
       Associate(current);  // the factors of the kept result (the graph holds the last attempt's)
