@@ -147,6 +147,9 @@ int main(int argc, char** argv) {
   for (const estimator::TrackEvent& e : events) {
     rejected += e.kind == estimator::TrackEvent::Kind::kRejected;
     restarts += e.kind == estimator::TrackEvent::Kind::kRestarted;
+    if (e.kind != estimator::TrackEvent::Kind::kFallbackGuess)
+      std::printf("  %s at %.1f s: %s\n", std::string(estimator::TrackEventName(e.kind)).c_str(),
+                  ToSeconds(e.stamp - first), e.detail.c_str());
   }
   const double duration_s = ToSeconds(last - first);
   std::printf("bench_long_run: %s, %.0f s of data, %ld scans (%ld withheld: %.1f s every %.0f s)\n",
