@@ -111,15 +111,15 @@ class SimulatedScans : public ::testing::Test {
 
 TEST_F(SimulatedScans, WrongDirectionIsSwitchedToTheSensors) {
   PointTimeCheckOptions options;
-  options.max_scans = 10;
-  const PointTimeCheckResult result = Check(Scans(4.0, 14, kCcwBehind), kCcwBehind, SimConfig(), options);
+  options.max_scans = 8;
+  const PointTimeCheckResult result = Check(Scans(4.0, 12, kCcwBehind), kCcwBehind, SimConfig(), options);
   ASSERT_TRUE(result.compared) << result.reason;
   EXPECT_EQ(result.chosen, kClockwiseFromBehind) << result.reason;
   EXPECT_EQ(result.current, kCcwBehind);
   ASSERT_EQ(result.scores.size(), 5u);
   EXPECT_EQ(result.scores.front().convention, kCcwBehind);
-  EXPECT_EQ(result.scans_used, 10);
-  EXPECT_GE(result.moving_scans, 8);
+  EXPECT_EQ(result.scans_used, 8);
+  EXPECT_GE(result.moving_scans, 6);
   const ConventionScore* right = ScoreOf(result, kClockwiseFromBehind);
   const ConventionScore* none = ScoreOf(result, kNoDeskew);
   ASSERT_TRUE(right && none);
@@ -131,9 +131,9 @@ TEST_F(SimulatedScans, WrongDirectionIsSwitchedToTheSensors) {
 
 TEST_F(SimulatedScans, RightDirectionIsKept) {
   PointTimeCheckOptions options;
-  options.max_scans = 10;
+  options.max_scans = 8;
   const PointTimeCheckResult result =
-      Check(Scans(4.0, 14, kClockwiseFromBehind), kClockwiseFromBehind, SimConfig(), options);
+      Check(Scans(4.0, 12, kClockwiseFromBehind), kClockwiseFromBehind, SimConfig(), options);
   ASSERT_TRUE(result.compared) << result.reason;
   EXPECT_EQ(result.chosen, kClockwiseFromBehind) << result.reason;
   const auto best = std::min_element(result.scores.begin(), result.scores.end(),
@@ -145,9 +145,9 @@ TEST_F(SimulatedScans, SweepStartingAheadIsFound) {
   // The motivating case: a sensor whose sweep starts ahead, read from a folder, whose reader assumes
   // KITTI's start behind: every point's time is off by half a sweep on one side of the seam.
   PointTimeCheckOptions options;
-  options.max_scans = 10;
+  options.max_scans = 8;
   const PointTimeCheckResult result =
-      Check(Scans(4.0, 14, kClockwiseFromBehind, true), kClockwiseFromBehind, SimConfig(), options);
+      Check(Scans(4.0, 12, kClockwiseFromBehind, true), kClockwiseFromBehind, SimConfig(), options);
   ASSERT_TRUE(result.compared) << result.reason;
   EXPECT_EQ(result.chosen, kCwAhead) << result.reason;
 }
