@@ -4,8 +4,9 @@
 //   scans whose times are derived the wrong way on purpose (counter-clockwise) are switched back; standing
 //   still, the times as read are kept and the reason says why;
 // - real Ouster OS1-64 scans (../shared/data/newer-college-06-deskew) with their true per-point times: the
-//   convention whose derived times match the true ones best is a fact about the sensor; the check, given
-//   the scans with the times stripped, finds it;
+//   convention whose derived times match the true ones best (clockwise from ahead) is a fact about the
+//   sensor. Three scans are too few for the check (the odometry does not register them even with their
+//   true times), so the simulator stands in: its frame turned to start ahead, the check finds that;
 // - real KITTI HDL-64E keyframes (../shared/data/kitti00-keyframes): the check keeps clockwise from behind.
 #include <gtest/gtest.h>
 
@@ -49,7 +50,7 @@ const ConventionScore* ScoreOf(const PointTimeCheckResult& result, const Azimuth
   return nullptr;
 }
 
-// Simulated wild scene (the simulator's default 16-beam-free rig: spinning32 at 10 Hz), scans starting
+// Simulated wild scene (the simulator's default rig: spinning32 at 10 Hz), scans starting
 // every 0.1 s from `from_s` on; their true times replaced by times derived by `derived`.
 class SimulatedScans : public ::testing::Test {
  protected:
