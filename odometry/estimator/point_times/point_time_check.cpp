@@ -119,8 +119,8 @@ ConventionScore ScoreKeyframes(const std::vector<std::vector<Eigen::Vector3f>>& 
   std::vector<std::int64_t> counts(n, 0);
   tbb::parallel_for(std::size_t{1}, n, [&](std::size_t k) {
     const VoxelHashMap& other = maps[k % 2];  // parity (k - 1) % 2 scored against the other one
-    std::unordered_map<std::uint64_t, std::optional<Plane>>
-        planes;  // by voxel: the same plane for its points
+    // The plane by voxel: PlaneNear gives every point of a voxel the same one.
+    std::unordered_map<std::uint64_t, std::optional<Plane>> planes;
     for (const Eigen::Vector3f& point : scans_world[k]) {
       const Eigen::Vector3d p = point.cast<double>();
       const std::uint64_t key = other.QueryKey(p);
@@ -148,7 +148,7 @@ struct PointTimeCheck::Impl {
   LidarOdometryConfig config;  // LiDAR-only
   AzimuthConvention current;
   PointTimeCheckOptions options;
-  LidarOdometry motion;  // the current convention, a 2-scan window: the poses that tell motion
+  LidarOdometry motion;  // over every scan read, with the current convention: the poses that tell motion
   // Thinned scans from the anchor on (before the first motion: from the last still scan on).
   std::deque<LidarScan> held;
   std::map<Stamp, SE3> poses;         // the motion odometry's keyframe poses by keyframe stamp (scan middle)
