@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "odometry/io/measurement.h"
+#include "odometry/types/azimuth_convention.h"
 #include "odometry/types/se3.h"
 
 namespace uf {
@@ -40,6 +41,11 @@ struct DatasetOptions {
   // Spinning LiDARs without per-point time: derive offsets from azimuth (flagged in the scan) when true,
   // else deliver the scan without point times.
   bool derive_point_times_from_azimuth = true;
+  // How those times are derived (odometry/types/azimuth_convention.h). nullopt ("auto"): each reader's
+  // default (KITTI-style folders: clockwise from behind; ROS bags: clockwise from the first point; the
+  // project's folders: the times as stored), which `run` and `info` check against the data
+  // (odometry/estimator/point_times/point_time_check.h) and replace by the convention that fits.
+  std::optional<AzimuthConvention> point_time_convention;
   // Sweep period for spinning LiDARs whose scans do not say when they end (KITTI .bin/.pcd folders): used
   // for LidarScan::end and for azimuth-derived point times. Seconds.
   double lidar_sweep_period_s = 0.1;

@@ -41,6 +41,8 @@ struct StreamInfo {
   // LiDAR: the per-point time field found ("time", "t", "timestamp", "offset_time") and its convention.
   std::string point_time_field;
   PointTimeConvention point_time = PointTimeConvention::kNone;
+  // kAzimuth: the convention the reader derived the times with (nullopt: the project's format, as stored).
+  std::optional<AzimuthConvention> azimuth_convention;
   // IMU: the acceleration unit the data was found in ("m/s^2" or "g"); samples are always delivered in m/s^2.
   std::string imu_accel_unit;
   // Calibration that came with the data (EuRoC sensor.yaml, the project's dataset.yaml), if any.

@@ -15,8 +15,8 @@ namespace {
 using test::CommandResult;
 using test::Ultrafusion;
 
-nlohmann::json InfoJson(const std::string& dataset) {
-  const CommandResult result = Ultrafusion("info --json '" + dataset + "'", /*merge_stderr=*/false);
+nlohmann::json InfoJson(const std::string& dataset, const std::string& options = "") {
+  const CommandResult result = Ultrafusion("info --json '" + dataset + "'" + options, /*merge_stderr=*/false);
   EXPECT_EQ(result.code, 0) << result.output;
   return nlohmann::json::parse(result.output, nullptr, /*allow_exceptions=*/false);
 }
@@ -104,6 +104,35 @@ TEST(CliInfo, KittiKeyframeFolder) {
   EXPECT_GE((*lidar)["points_per_scan"]["min"].get<int>(), 101000);
   EXPECT_LE((*lidar)["points_per_scan"]["max"].get<int>(), 127999);
   EXPECT_NE(info["ground_truth"].get<std::string>().find("groundtruth_velodyne.tum"), std::string::npos);
+  // No per-point time: the azimuth convention checked on the first scans, KITTI's kept (the check's own
+  // figures are tests/unit/estimator/test_point_time_check.cpp's).
+  EXPECT_EQ((*lidar)["azimuth_convention"], "clockwise_from_behind");
+  const nlohmann::json& times = info["point_times"];
+  EXPECT_EQ(times["stream"], "velodyne");
+  EXPECT_EQ(times["convention"], "clockwise_from_behind");
+  EXPECT_EQ(times["source"], "chosen by the check");
+  EXPECT_EQ(times["check"]["compared"], true);
+  EXPECT_EQ(times["check"]["scores"].size(), 5u);
+  EXPECT_EQ(times["check"]["scores"][0]["convention"], "clockwise_from_behind");
+  EXPECT_EQ(times["check"]["scans_used"], 12);
+  EXPECT_NE(times["line"].get<std::string>().find("clockwise from behind: point-to-plane"), std::string::npos)
+      << times["line"];
+}
+
+TEST(CliInfo, ConfiguredPointTimeConventionIsUsedUnchecked) {
+  const std::string data = testing::SharedData();
+  if (data.empty()) GTEST_SKIP() << "../shared/data is absent: the KITTI folder test needs it";
+  testing::TempDir dir;
+  const std::string config = dir.File("none.yaml");
+  std::ofstream(config) << "dataset:\n  point_time_convention: none\n";
+  const nlohmann::json info = InfoJson(data + "/kitti00-keyframes", " --config " + config);
+  EXPECT_EQ((*StreamOfKind(info, "lidar"))["azimuth_convention"], "none");
+  EXPECT_EQ(info["point_times"]["source"], "dataset.point_time_convention");
+  EXPECT_FALSE(info["point_times"].contains("check"));
+  const CommandResult table = Ultrafusion("info " + data + "/kitti00-keyframes --config " + config);
+  EXPECT_NE(table.output.find("azimuth convention: none (no deskew) (set by dataset.point_time_convention)"),
+            std::string::npos)
+      << table.output;
 }
 
 // The small multi-sensor bag of the fuzz seeds (written by librosbag, lz4 chunks): every sensor kind, and the

@@ -216,6 +216,14 @@ TEST(CliRunKitti, FirstTenKeyframesRunAndReportTheAccuracy) {
   EXPECT_EQ(ReadRows(run + "/trajectory.tum").size(), 10u);
   const double ate = ReportedAte(testing::ReadText(run + "/report.md"));
   EXPECT_GE(ate, 0) << testing::ReadText(run + "/report.md");
+  // The point time convention, checked on the scans, is said in the log and the report and kept in
+  // config.yaml (so that a repeat derives the same times without checking again).
+  const std::string said =
+      "point times of velodyne: clockwise from behind (chosen by the check on the first scans";
+  EXPECT_NE(result.output.find(said), std::string::npos) << result.output;
+  EXPECT_NE(testing::ReadText(run + "/report.md").find(said), std::string::npos);
+  EXPECT_NE(testing::ReadText(run + "/config.yaml").find("point_time_convention: clockwise_from_behind"),
+            std::string::npos);
   // 18 m driven in 1.9 s. Only "not lost" is asserted here (LO's accuracy is its own tests' and bench's
   // business): a track lost at the first turn or a frame mix-up is off by several metres.
   EXPECT_LT(ate, 3.0);
@@ -228,7 +236,8 @@ TEST(CliRunKitti, FirstTenKeyframesRunAndReportTheAccuracy) {
   // --mode wgio names every stream it misses, the GNSS among them.
   const auto wgio = Ultrafusion("run " + copy.string() + " --mode wgio --out " + dir.File("wgio"));
   EXPECT_EQ(wgio.code, 2) << wgio.output;
-  EXPECT_NE(wgio.output.find("has no IMU stream, no wheel odometry stream, no GNSS stream"), std::string::npos)
+  EXPECT_NE(wgio.output.find("has no IMU stream, no wheel odometry stream, no GNSS stream"),
+            std::string::npos)
       << wgio.output;
   EXPECT_FALSE(fs::exists(dir.File("wgio")));
 }

@@ -25,6 +25,7 @@ class KittiScanSource : public StreamSource {
         stream_(std::move(stream)),
         sweep_period_(FromSeconds(options.lidar_sweep_period_s)),
         derive_times_(options.derive_point_times_from_azimuth),
+        convention_(options.point_time_convention.value_or(kClockwiseFromBehind)),
         stamp_at_middle_(options.folder_scan_stamp == ScanStampPosition::kSweepMiddle) {}
 
   Expected<bool> Advance() override { return ++next_ <= files_.size(); }
@@ -49,13 +50,14 @@ class KittiScanSource : public StreamSource {
       default:
         scan->stamp = stamp() - (stamp_at_middle_ ? sweep_period_ / 2 : 0);  // the sweep start
         scan->end = scan->stamp + sweep_period_;
-        if (derive_times_) DerivePointTimesFromAzimuth(*scan, sweep_period_);
+        if (derive_times_) DeriveAzimuthPointTimes(*scan, sweep_period_, convention_);
         file_info.point_time = derive_times_ ? PointTimeConvention::kAzimuth : PointTimeConvention::kNone;
         break;
     }
     if (next_ == 1) {  // what the data tells about the stream
       info.point_time = file_info.point_time;
       info.point_time_field = file_info.point_time_field;
+      if (info.point_time != PointTimeConvention::kAzimuth) info.azimuth_convention.reset();
     }
     return std::optional<MeasurementData>(std::move(*scan));
   }
@@ -66,8 +68,9 @@ class KittiScanSource : public StreamSource {
   std::string stream_;
   Stamp sweep_period_;
   bool derive_times_;
-  bool stamp_at_middle_;  // times.txt stamps the middle of the sweep (KITTI), not its start
-  std::size_t next_ = 0;  // files_[next_ - 1] is the current record
+  AzimuthConvention convention_;  // of the derived times
+  bool stamp_at_middle_;          // times.txt stamps the middle of the sweep (KITTI), not its start
+  std::size_t next_ = 0;          // files_[next_ - 1] is the current record
 };
 
 // groundtruth*.tum, poses.txt, poses/<folder>.txt, the only .txt in poses/, or ../../poses/<folder>.txt.
@@ -136,6 +139,8 @@ Expected<std::unique_ptr<DatasetReader>> OpenKittiFolder(const fs::path& path,
   stream.nominal_rate_hz = 1.0 / period;
   stream.point_time =
       options.derive_point_times_from_azimuth ? PointTimeConvention::kAzimuth : PointTimeConvention::kNone;
+  if (options.derive_point_times_from_azimuth)
+    stream.azimuth_convention = options.point_time_convention.value_or(kClockwiseFromBehind);
   DatasetDescription description;
   description.path = path;
   description.format = DatasetFormat::kKittiFolder;

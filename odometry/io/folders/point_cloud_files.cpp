@@ -12,13 +12,13 @@
 #include <cstring>
 #include <fstream>
 #include <limits>
-#include <numbers>
 #include <sstream>
 
-#include "odometry/io/text_table.h"
 #include "odometry/io/folders/lzf.h"
 #include "odometry/io/folders/pcd_decode.h"
 #include "odometry/io/folders/pcd_header.h"
+#include "odometry/io/text_table.h"
+#include "odometry/types/azimuth_convention.h"
 
 namespace uf {
 namespace {
@@ -211,17 +211,7 @@ Expected<LidarScan> ReadKittiBin(const std::filesystem::path& path, PointCloudFi
 }
 
 void DerivePointTimesFromAzimuth(LidarScan& scan, Stamp sweep_period) {
-  const double period = static_cast<double>(sweep_period);
-  for (LidarPoint& point : scan.points) {
-    // Clockwise from behind: atan2 = +pi at the start, 0 (forward) half-way, -pi at the end.
-    const double azimuth = std::atan2(static_cast<double>(point.y), static_cast<double>(point.x));
-    const double fraction = (std::numbers::pi - azimuth) / (2 * std::numbers::pi);
-    point.offset_ns = static_cast<std::int32_t>(
-        std::clamp(std::llround(fraction * period), 0LL, static_cast<long long>(sweep_period)));
-  }
-  scan.end = scan.stamp + sweep_period;
-  scan.has_point_times = true;
-  scan.point_times_from_azimuth = true;
+  DeriveAzimuthPointTimes(scan, sweep_period, kClockwiseFromBehind);
 }
 
 }  // namespace uf

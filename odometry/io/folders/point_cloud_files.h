@@ -38,7 +38,9 @@ Expected<LidarScan> ReadPcdFile(const std::filesystem::path& path, PointCloudFil
 Expected<LidarScan> ReadKittiBin(const std::filesystem::path& path, PointCloudFileInfo* info = nullptr);
 
 // Gives every point of a spinning LiDAR's scan the time at which the beam swept its azimuth, for scans
-// whose points carry no time, and sets end = stamp + sweep_period (flags point_times_from_azimuth).
+// whose points carry no time, and sets end = stamp + sweep_period (flags point_times_from_azimuth), by the
+// KITTI convention: DeriveAzimuthPointTimes (odometry/types/azimuth_convention.h) with kClockwiseFromBehind,
+// the KITTI-style folder reader's default (DatasetOptions::point_time_convention chooses another).
 //
 // Model (KITTI's Velodyne HDL-64E, x forward, y left, z up): the head spins clockwise seen from above, so
 // the azimuth atan2(y, x) decreases with time, and a sweep starts and ends behind the car (azimuth +-180

@@ -21,8 +21,11 @@ namespace fs = std::filesystem;
 // lidar.bin, one record per Advance().
 class LidarRecordSource : public StreamSource {
  public:
-  LidarRecordSource(LidarRecordReader reader, std::string stream)
-      : reader_(std::move(reader)), stream_(std::move(stream)) {}
+  LidarRecordSource(LidarRecordReader reader, std::string stream,
+                    std::optional<AzimuthConvention> point_time_convention)
+      : reader_(std::move(reader)),
+        stream_(std::move(stream)),
+        point_time_convention_(point_time_convention) {}
 
   Expected<bool> Advance() override {
     const std::uint64_t offset = reader_.offset();
@@ -44,7 +47,11 @@ class LidarRecordSource : public StreamSource {
     if (scan_.points.size() != before)
       warnings.Add(info.name, "points with NaN/Inf values dropped",
                    static_cast<std::int64_t>(before - scan_.points.size()));
+    // Times derived from azimuth when the dataset was written: derived again when a convention is given.
+    if (scan_.point_times_from_azimuth && point_time_convention_ && scan_.end > scan_.stamp)
+      DeriveAzimuthPointTimes(scan_, scan_.end - scan_.stamp, *point_time_convention_);
     if (first_) {
+      if (scan_.point_times_from_azimuth) info.azimuth_convention = point_time_convention_;
       info.point_time = scan_.point_times_from_azimuth ? PointTimeConvention::kAzimuth
                         : scan_.has_point_times        ? PointTimeConvention::kRelativeNanoseconds
                                                        : PointTimeConvention::kNone;
@@ -57,13 +64,14 @@ class LidarRecordSource : public StreamSource {
  private:
   LidarRecordReader reader_;
   std::string stream_;  // the file, for errors
+  std::optional<AzimuthConvention> point_time_convention_;
   IncreasingStamps order_;
   LidarScan scan_;
   bool first_ = true;
 };
 
 Expected<std::unique_ptr<StreamSource>> OpenSource(const fs::path& folder, const StreamInfo& info,
-                                                   const fs::path& file) {
+                                                   const fs::path& file, const DatasetOptions& options) {
   const fs::path path = folder / file;
   switch (info.kind) {
     case SensorKind::kImu:
@@ -77,8 +85,8 @@ Expected<std::unique_ptr<StreamSource>> OpenSource(const fs::path& folder, const
     case SensorKind::kLidar: {
       auto reader = LidarRecordReader::Open(path);
       if (!reader) return reader.status();
-      return std::unique_ptr<StreamSource>(
-          std::make_unique<LidarRecordSource>(std::move(*reader), path.string()));
+      return std::unique_ptr<StreamSource>(std::make_unique<LidarRecordSource>(
+          std::move(*reader), path.string(), options.point_time_convention));
     }
   }
   return Status::Error(path.string() + ": unknown stream kind");
@@ -156,7 +164,8 @@ Expected<GeodeticOrigin> ParseEnuOrigin(const YAML::Node& node, const std::strin
 
 }  // namespace
 
-Expected<std::unique_ptr<DatasetReader>> OpenUltrafusionFolder(const fs::path& path, const DatasetOptions&) {
+Expected<std::unique_ptr<DatasetReader>> OpenUltrafusionFolder(const fs::path& path,
+                                                               const DatasetOptions& options) {
   const fs::path yaml_path = path / ultrafusion_format::kDescriptionFile;
   const std::string where = yaml_path.string();
   std::error_code error;
@@ -191,7 +200,7 @@ Expected<std::unique_ptr<DatasetReader>> OpenUltrafusionFolder(const fs::path& p
         return Status::Error(stream_where + ": stream name '" + info->name + "' used twice");
       if (!fs::is_regular_file(path / file, error))
         return Status::Error((path / file).string() + ": missing (named by " + stream_where + ")");
-      auto source = OpenSource(path, *info, file);
+      auto source = OpenSource(path, *info, file, options);
       if (!source) return source.status();
       description.streams.push_back(std::move(*info));
       sources.push_back(std::move(*source));

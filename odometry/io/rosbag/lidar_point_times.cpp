@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
 
 namespace uf {
 
@@ -37,34 +36,15 @@ std::string AssignPointTimes(Stamp base, std::span<const std::int64_t> times_fro
   return {};
 }
 
-void AssignAzimuthPointTimes(Stamp base, double sweep_period_s, LidarScan& scan) {
+void AssignAzimuthPointTimes(Stamp base, double sweep_period_s, const AzimuthConvention& convention,
+                             LidarScan& scan) {
   const Stamp period = SweepPeriodNs(sweep_period_s);
-  scan.stamp = base;
-  scan.end = base + period;
   if (scan.points.empty() || period == 0) {
     AssignNoPointTimes(base, sweep_period_s, scan);
     return;
   }
-  constexpr double kPi = std::numbers::pi;
-  const auto azimuth = [](const LidarPoint& point) {
-    return std::atan2(static_cast<double>(point.y), static_cast<double>(point.x));
-  };
-  const double first_azimuth = azimuth(scan.points.front());
-  const double ns_per_radian = static_cast<double>(period) / (2 * kPi);
-  for (LidarPoint& point : scan.points) {
-    double swept = first_azimuth - azimuth(point);  // clockwise: the azimuth decreases with time
-    if (swept < 0) swept += 2 * kPi;
-    // The turn the point belongs to: the one nearest its guessed time. Near the seam a point just before
-    // the first one's azimuth (another laser's firing offset) sweeps "-epsilon", not a whole turn, and a
-    // point past a full turn at the end sweeps 2 pi + epsilon, not epsilon.
-    const double guessed = point.offset_ns / ns_per_radian;
-    if (guessed - swept > kPi) swept += 2 * kPi;
-    if (swept - guessed > kPi) swept -= 2 * kPi;
-    point.offset_ns =
-        static_cast<std::int32_t>(std::llround(std::clamp(swept, 0.0, 2 * kPi) * ns_per_radian));
-  }
-  scan.has_point_times = true;
-  scan.point_times_from_azimuth = true;
+  scan.stamp = base;
+  DeriveAzimuthPointTimes(scan, period, convention);
 }
 
 void AssignNoPointTimes(Stamp base, double sweep_period_s, LidarScan& scan) {

@@ -5,6 +5,7 @@
 #include <span>
 #include <string>
 
+#include "odometry/types/azimuth_convention.h"
 #include "odometry/types/measurements.h"
 #include "odometry/types/stamp.h"
 
@@ -19,15 +20,16 @@ namespace uf {
 std::string AssignPointTimes(Stamp base, std::span<const std::int64_t> times_from_base, double sweep_period_s,
                              LidarScan& scan);
 
-// For a spinning LiDAR without per-point times. Velodyne-style sensors spin clockwise seen from above (from
-// +z), so the azimuth atan2(y, x) decreases with time at 2*pi / sweep_period_s. A ROS driver publishes the
-// points in firing order and starts a scan wherever the previous one ended, so the first point in storage
-// order is taken as the start of the sweep: offset = (azimuth_first - azimuth) / (2 pi) * period, on the turn
-// nearest the point's position in the cloud. On entry each offset_ns holds that guess (the point's fraction
-// of the cloud, or of its row in an organised cloud, times the period); it only resolves the seam.
-// (The KITTI folder reader assumes instead a sweep that starts behind the car: KITTI files are not in
-// firing order.) Sets stamp = base, end = base + period, has_point_times and point_times_from_azimuth.
-void AssignAzimuthPointTimes(Stamp base, double sweep_period_s, LidarScan& scan);
+// For a spinning LiDAR without per-point times: DeriveAzimuthPointTimes (odometry/types/azimuth_convention.h)
+// by `convention`. A ROS driver publishes the points in firing order and starts a scan wherever the
+// previous one ended, so the default (kClockwiseFromFirstPoint: Velodyne-style sensors spin clockwise seen
+// from above) takes the first point in storage order as the start of the sweep. On entry each offset_ns
+// holds a guess of the point's time from its position (its fraction of the cloud, or of its row in an
+// organised cloud, times the period); it only resolves the seam of that start. Sets stamp = base, end =
+// base + period, has_point_times and point_times_from_azimuth (no point times for an empty scan or a period
+// outside (0, 2] s).
+void AssignAzimuthPointTimes(Stamp base, double sweep_period_s, const AzimuthConvention& convention,
+                             LidarScan& scan);
 
 // No point times at all: stamp = base, end = base + period, has_point_times = false.
 void AssignNoPointTimes(Stamp base, double sweep_period_s, LidarScan& scan);

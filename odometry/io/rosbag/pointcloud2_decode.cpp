@@ -277,7 +277,7 @@ Expected<DecodedLidarScan> DecodePointCloud2(Stamp base, const PointCloud2Layout
     AssignNoPointTimes(base, options.sweep_period_s, scan);
   } else if (options.derive_point_times_from_azimuth) {
     decoded.point_time = PointTimeConvention::kAzimuth;
-    AssignAzimuthPointTimes(base, options.sweep_period_s, scan);
+    AssignAzimuthPointTimes(base, options.sweep_period_s, options.azimuth_convention, scan);
   } else {
     AssignNoPointTimes(base, options.sweep_period_s, scan);
   }

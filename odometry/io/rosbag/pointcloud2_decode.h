@@ -42,6 +42,7 @@ struct PointCloud2Layout {
 
 struct LidarDecodeOptions {
   bool derive_point_times_from_azimuth = true;  // when the cloud has no time field (see lidar_point_times.h)
+  AzimuthConvention azimuth_convention = kClockwiseFromFirstPoint;  // how they are derived
   double sweep_period_s = 0.1;
 };
 

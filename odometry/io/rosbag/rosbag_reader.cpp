@@ -70,6 +70,7 @@ RosBagReader::RosBagReader(std::unique_ptr<bag::BagFile> bag, bag::BagStreamPlan
   seen_.assign(description_.streams.size(), false);
   lidar_options_.derive_point_times_from_azimuth = options.derive_point_times_from_azimuth;
   lidar_options_.sweep_period_s = options.lidar_sweep_period_s;
+  lidar_options_.azimuth_convention = options.point_time_convention.value_or(kClockwiseFromFirstPoint);
 }
 
 Status RosBagReader::DetectImuUnits() {
@@ -164,6 +165,8 @@ void RosBagReader::Accept(int stream, bag::DecodedMessage decoded) {
   if (info.kind == SensorKind::kLidar && info.point_time == PointTimeConvention::kNone) {
     info.point_time = decoded.point_time;
     info.point_time_field = decoded.point_time_field;
+    if (info.point_time == PointTimeConvention::kAzimuth)
+      info.azimuth_convention = lidar_options_.azimuth_convention;
   }
   if (decoded.header_stamp_zero) Warn(stream, "header stamp is zero; the record time was used");
   if (decoded.non_finite_points > 0) Warn(stream, "NaN points dropped", decoded.non_finite_points);

@@ -106,6 +106,7 @@ inline DatasetConfig NonDefaultDataset() {
                      {"/velodyne \"points\"", SensorKind::kLidar, Pose(0.1, -0.2, 0.3, 0.01, 0.02, 1.5)}};
   c.reader.imu_accel_unit = ImuAccelUnit::kStandardGravity;
   c.reader.derive_point_times_from_azimuth = false;
+  c.reader.point_time_convention = AzimuthConvention{AzimuthSweep::kCounterClockwise, SweepStart::kAhead};
   c.reader.lidar_sweep_period_s = 0.05;
   c.reader.folder_scan_stamp = ScanStampPosition::kSweepStart;
   c.stream.time_offsets = {{"lidar", -12'000'000}, {"/fix", 200'000'001}};

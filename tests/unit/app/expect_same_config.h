@@ -156,6 +156,7 @@ inline void ExpectSameDataset(const DatasetConfig& a, const DatasetConfig& b) {
   }
   EXPECT_FIELD(reader.imu_accel_unit);
   EXPECT_FIELD(reader.derive_point_times_from_azimuth);
+  EXPECT_FIELD(reader.point_time_convention);
   EXPECT_FIELD(reader.lidar_sweep_period_s);
   EXPECT_FIELD(reader.folder_scan_stamp);
   EXPECT_FIELD(stream.time_offsets);

@@ -250,6 +250,12 @@ TEST(ConfigSchema, ErrorsNameTheFileTheKeyTheLineAndTheValue) {
       {"dataset.time_offsets_s.lidar (line 2): expected a number of seconds, got 'soon'"});
   test::ExpectConfigError("dataset:\n  lidar_sweep_period_s: 0\n",
                           {"dataset.lidar_sweep_period_s (line 2): must be positive, got '0'"});
+  test::ExpectConfigError(
+      "dataset:\n  point_time_convention: anticlockwise\n",
+      {"dataset.point_time_convention (line 2): expected auto | clockwise_from_behind | clockwise_from_ahead "
+       "| "
+       "clockwise_from_first_point | counter_clockwise_from_behind | counter_clockwise_from_ahead | "
+       "counter_clockwise_from_first_point | none, got 'anticlockwise'"});
   test::ExpectConfigError("dataset:\n  reorder_window_s: -1\n",
                           {"dataset.reorder_window_s (line 2): must not be negative"});
   test::ExpectConfigError("lo:\n  window_size: 10\n  window_sise: 4\n",

@@ -8,8 +8,8 @@
 #include <memory>
 
 #include "odometry/io/dataset_reader.h"
-#include "viewer/app/config/config_file.h"
 #include "viewer/app/cli/exit_codes.h"
+#include "viewer/app/config/config_file.h"
 #include "viewer/app/config/dataset_config.h"
 #include "viewer/app/report/info_report.h"
 #include "viewer/pipeline/stages/dataset_stage.h"
@@ -49,20 +49,29 @@ class Progress {
 
 int RunInfo(const InfoArguments& arguments) {
   DatasetConfig config;
+  estimator::LidarOdometryConfig odometry;  // the lo: settings the point time check runs with
   if (!arguments.config.empty()) {
     Expected<ConfigFile> loaded = LoadConfigFile(arguments.config);
     if (!loaded) return ReportError(loaded.status());
     config = loaded->dataset;
+    odometry = loaded->odometry;
   }
   if (!arguments.format.empty()) {
     Expected<DatasetFormat> format = ParseDatasetFormat(arguments.format);
     if (!format) return ReportError(format.status());
     config.reader.format = *format;
   }
+  // Azimuth-derived point times: the configured convention, or the one the check finds on the first scans
+  // (a few seconds), with which the dataset is then read.
+  Expected<std::optional<pipeline::PointTimeSelection>> times =
+      pipeline::SelectPointTimes(arguments.dataset, config, odometry);
+  if (!times) return ReportError(times.status());
+  if (*times && (*times)->convention) config.reader.point_time_convention = (*times)->convention;
   Progress progress;
   Expected<DatasetSummary> summary =
       SummarizeDataset(arguments.dataset, config, [&](std::int64_t messages) { progress.Update(messages); });
   if (!summary) return ReportError(summary.status());
+  summary->point_times = std::move(*times);
   if (arguments.json) {
     PrintDatasetJson(std::cout, *summary);
   } else {

@@ -147,6 +147,17 @@ Expected<ScanStampPosition> ParseStampPosition(const std::string& name) {
   return Status::Error("expected sweep_middle or sweep_start, got '" + name + "'");
 }
 
+// auto (nullopt) or a convention's word (odometry/types/azimuth_convention.h).
+Expected<std::optional<AzimuthConvention>> ParsePointTimeConvention(const std::string& name) {
+  if (name == "auto") return std::optional<AzimuthConvention>();
+  if (std::optional<AzimuthConvention> convention = ParseAzimuthConvention(name)) return convention;
+  return Status::Error("expected " + PointTimeConventionWords() + ", got '" + name + "'");
+}
+
+std::string AutoOrConventionKey(std::optional<AzimuthConvention> convention) {
+  return convention ? AzimuthConventionKey(*convention) : "auto";
+}
+
 Schema<DatasetConfig> MakeDatasetSchema() {
   Schema<DatasetOptions> reader;
   reader.Key(
@@ -163,6 +174,13 @@ Schema<DatasetConfig> MakeDatasetSchema() {
              "median norm)");
   reader.Key("derive_point_times_from_azimuth", &DatasetOptions::derive_point_times_from_azimuth, "",
              "spinning LiDARs without per-point times: derive them from the azimuth (false: no point times)");
+  reader.Key("point_time_convention", &DatasetOptions::point_time_convention,
+             NamedCodec<std::optional<AzimuthConvention>>(ParsePointTimeConvention, AutoOrConventionKey), "",
+             "how those times are derived: " + PointTimeConventionWords() +
+                 " (spin seen from above, where the sweep starts; none: no deskew); auto: the reader's "
+                 "default (KITTI-style folders clockwise_from_behind, bags clockwise_from_first_point, the "
+                 "project's format as stored), checked against the first scans by run and info, which take "
+                 "the one that fits");
   reader.Key("lidar_sweep_period_s", &DatasetOptions::lidar_sweep_period_s, SweepPeriodCodec(), "s",
              "sweep period of LiDARs whose scans do not say when they end (KITTI-style folders), > 0");
   reader.Key("folder_scan_stamp", &DatasetOptions::folder_scan_stamp,
@@ -184,6 +202,14 @@ Schema<DatasetConfig> MakeDatasetSchema() {
 }
 
 }  // namespace
+
+std::string PointTimeConventionWords() {
+  std::string words = "auto";
+  for (const AzimuthSweep sweep : {AzimuthSweep::kClockwise, AzimuthSweep::kCounterClockwise})
+    for (const SweepStart start : {SweepStart::kBehind, SweepStart::kAhead, SweepStart::kFirstPoint})
+      words += " | " + AzimuthConventionKey({sweep, start});
+  return words + " | " + AzimuthConventionKey(kNoDeskew);
+}
 
 Expected<DatasetFormat> ParseDatasetFormat(const std::string& name) {
   for (DatasetFormat format : {DatasetFormat::kAuto, DatasetFormat::kRosBag, DatasetFormat::kKittiFolder,

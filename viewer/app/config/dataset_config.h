@@ -18,6 +18,9 @@ struct DatasetConfig {
 // "dataset:\n  format: kitti\n..." with every key (topics and time offsets when there are some).
 std::string EmitDatasetConfig(const DatasetConfig& config);
 
+// "auto | clockwise_from_behind | ... | none": the words of dataset.point_time_convention.
+std::string PointTimeConventionWords();
+
 // "rosbag", "kitti", ... as accepted by the config and the --format option.
 Expected<DatasetFormat> ParseDatasetFormat(const std::string& name);
 

@@ -43,7 +43,22 @@ std::string Cell(const std::string& text, std::size_t width) {
   return text.size() >= width ? text + " " : text + std::string(width - text.size(), ' ');
 }
 
-void PrintStreamDetails(std::ostream& out, const StreamSummary& s) {
+// The convention of azimuth-derived point times and, when the check ran, its scores.
+void PrintPointTimes(std::ostream& out, const pipeline::PointTimeSelection& times,
+                     const std::string& indent) {
+  out << indent << "azimuth convention: " << times.Line() << "\n";
+  if (!times.check) return;
+  const estimator::PointTimeCheckResult& check = *times.check;
+  for (const estimator::ConventionScore& score : check.scores)
+    out << indent << "  " << Cell(AzimuthConventionText(score.convention), 34) << "point-to-plane "
+        << Fixed(score.score_m, 4) << " m (" << score.points << " points, " << score.keyframes
+        << " keyframes)\n";
+  out << indent << "  check: " << check.scans_read << " scans read, " << check.scans_used << " compared ("
+      << check.moving_scans << " moving), " << Fixed(check.seconds, 1) << " s\n";
+}
+
+void PrintStreamDetails(std::ostream& out, const StreamSummary& s,
+                        const std::optional<pipeline::PointTimeSelection>& times) {
   const std::string indent = "    ";
   if (!s.info.frame_id.empty()) out << indent << "frame: " << s.info.frame_id << "\n";
   if (s.info.kind == SensorKind::kLidar) {
@@ -55,6 +70,7 @@ void PrintStreamDetails(std::ostream& out, const StreamSummary& s) {
     else
       out << "field '" << s.info.point_time_field << "', " << PointTimeConventionName(s.info.point_time)
           << "\n";
+    if (times && times->stream == s.info.name) PrintPointTimes(out, *times, indent);
     if (s.points_per_scan) {
       out << indent << "points per scan: " << s.points_per_scan->min << " .. " << s.points_per_scan->max
           << " (mean " << Fixed(s.points_per_scan->mean, 0) << ")\n";
@@ -88,7 +104,7 @@ void PrintDatasetTable(std::ostream& out, const DatasetSummary& summary) {
         << Cell(Fixed(s.time.rate_hz, 2), 9) << Cell(s.time.count ? FormatSeconds(s.time.first) : "-", 22)
         << Cell(s.time.count ? FormatSeconds(s.time.last) : "-", 22) << StreamVerdictName(s.time.verdict)
         << "\n";
-    PrintStreamDetails(out, s);
+    PrintStreamDetails(out, s, summary.point_times);
   }
   if (!summary.warnings.empty()) out << "\nwarnings (recovered by skipping data):\n";
   for (const ReadWarning& w : summary.warnings)
@@ -120,6 +136,8 @@ void PrintDatasetJson(std::ostream& out, const DatasetSummary& summary) {
     if (s.info.kind == SensorKind::kLidar) {
       j["point_time_field"] = s.info.point_time_field;
       j["point_time"] = PointTimeConventionName(s.info.point_time);
+      if (s.info.azimuth_convention)
+        j["azimuth_convention"] = AzimuthConventionKey(*s.info.azimuth_convention);
       if (s.points_per_scan) {
         j["points_per_scan"] = {{"min", s.points_per_scan->min},
                                 {"max", s.points_per_scan->max},
@@ -135,12 +153,38 @@ void PrintDatasetJson(std::ostream& out, const DatasetSummary& summary) {
   json warnings = json::array();
   for (const ReadWarning& w : summary.warnings)
     warnings.push_back({{"stream", w.stream}, {"what", w.what}, {"count", w.count}});
+  json point_times = nullptr;
+  if (const std::optional<pipeline::PointTimeSelection>& times = summary.point_times) {
+    point_times = {
+        {"stream", times->stream},
+        {"convention", times->convention ? json(AzimuthConventionKey(*times->convention)) : json()},
+        {"source", times->source},
+        {"line", times->Line()}};
+    if (const std::optional<estimator::PointTimeCheckResult>& check = times->check) {
+      json scores = json::array();
+      for (const estimator::ConventionScore& score : check->scores)
+        scores.push_back({{"convention", AzimuthConventionKey(score.convention)},
+                          {"score_m", score.score_m},
+                          {"points", score.points},
+                          {"keyframes", score.keyframes}});
+      point_times["check"] = {{"current", AzimuthConventionKey(check->current)},
+                              {"chosen", AzimuthConventionKey(check->chosen)},
+                              {"compared", check->compared},
+                              {"scans_read", check->scans_read},
+                              {"scans_used", check->scans_used},
+                              {"moving_scans", check->moving_scans},
+                              {"seconds", check->seconds},
+                              {"reason", check->reason},
+                              {"scores", scores}};
+    }
+  }
   json root = {{"dataset", d.path.string()},
                {"format", DatasetFormatName(d.format)},
                {"ground_truth", d.ground_truth ? json(d.ground_truth->string()) : json(nullptr)},
                {"bytes", summary.bytes},
                {"read_seconds", summary.read_seconds},
                {"streams", streams},
+               {"point_times", point_times},
                {"warnings", warnings}};
   out << std::setw(2) << root << "\n";
 }

@@ -69,6 +69,10 @@ void DescribeRun(RunPlan& plan) {
   summary.mode = ModeName(plan.mode) + " (" + kind + " odometry" + factors + " on " + streams + ")";
   summary.output_frame = plan.frames.trajectory_frame;
   for (const std::string& note : summary.notes) std::cerr << "ultrafusion: warning: " << note << "\n";
+  if (const std::optional<PointTimeSelection>& times = summary.point_times) {
+    summary.notes.push_back("point times of " + times->stream + ": " + times->Line());
+    std::cerr << "ultrafusion: " << summary.notes.back() << "\n";
+  }
   if (r.no_splat) summary.notes.push_back("--no-splat: no splats trained");
   if (r.no_map) summary.notes.push_back("--no-map: no map written");
   if (r.from == RunFrom::kSplat)
@@ -149,9 +153,19 @@ Expected<RunPlan> PlanRun(RunRequest request, PlanErrorKind& kind) {
   kind = PlanErrorKind::kUsage;
   if (Status s = CheckOutputFolder(request); !s.ok()) return s;
   RunPlan plan;
+  kind = PlanErrorKind::kData;
+  // Azimuth-derived point times: the convention (configured, or checked on the first scans) every reader
+  // of the run derives them with; config.yaml records it. --from splat reads no scan, WIO none of them.
+  if (request.from != RunFrom::kSplat && !(request.mode && request.mode->core == OdometryMode::kWio)) {
+    Expected<std::optional<PointTimeSelection>> times =
+        SelectPointTimes(request.dataset, request.dataset_config, request.lo_config);
+    if (!times) return times.status();
+    if (*times && (*times)->convention)
+      request.dataset_config.reader.point_time_convention = (*times)->convention;
+    plan.summary.point_times = std::move(*times);
+  }
   plan.request = std::move(request);
   const RunRequest& r = plan.request;
-  kind = PlanErrorKind::kData;
   Expected<std::unique_ptr<DatasetReader>> opened = OpenDataset(r.dataset, r.dataset_config.reader);
   if (!opened) return opened.status();
   plan.reader = std::move(*opened);

@@ -160,7 +160,10 @@ std::vector<Stage> RunStageList(RunPlan& plan, const fs::path& out, StageOutputs
 
 // The summary of the run from what the stages left.
 void Summarize(const RunPlan& plan, StageOutputs& o, RunSummary& summary) {
-  if (o.dataset) summary.dataset_summary = std::move(o.dataset->summary);
+  if (o.dataset) {
+    summary.dataset_summary = std::move(o.dataset->summary);
+    summary.dataset_summary->point_times = summary.point_times;
+  }
   if (o.odometry) {
     summary.odometry = std::move(o.odometry->summary);
     const std::string& init = summary.odometry.initialization;

@@ -23,6 +23,8 @@ struct RunSummary {
   std::vector<std::string> notes;  // mode fallbacks, no-op options, georeference, splat warnings
   std::string config_yaml;         // the resolved config, as saved in config.yaml
   std::string repeat_command;      // the command line that repeats the run with config.yaml
+  // Scans without point times: the azimuth convention their times are derived with, and why.
+  std::optional<PointTimeSelection> point_times;
   std::vector<StageRecord> stages;
   double wall_seconds = 0;
   std::optional<DatasetSummary> dataset_summary;  // the dataset stage's

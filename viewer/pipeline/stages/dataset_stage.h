@@ -12,6 +12,7 @@
 #include "odometry/io/dataset_reader.h"
 #include "odometry/io/stream_diagnostics.h"
 #include "viewer/app/config/dataset_config.h"
+#include "viewer/pipeline/point_time_selection.h"
 #include "viewer/pipeline/stage_runner.h"
 
 namespace uf::pipeline {
@@ -35,6 +36,8 @@ struct DatasetSummary {
   std::vector<ReadWarning> warnings;
   double read_seconds = 0;  // wall-clock time spent reading
   std::int64_t bytes = 0;   // size of the dataset's files
+  // The LiDAR stream's azimuth convention and why (set by the caller that chose it: run, info).
+  std::optional<PointTimeSelection> point_times;
 };
 
 // Called every few messages with the messages read so far.

@@ -59,6 +59,25 @@ TEST(KittiFolder, StampsScansFromTimesTxtExactly) {
   EXPECT_EQ(scans[0].points[0].offset_ns, 50'000'000);  // forward: half a sweep, at the times.txt stamp
   EXPECT_EQ(scans[0].points[1].offset_ns, 25'000'000);  // left: a quarter
   EXPECT_TRUE((*reader)->warnings().empty());
+  EXPECT_EQ(description.streams[0].azimuth_convention, kClockwiseFromBehind);
+}
+
+TEST(KittiFolder, PointTimeConventionOptionDerivesTheTimesItsWay) {
+  TempDir dir;
+  MakeKittiFolder(dir, 1, "5\n");
+  DatasetOptions options;
+  options.point_time_convention = AzimuthConvention{AzimuthSweep::kCounterClockwise, SweepStart::kAhead};
+  auto reader = OpenKittiFolder(dir.path(), options);
+  ASSERT_TRUE(reader.ok()) << reader.error();
+  EXPECT_EQ((*reader)->description().streams[0].azimuth_convention, options.point_time_convention);
+  const std::vector<LidarScan> scans = ReadAll(**reader);
+  ASSERT_EQ(scans.size(), 1u);
+  EXPECT_EQ(scans[0].points[0].offset_ns, 0);           // forward: the start
+  EXPECT_EQ(scans[0].points[1].offset_ns, 25'000'000);  // left: a quarter turn counter-clockwise
+  options.point_time_convention = kNoDeskew;
+  const std::vector<LidarScan> none = ReadAll(**OpenKittiFolder(dir.path(), options));
+  EXPECT_EQ(none[0].points[0].offset_ns, 50'000'000);
+  EXPECT_EQ(none[0].points[1].offset_ns, 50'000'000);
 }
 
 TEST(KittiFolder, OptionsTurnOffAzimuthTimesAndSetTheSweep) {

@@ -189,6 +189,41 @@ TEST(UltrafusionDataset, RoundTripsEveryMeasurementKindExactly) {
   EXPECT_TRUE((*reader)->warnings().empty());
 }
 
+TEST(UltrafusionDataset, AzimuthTimesAreKeptAsStoredOrDerivedAgainByAConvention) {
+  TempDir dir;
+  std::vector<StreamInfo> streams(1);
+  streams[0].kind = SensorKind::kLidar;
+  streams[0].name = "lidar";
+  LidarScan scan;  // forward and left, their times stored as clockwise from behind gives them
+  scan.stamp = 1'000;
+  scan.end = scan.stamp + 100'000'000;
+  scan.has_point_times = scan.point_times_from_azimuth = true;
+  scan.points = {{10, 0, 0, 0, 0, 50'000'000}, {0, 10, 0, 0, 0, 25'000'000}};
+  {
+    auto writer = UltrafusionDatasetWriter::Create(dir.path(), streams);
+    ASSERT_TRUE(writer.ok()) << writer.error();
+    ASSERT_TRUE(writer->Write({0, scan}).ok());
+    ASSERT_TRUE(writer->Finish().ok());
+  }
+  auto read = [&](const DatasetOptions& options) {
+    auto reader = OpenUltrafusionFolder(dir.path(), options);
+    EXPECT_TRUE(reader.ok()) << reader.error();
+    auto next = (*reader)->Next();
+    EXPECT_TRUE(next.ok() && *next);
+    return std::make_pair(std::get<LidarScan>((*next)->data), (*reader)->description().streams[0]);
+  };
+  const auto [stored, stored_info] = read({});
+  EXPECT_EQ(stored.points[1].offset_ns, 25'000'000);
+  EXPECT_EQ(stored_info.point_time, PointTimeConvention::kAzimuth);
+  EXPECT_FALSE(stored_info.azimuth_convention.has_value());  // not recorded in the dataset
+  DatasetOptions options;
+  options.point_time_convention = AzimuthConvention{AzimuthSweep::kCounterClockwise, SweepStart::kBehind};
+  const auto [derived, derived_info] = read(options);
+  EXPECT_EQ(derived.points[0].offset_ns, 50'000'000);
+  EXPECT_EQ(derived.points[1].offset_ns, 75'000'000);  // left: three quarters counter-clockwise from behind
+  EXPECT_EQ(derived_info.azimuth_convention, options.point_time_convention);
+}
+
 TEST(UltrafusionDataset, AnUnfinishedWriteLeavesNoDataset) {
   TempDir dir;
   {

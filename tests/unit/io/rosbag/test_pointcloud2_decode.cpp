@@ -191,6 +191,26 @@ TEST(PointCloud2Decode, WithoutTimeFieldDerivesOffsetsFromAzimuthClockwise) {
   EXPECT_NEAR(scan.points[3].offset_ns, 75'000'000, 1);
 }
 
+TEST(PointCloud2Decode, WithoutTimeFieldDerivesOffsetsByTheConventionAsked) {
+  PointCloud2Layout layout = VelodyneLayout(4);
+  layout.fields.pop_back();  // no time field
+  // Azimuths 0, 60, 180, -60 degrees: a counter-clockwise sweep from the first point meets them in this
+  // order, at 0, 60, 180 and 300 degrees of its turn.
+  const float c = 0.5f, s = std::sqrt(3.0f) / 2;
+  const std::vector<TestPoint> points = {
+      {1, 0, 0, 0, 0, 0}, {c, s, 0, 0, 0, 0}, {-1, 0, 0, 0, 0, 0}, {c, -s, 0, 0, 0, 0}};
+  LidarDecodeOptions options;
+  options.azimuth_convention = Reversed(kClockwiseFromFirstPoint);
+  const auto decoded = DecodePointCloud2(kHeader, layout, VelodyneData(points), options);
+  ASSERT_TRUE(decoded.ok()) << decoded.error();
+  const LidarScan& scan = decoded->scan;
+  EXPECT_TRUE(scan.point_times_from_azimuth);
+  EXPECT_NEAR(scan.points[0].offset_ns, 0, 1);
+  EXPECT_NEAR(scan.points[1].offset_ns, 100'000'000 / 6.0, 2);
+  EXPECT_NEAR(scan.points[2].offset_ns, 50'000'000, 2);
+  EXPECT_NEAR(scan.points[3].offset_ns, 500'000'000 / 6.0, 2);
+}
+
 TEST(PointCloud2Decode, WithoutTimeFieldAndNoDerivationHasNoPointTimes) {
   PointCloud2Layout layout = VelodyneLayout(2);
   layout.fields.pop_back();
