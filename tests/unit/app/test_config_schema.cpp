@@ -260,6 +260,8 @@ TEST(ConfigSchema, ErrorsNameTheFileTheKeyTheLineAndTheValue) {
                           {"dataset.reorder_window_s (line 2): must not be negative"});
   test::ExpectConfigError("lo:\n  window_size: 10\n  window_sise: 4\n",
                           {"lo.window_sise (line 3): unknown key (expected input_voxel_m,"});
+  test::ExpectConfigError("lo:\n  window_size: 10\n  huber_m: 0.5\n  window_size: 4\n",
+                          {"lo.window_size (line 4): given twice in the same section"});
   test::ExpectConfigError("lo:\n  map:\n    voxel_m: fast\n",
                           {"lo.map.voxel_m (line 3): expected a number, got 'fast'"});
   test::ExpectConfigError("lo:\n  window_size: 4.5\n",

@@ -117,6 +117,14 @@ Status ReadKeys(const KeyPath& at, const YAML::Node& node, const KeyNode& group,
                 const std::vector<std::string>& first, const ReadLeaf& read) {
   if (node.IsNull()) return {};
   if (!node.IsMap()) return at.Error(node, "expected a map of settings, got '" + Text(node) + "'");
+  // YAML leaves a key given twice to the reader; one of the two would win silently.
+  std::vector<std::string> seen;
+  for (const auto& kv : node) {
+    if (!kv.first.IsScalar()) continue;
+    if (std::find(seen.begin(), seen.end(), kv.first.Scalar()) != seen.end())
+      return (at / kv.first.Scalar()).Error(kv.first, "given twice in the same section");
+    seen.push_back(kv.first.Scalar());
+  }
   for (const std::string& key : first) {
     for (const auto& kv : node)
       if (kv.first.IsScalar() && kv.first.Scalar() == key)
