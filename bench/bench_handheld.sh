@@ -49,7 +49,7 @@ for scene in "${scenes[@]}"; do
   for mode in lo lio; do
     target=$([[ $mode == lo ]] && echo 0.05 || echo 0.03)
     sort -g "$work/$scene-$mode.ate" | awk -v s="$scene" -v m="$mode" -v t="$target" \
-      '{a[NR]=$1; if ($1 <= t) met++} END {printf "%-10s %-4s %10.4f %10.4f %d of %d\n", s, m, a[int((NR+1)/2)], a[NR], met, NR}'
+      '{a[NR]=$1; if ($1 <= t) met++} END {printf "%-10s %-4s %10.4f %10.4f %d of %d\n", s, m, (a[int((NR+1)/2)] + a[int(NR/2)+1]) / 2, a[NR], met+0, NR}'
   done
 done
 echo "load average after: $(cut -d' ' -f1-3 /proc/loadavg)"
