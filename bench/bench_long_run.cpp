@@ -5,7 +5,8 @@
 // groundtruth.tum, the number of non-finite poses and the tracking events. Writes rss_over_time.csv and
 // rss_over_time.png to --out. Nothing is asserted. bench/bench_long_run.sh makes the 1-hour urban folder and
 // runs it.
-//   usage: bench_long_run FOLDER [--out DIR] [--dropout-every S] [--dropout-length S]
+//   usage: bench_long_run FOLDER [--out DIR] [--dropout-every S] [--dropout-length S] [--duration S]
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -46,18 +47,20 @@ double ResidentMiB() {
 int main(int argc, char** argv) {
   using namespace uf;
   if (argc < 2) {
-    std::fprintf(stderr,
-                 "usage: bench_long_run FOLDER [--out DIR] [--dropout-every S] [--dropout-length S]\n");
+    std::fprintf(
+        stderr,
+        "usage: bench_long_run FOLDER [--out DIR] [--dropout-every S] [--dropout-length S] [--duration S]\n");
     return 2;
   }
   const std::string folder = argv[1];
   std::filesystem::path out = ".";
-  double every_s = 60, length_s = 2;
+  double every_s = 60, length_s = 2, duration_limit_s = 1e12;
   for (int i = 2; i + 1 < argc; i += 2) {
     const std::string key = argv[i];
     if (key == "--out") out = argv[i + 1];
     if (key == "--dropout-every") every_s = std::stod(argv[i + 1]);
     if (key == "--dropout-length") length_s = std::stod(argv[i + 1]);
+    if (key == "--duration") duration_limit_s = std::stod(argv[i + 1]);
   }
   auto reader = OpenDataset(folder);
   if (!reader.ok()) {
@@ -102,6 +105,7 @@ int main(int argc, char** argv) {
       if (scans++ == 0) first = scan->stamp;
       last = scan->stamp;
       const double t = ToSeconds(scan->stamp - first);
+      if (t > duration_limit_s) return Status();
       if (std::fmod(t, every_s) >= every_s - length_s) {
         ++withheld;
         return Status();
@@ -112,6 +116,7 @@ int main(int argc, char** argv) {
         rss_mib.push_back(ResidentMiB());
       }
     } else if (const auto* sample = std::get_if<ImuSample>(&m.data); sample && m.stream == imu) {
+      if (scans > 0 && ToSeconds(sample->stamp - first) > duration_limit_s) return Status();
       if (Status s = odometry->AddImu(*sample); !s.ok()) return s;
     } else {
       return Status();
@@ -151,8 +156,8 @@ int main(int argc, char** argv) {
       std::printf("  %s at %.1f s: %s\n", std::string(estimator::TrackEventName(e.kind)).c_str(),
                   ToSeconds(e.stamp - first), e.detail.c_str());
   }
-  const double duration_s = ToSeconds(last - first);
-  std::printf("bench_long_run: %s, %.0f s of data, %ld scans (%ld withheld: %.1f s every %.0f s)\n",
+  const double duration_s = std::min(ToSeconds(last - first), duration_limit_s);
+  std::printf("bench_long_run: %s, %.0f s of data, %ld scans read (%ld withheld: %.1f s every %.0f s)\n",
               folder.c_str(), duration_s, scans, withheld, length_s, every_s);
   if (after_peak > 0)
     std::printf("  RSS: peak %.1f MiB, at 10 min %.1f MiB, largest after 10 min %.1f MiB (growth %+.1f %%)\n",

@@ -184,6 +184,7 @@ struct LidarOdometry::Impl {
   };
   std::vector<Guess> FallbackGuesses(const ScanState& current, bool poor);
   std::vector<Guess> TurnedGuesses();
+  bool AgreesWithGuess(const ScanState& current, const SavedStates& guess);
   bool SharesBeginNode(const ScanState& current) const;
 };
 

@@ -86,6 +86,22 @@ std::optional<std::string> LidarOdometry::Impl::RejectionReason(const ScanState&
   return std::nullopt;
 }
 
+// In initialized LIO: whether the registration from the IMU prediction stayed within kAgreeTranslation /
+// kAgreeRotation of it and matched at least min_match_ratio / 2 of the yardstick. The IMU is an independent
+// witness over the short interval since the last scan: a registration it agrees with is not a wrong minimum,
+// its low match fraction comes from the scene (a stretch with few planes, a part of the map not seen before),
+// and rejecting it would leave the window to the IMU alone (simulated urban, 1 hour: three scans in such a
+// stretch were rejected and the local map restarted).
+bool LidarOdometry::Impl::AgreesWithGuess(const ScanState& current, const SavedStates& guess) {
+  constexpr double kAgreeTranslation = 0.1, kAgreeRotation = 0.0175;  // m, rad (1 deg)
+  if (!AllFinite(nodes) || current.residuals < kMinResiduals ||
+      current.MatchFraction() < 0.5 * config.min_match_ratio * ReferenceMatchFraction())
+    return false;
+  const std::size_t end = static_cast<std::size_t>(current.end_node - first_node_id);
+  const SE3 moved = PoseFromBlock(guess.poses[end].data()).inverse() * NodePose(current.end_node);
+  return moved.translation().norm() <= kAgreeTranslation && moved.so3().angle() <= kAgreeRotation;
+}
+
 // The guesses tried (each with coarse rounds first) when the first one (the IMU prediction in LIO, the
 // constant-velocity extrapolation over the last node pair in LO) fails or matches poorly, from the nodes as
 // they were before its rounds: the first guess itself, and when the first result was poor (rejected, or
@@ -139,6 +155,7 @@ bool LidarOdometry::Impl::RegisterNewScan(ScanState& current) {
   const SavedStates saved = Save(nodes);
   bool solved = RegisterRounds(current);
   std::optional<std::string> why = RejectionReason(current, solved);
+  if (why && inertial && solved && AgreesWithGuess(current, saved)) why.reset();
   const double ratio = current.MatchFraction() / std::max(ReferenceMatchFraction(), 1e-9);
   if (why || ratio < kRetryRatio) {
     std::optional<SavedStates> best;
