@@ -32,7 +32,7 @@ for scene in "${scenes[@]}"; do
   mean=$(sed -n 's/.*"mean": *\([0-9.]*\).*/\1/p' "$work/$scene-run/timing.json" | head -1)
   p95=$(sed -n 's/.*"p95": *\([0-9.]*\).*/\1/p' "$work/$scene-run/timing.json" | head -1)
   warnings=$(sed -n 's/.*"warnings": *\([0-9]*\).*/\1/p' "$work/$scene-run/timing.json" | head -1)
-  init=$(sed -n 's/.*LIO initialized: \([a-z-]*\) .*/\1/p' "$work/$scene-run/report.md" | head -1)
+  init=$(sed -n 's/.*LIO initialized: \([A-Z] ([a-z-]*) after [0-9.]* s\).*/\1/p' "$work/$scene-run/report.md" | head -1)
   printf '%-10s %10s %10s %10s %8s %s\n' "$scene" "$ate" "$mean" "$p95" "$warnings" "${init:-never}"
 done
 echo "load average after: $(cut -d' ' -f1-3 /proc/loadavg)"

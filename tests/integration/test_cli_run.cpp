@@ -111,8 +111,10 @@ TEST_F(CliRun, AutoModeRunsLidarInertialOdometryWithWheelAndGnssFactorsInTheImuF
   EXPECT_NE(report.find("GNSS factors: 0 added"), std::string::npos) << report;
   EXPECT_NE(report.find("horizontal baseline"), std::string::npos) << report;
   EXPECT_FALSE(fs::exists(run + "/trajectory_wgs84.csv"));
-  EXPECT_NE(report.find("LIO initialized: static"), std::string::npos) << report;  // 1 s at rest first
-  EXPECT_NE(report.find("lio:"), std::string::npos) << report;                     // the resolved config
+  // 1 s at rest first: static after the second scan; the console says so too.
+  EXPECT_NE(report.find("LIO initialized: S (static) after 0.2 s"), std::string::npos) << report;
+  EXPECT_NE(result.output.find("  initialized: S (static) after 0.2 s"), std::string::npos) << result.output;
+  EXPECT_NE(report.find("lio:"), std::string::npos) << report;  // the resolved config
   // LIO writes the IMU (body) frame by default, the frame of the ground truth.
   const double ate = ReportedAte(report);
   EXPECT_GE(ate, 0);

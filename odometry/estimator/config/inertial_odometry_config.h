@@ -32,7 +32,7 @@ struct InertialOdometryConfig {
   // discretisation of the preintegration (midpoint rule, boundary interpolation). Unlike LIO there are no
   // hundreds of point-to-plane residuals to balance, so the datasheet scale is kept.
   ImuNoiseParams imu = {.accel_noise_density = 4.0e-3, .gyro_noise_density = 3.4e-4};
-  InertialInitConfig init;  // its window_scans is not used (init_window_nodes instead)
+  InertialInitConfig init;  // its static and gravity-norm keys (the LIO-only ones are not used)
   // The biases' prior at initialization (factors/bias_prior_factor.h), about the alignment's estimate: the
   // only bound on the tilt / accelerometer-bias pair while the vehicle drives straight. 0.02 m/s^2 (2 mg)
   // is the turn-on bias of a factory-calibrated MEMS accelerometer; 0.002 rad/s (0.1 deg/s) covers the

@@ -52,9 +52,9 @@ Status LidarOdometryConfig::Validate() const {
   if (!use_imu) return {};
   if (Status s = ValidateImuNoiseParams(imu); !s.ok()) return Status::Error("lio." + s.message());
   if (Status s = init.Validate(); !s.ok()) return s;
-  if (init.window_scans >= window_size)
-    return Status::Error("lio.init.window_scans: must be < lo.window_size (" + std::to_string(window_size) +
-                         "), got " + std::to_string(init.window_scans));
+  if (init.min_scans >= window_size)
+    return Status::Error("lio.init.min_scans: must be < lo.window_size (" + std::to_string(window_size) +
+                         "), got " + std::to_string(init.min_scans));
   if (!Positive(imu_max_gap_s)) return Bad("imu_max_gap_s", "> 0", imu_max_gap_s, "lio");
   if (!Positive(imu_max_wait_s)) return Bad("imu_max_wait_s", "> 0", imu_max_wait_s, "lio");
   return {};

@@ -4,24 +4,18 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <sstream>
+
+#include "odometry/estimator/init/init_mode_selection.h"
 
 namespace uf::estimator {
-namespace {
 
-// The smallest rotation taking the direction of g to -z: the gravity-aligned world from world "lo".
 SO3 AlignGravity(const Eigen::Vector3d& g_lo) {
   return SO3(Eigen::Quaterniond::FromTwoVectors(g_lo.normalized(), Eigen::Vector3d(0, 0, -1)));
 }
 
-double MaxPoseMotion(std::span<const SE3> poses) {
-  double motion = 0;
-  for (const SE3& pose : poses)
-    motion = std::max(motion, (pose.translation() - poses.front().translation()).norm());
-  return motion;
-}
-
-// Step 1 of M, for preintegrations linearized at b_g = 0: b_g from the relative rotations (see the header).
-Eigen::Vector3d GyroBias(std::span<const SE3> poses, const std::vector<ImuPreintegration>& preintegrations) {
+Eigen::Vector3d GyroBiasFromRotations(std::span<const SE3> poses,
+                                      const std::vector<ImuPreintegration>& preintegrations) {
   Eigen::Matrix3d A = Eigen::Matrix3d::Zero();
   Eigen::Vector3d b = Eigen::Vector3d::Zero();
   for (std::size_t k = 0; k < preintegrations.size(); ++k) {
@@ -34,6 +28,8 @@ Eigen::Vector3d GyroBias(std::span<const SE3> poses, const std::vector<ImuPreint
   }
   return A.ldlt().solve(b);
 }
+
+namespace {
 
 // Steps 2 and 4 of M: least squares for x = [v_0 .. v_n, g] (or only the velocities when g is given).
 Eigen::VectorXd SolveVelocitiesAndGravity(std::span<const SE3> poses,
@@ -70,34 +66,11 @@ Eigen::VectorXd SolveVelocitiesAndGravity(std::span<const SE3> poses,
 
 }  // namespace
 
-Expected<InertialAlignment> StaticAlignment(std::span<const ImuSample> samples, std::span<const SE3> poses,
+Expected<InertialAlignment> StaticAlignment(const InitIndicators& in, std::span<const SE3> poses,
                                             const InertialInitConfig& config, double gravity) {
-  if (samples.size() < 10)
-    return Status::Error("static initialization: " + std::to_string(samples.size()) +
-                         " IMU samples, need 10");
-  Eigen::Vector3d mean_acc = Eigen::Vector3d::Zero(), mean_gyro = Eigen::Vector3d::Zero();
-  for (const ImuSample& s : samples) {
-    mean_acc += s.acc;
-    mean_gyro += s.gyro;
-  }
-  const double n = static_cast<double>(samples.size());
-  mean_acc /= n;
-  mean_gyro /= n;
-  double acc_var = 0, gyro_var = 0;
-  for (const ImuSample& s : samples) {
-    acc_var += (s.acc - mean_acc).squaredNorm() / n;
-    gyro_var += (s.gyro - mean_gyro).squaredNorm() / n;
-  }
-  std::ostringstream why;
-  if (std::sqrt(gyro_var) > config.static_max_gyro_std)
-    why << "angular rate spread " << std::sqrt(gyro_var) << " rad/s > " << config.static_max_gyro_std;
-  else if (std::sqrt(acc_var) > config.static_max_acc_std)
-    why << "specific force spread " << std::sqrt(acc_var) << " m/s^2 > " << config.static_max_acc_std;
-  else if (MaxPoseMotion(poses) > config.static_max_motion_m)
-    why << "the LiDAR moved " << MaxPoseMotion(poses) << " m > " << config.static_max_motion_m;
-  else if (std::abs(mean_acc.norm() - gravity) > 0.1 * gravity)
-    why << "mean specific force " << mean_acc.norm() << " m/s^2 is not gravity (" << gravity << ")";
-  if (!why.str().empty()) return Status::Error("static initialization: not static: " + why.str());
+  if (const std::string why = NotStaticReason(in, config, gravity); !why.empty())
+    return Status::Error("static initialization: not static: " + why);
+  const Eigen::Vector3d& mean_acc = in.mean_acc;
 
   // At rest the specific force is -g in the imu frame: R_lo_imu0 mean_acc points along +z of the aligned
   // world, i.e. g_lo = -R_lo_imu0 mean_acc.
@@ -105,7 +78,7 @@ Expected<InertialAlignment> StaticAlignment(std::span<const ImuSample> samples, 
   alignment.mode = "static";
   alignment.R_gravity_lo = AlignGravity(-(poses.front().rotation() * mean_acc));
   alignment.velocities.assign(poses.size(), Eigen::Vector3d::Zero());
-  alignment.gyro_bias = mean_gyro;
+  alignment.gyro_bias = in.mean_gyro;
   alignment.gravity_estimate = mean_acc.norm();
   return alignment;
 }
@@ -121,7 +94,7 @@ Expected<InertialAlignment> LidarAidedAlignment(std::span<const SE3> poses,
   const double gravity = preintegrations.front().params().gravity;
   for (ImuPreintegration& pre : preintegrations)
     pre.Repropagate(Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero());
-  const Eigen::Vector3d gyro_bias = GyroBias(poses, preintegrations);
+  const Eigen::Vector3d gyro_bias = GyroBiasFromRotations(poses, preintegrations);
   for (ImuPreintegration& pre : preintegrations) pre.Repropagate(Eigen::Vector3d::Zero(), gyro_bias);
 
   const Eigen::VectorXd x = SolveVelocitiesAndGravity(poses, preintegrations, nullptr);
@@ -152,7 +125,8 @@ Expected<InertialAlignment> AlignStaticOrMoving(const ImuBuffer& imu, std::span<
                                                 std::span<const SE3> poses, const InertialInitConfig& config,
                                                 double gravity) {
   const std::vector<ImuSample> samples = imu.Between(stamps.front(), stamps.back());
-  Expected<InertialAlignment> alignment = StaticAlignment(samples, poses, config, gravity);
+  const InitIndicators indicators = ComputeInitIndicators(samples, stamps, poses, 0.0, gravity);
+  Expected<InertialAlignment> alignment = StaticAlignment(indicators, poses, config, gravity);
   if (alignment) return alignment;
   const std::string static_failure = alignment.status().message();
   std::vector<ImuPreintegration> preintegrations;

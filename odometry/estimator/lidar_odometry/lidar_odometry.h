@@ -27,11 +27,13 @@
 //   complement of its point-to-plane residuals, the motion factors and the previous prior; window/
 //   marginalization.h), which is the gauge of the next solves; before the first one (or with marginalize
 //   off) the oldest scan's begin node is held constant.
-// - LIO initialization (init/inertial_alignment.h): the first init.window_scans scans run as LO in the
-//   first IMU pose's frame; then a static alignment, else the LiDAR-aided one, gives gravity, velocities and
-//   biases; the window is rotated into the gravity-aligned world (z up) and the IMU factors take over. A
-//   window that fails both is retried with the next scan. LIO waits with each scan until the IMU covers
-//   its end (at most imu_max_wait_s of stream time).
+// - LIO initialization (init/inertial_initializer.h): the scans run as LO in the first IMU pose's frame; from
+//   the second scan on, each scan measures the excitation and LiDAR support of the window and chooses the
+//   static mode S, the LiDAR-aided short-window MAP M or deferral A; S or M give gravity, velocities and
+//   biases, which are admitted only after a consistency check of the IMU against them (a rejection retries
+//   with the next scan, the oldest dropped); then the window is rotated into the gravity-aligned world (z up)
+//   and the IMU factors take over. LIO waits with each scan until the IMU covers its end (at most
+//   imu_max_wait_s of stream time).
 // - Threads: the plane association of the new scan, the solver's evaluation and the keyframe's deskew run
 //   on all cores (TBB); the residuals are taken in visiting order and partial sums added in a fixed order,
 //   so the results do not depend on the number of threads.
@@ -53,6 +55,7 @@
 #include <vector>
 
 #include "odometry/estimator/config/lidar_odometry_config.h"
+#include "odometry/estimator/init/inertial_initializer.h"
 #include "odometry/estimator/lidar_odometry/track_event.h"
 #include "odometry/estimator/providers/sensor_factor_stats.h"
 #include "odometry/types/georeference.h"
@@ -105,9 +108,13 @@ class LidarOdometry {
   // The tracking events since the last call, in scan order.
   std::vector<TrackEvent> TakeEvents();
   const std::vector<std::string>& warnings() const;
-  const OdometryStats& last_stats() const;    // of the last processed scan
-  bool inertial() const;                      // LIO initialized (IMU factors active)
-  const std::string& initialization() const;  // how LIO initialized ("static at 0.9 s ..."), or empty
+  const OdometryStats& last_stats() const;  // of the last processed scan
+  bool inertial() const;                    // LIO initialized (IMU factors active)
+  // How LIO initialized: InitializationRecord::Summary() ("S (static) after 0.2 s, ..."), empty before.
+  const std::string& initialization() const;
+  // The initialization's mode, latency, state and attempts (of the last initialization, or the one under
+  // way).
+  const InitializationRecord& initialization_record() const;
   SensorFactorStats sensor_factors() const;
   // With GNSS factors, once the world -> ENU alignment has started: the ENU origin and T_enu_world as
   // estimated now (after Finish: at the end of the run).

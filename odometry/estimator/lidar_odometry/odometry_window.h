@@ -18,6 +18,7 @@
 #include "odometry/estimator/factors/constant_velocity_factor.h"
 #include "odometry/estimator/factors/imu_factor.h"
 #include "odometry/estimator/init/inertial_alignment.h"
+#include "odometry/estimator/init/inertial_initializer.h"
 #include "odometry/estimator/lidar/voxel_hash_map.h"
 #include "odometry/estimator/lidar_odometry/lidar_odometry.h"
 #include "odometry/estimator/lidar_odometry/scan_preparation.h"
@@ -128,6 +129,7 @@ struct LidarOdometry::Impl {
   std::deque<LidarScan> pending;  // scans waiting for the IMU (and the wheel) to cover their end
   bool inertial = false;          // initialized: IMU factors active
   std::string init_summary, last_init_failure;
+  InertialInitializer initializer{config.init, config.imu, config.imu_max_gap_s};  // window_init.cpp
   // Optional factors.
   std::unique_ptr<WheelProvider> wheel;
   std::unique_ptr<GnssProvider> gnss;
@@ -149,6 +151,9 @@ struct LidarOdometry::Impl {
   void TrimStreams();
   void TryInitializeInertial();
   void ApplyInertialAlignment(const InertialAlignment& alignment);
+  // Initialization window (window_init.cpp).
+  Stamp InitializationStart() const;
+  InitWindow InitializationWindow() const;
   void Reset();
   void Restart();
 

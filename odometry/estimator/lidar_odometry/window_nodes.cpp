@@ -111,49 +111,45 @@ void LidarOdometry::Impl::TrimStreams() {
   imu.Trim(nodes.front().stamp);
 }
 
-// LIO before initialization: once init.window_scans scans are solved as LO, try the static alignment, then
-// the LiDAR-aided one (inertial_alignment.h); a failed try is retried with the next scan.
+// LIO before initialization: one attempt of the observability-aware initialization per scan
+// (init/inertial_initializer.h, fed by window_init.cpp). The latency counts from the first IMU sample, after
+// a re-initialization from the new window's first node.
 void LidarOdometry::Impl::TryInitializeInertial() {
-  if (inertial || static_cast<int>(window.size()) < config.init.window_scans) return;
-  std::vector<SE3> poses;
-  std::vector<Stamp> stamps;
-  for (long id = first_node_id; id <= LastNodeId(); ++id) {
-    poses.push_back(NodePose(id));
-    stamps.push_back(NodeAt(id).stamp);
-  }
-  const Stamp to = nodes.back().stamp;
-  Expected<InertialAlignment> alignment =
-      AlignStaticOrMoving(imu, stamps, poses, config.init, config.imu.gravity);
-  if (!alignment) {
-    if (last_init_failure.empty())
-      warnings.push_back("LIO initialization deferred at " + StampText(to) + ": " +
-                         alignment.status().message());
-    last_init_failure = alignment.status().message();
-    return;
-  }
-  ApplyInertialAlignment(*alignment);
-  std::ostringstream summary;
-  summary << alignment->mode << " at " << StampText(to) << " (gravity estimate "
-          << alignment->gravity_estimate << " m/s^2, gyro bias " << alignment->gyro_bias.transpose() << ")";
-  init_summary = summary.str();
+  if (inertial || nodes.empty()) return;
+  if (!initializer.started() || initializer.record().admitted) initializer.Start(InitializationStart());
+  InertialInitializer::Outcome outcome = initializer.Attempt(imu, InitializationWindow());
+  if (outcome.warning) warnings.push_back(*outcome.warning);
+  if (outcome.verdict != AdmissionCheck::Verdict::kAdmitted) return;
+  ApplyInertialAlignment(outcome.alignment);
+  init_summary = initializer.record().Summary();
 }
 
 // Rotates the window into the gravity-aligned world, gives its nodes velocities and biases, replaces the
 // constant-velocity priors by IMU factors and rebuilds the map and the associations in the new frame. The
 // rotation turns about the first node's position, so a re-initialization continues where the last one ended.
+// The alignment covers the newest alignment.velocities.size() nodes; older ones (before a rejected
+// initialization window) keep their constant-velocity priors and get the LO velocity between their poses.
 void LidarOdometry::Impl::ApplyInertialAlignment(const InertialAlignment& alignment) {
   const Eigen::Vector3d p0 = NodePose(first_node_id).translation();
   const SE3 T_gravity_lo(alignment.R_gravity_lo, p0 - alignment.R_gravity_lo * p0);
+  const long first_aligned = LastNodeId() + 1 - static_cast<long>(alignment.velocities.size());
   inertial = true;
+  for (long id = first_node_id; id <= LastNodeId(); ++id)
+    NodeAt(id).pose = PoseBlock(T_gravity_lo * NodePose(id));
   for (long id = first_node_id; id <= LastNodeId(); ++id) {
     Node& node = NodeAt(id);
-    node.pose = PoseBlock(T_gravity_lo * NodePose(id));
     NavState state;
-    state.velocity = alignment.velocities[static_cast<std::size_t>(id - first_node_id)];
+    if (id >= first_aligned) {
+      state.velocity = alignment.velocities[static_cast<std::size_t>(id - first_aligned)];
+    } else {
+      const long next = id + 1;  // <= first_aligned <= LastNodeId()
+      state.velocity = (NodePose(next).translation() - NodePose(id).translation()) /
+                       ToSeconds(NodeAt(next).stamp - node.stamp);
+    }
     state.accel_bias = alignment.accel_bias;
     state.gyro_bias = alignment.gyro_bias;
     node.speed_bias = SpeedBiasBlock(state);
-    if (id == first_node_id) continue;
+    if (id <= first_aligned) continue;
     Expected<ImuPreintegration> pre =
         imu.Preintegrate(NodeAt(id - 1).stamp, node.stamp, node.speed_bias.data());
     if (!pre) continue;  // keeps its constant-velocity prior

@@ -27,6 +27,10 @@ Stamp ImuBuffer::CoveredUntil() const {
   return samples_.empty() ? std::numeric_limits<Stamp>::min() : samples_.back().stamp;
 }
 
+Stamp ImuBuffer::OldestStamp() const {
+  return samples_.empty() ? std::numeric_limits<Stamp>::max() : samples_.front().stamp;
+}
+
 Expected<ImuPreintegration> ImuBuffer::Preintegrate(Stamp from, Stamp to, const Eigen::Vector3d& accel_bias,
                                                     const Eigen::Vector3d& gyro_bias) const {
   if (samples_.empty() || samples_.front().stamp > from || samples_.back().stamp < to)

@@ -25,6 +25,7 @@ class ImuBuffer {
   std::optional<std::string> Add(const ImuSample& sample);
   bool empty() const { return samples_.empty(); }
   Stamp CoveredUntil() const;  // the last sample's stamp; min when none
+  Stamp OldestStamp() const;   // the first sample kept; max when none
 
   // The preintegration over [from, to] at the biases (accel_bias, gyro_bias); an error when the samples do
   // not cover the interval or leave a gap longer than max_gap_s in it.

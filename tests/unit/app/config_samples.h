@@ -139,7 +139,7 @@ inline estimator::LidarOdometryConfig NonDefaultOdometry() {
   c.imu_max_gap_s = 0.1;
   c.imu_max_wait_s = 0.75;
   c.imu = {0.03, 0.002, 0.004, 2.5e-5, 9.81, 0.2, 0.02};
-  c.init = {4, 0.03, 0.4, 0.06, 0.15};
+  c.init = {4, 2, 25, 0.15, 0.03, 0.4, 0.06, 0.15, 0.3, 0.004, 0.03, 2.5};
   c.wheel = {.forward_velocity_density = 0.07,
              .yaw_rate_density = 0.02,
              .nonholonomic_velocity_density = 0.3,
@@ -184,7 +184,15 @@ inline estimator::InertialOdometryConfig NonDefaultWio() {
   c.wheel_max_wait_s = 0.25;
   c.imu = lio.imu;
   c.init = lio.init;
-  c.init.window_scans = estimator::InertialInitConfig{}.window_scans;  // not a wio: key
+  // The LIO-only keys are not wio: keys.
+  const estimator::InertialInitConfig defaults;
+  c.init.min_scans = defaults.min_scans;
+  c.init.map_settle_scans = defaults.map_settle_scans;
+  c.init.max_scans = defaults.max_scans;
+  c.init.max_tilt_sigma_deg = defaults.max_tilt_sigma_deg;
+  c.init.lidar_position_sigma_m = defaults.lidar_position_sigma_m;
+  c.init.accel_bias_sigma = defaults.accel_bias_sigma;
+  c.init.max_chi2_per_dof = defaults.max_chi2_per_dof;
   c.wheel = lio.wheel;
   c.gnss = lio.gnss;
   return c;

@@ -194,7 +194,7 @@ inline void ExpectSameLo(const estimator::LidarOdometryConfig& a, const estimato
   EXPECT_FIELD(map.min_plane_rings);
 }
 
-// The parts that lio: and wio: share: imu, init (but its window_scans), wheel, gnss.
+// The parts that lio: and wio: share: imu, init (but its LIO-only keys), wheel, gnss.
 template <typename Config>
 inline void ExpectSameInertialParts(const Config& a, const Config& b) {
   EXPECT_FIELD(imu.accel_noise_density);
@@ -206,7 +206,8 @@ inline void ExpectSameInertialParts(const Config& a, const Config& b) {
   EXPECT_FIELD(imu.max_gyro_bias_change);
   EXPECT_FIELD(init.static_max_gyro_std);
   EXPECT_FIELD(init.static_max_acc_std);
-  EXPECT_FIELD(init.static_max_motion_m);
+  EXPECT_FIELD(init.static_min_duration_s);
+  EXPECT_FIELD(init.static_max_speed_mps);
   EXPECT_FIELD(init.max_gravity_error);
   EXPECT_FIELD(wheel.forward_velocity_density);
   EXPECT_FIELD(wheel.yaw_rate_density);
@@ -241,7 +242,13 @@ inline void ExpectSameInertialParts(const Config& a, const Config& b) {
 inline void ExpectSameLio(const estimator::LidarOdometryConfig& a, const estimator::LidarOdometryConfig& b) {
   EXPECT_FIELD(imu_max_gap_s);
   EXPECT_FIELD(imu_max_wait_s);
-  EXPECT_FIELD(init.window_scans);
+  EXPECT_FIELD(init.min_scans);
+  EXPECT_FIELD(init.map_settle_scans);
+  EXPECT_FIELD(init.max_scans);
+  EXPECT_FIELD(init.max_tilt_sigma_deg);
+  EXPECT_FIELD(init.lidar_position_sigma_m);
+  EXPECT_FIELD(init.accel_bias_sigma);
+  EXPECT_FIELD(init.max_chi2_per_dof);
   ExpectSameInertialParts(a, b);
 }
 

@@ -166,7 +166,7 @@ std::map<std::string, std::string> OdometryDefaults(const std::string& text) {
 TEST(ConfigReference, MethodMdStatesTheSchemasOdometryDefaults) {
   const auto generated = OdometryDefaults(ConfigReferenceMarkdown());
   const auto method = OdometryDefaults(testing::ReadText(std::string(UF_SOURCE_DIR) + "/docs/METHOD.md"));
-  EXPECT_EQ(generated.size(), 77u);  // 27 lo: keys, 50 lio: keys (10 of them lio.wheel, 26 lio.gnss)
+  EXPECT_EQ(generated.size(), 84u);  // 27 lo: keys, 57 lio: keys (12 lio.init, 10 lio.wheel, 26 lio.gnss)
   EXPECT_EQ(method.size(), generated.size());
   for (const auto& [key, value] : generated) {
     const auto row = method.find(key);
@@ -273,7 +273,7 @@ TEST(ConfigSchema, ErrorsNameTheFileTheKeyTheLineAndTheValue) {
   test::ExpectConfigError("lio:\n  imu:\n    gravity: [9.81]\n",
                           {"lio.imu.gravity (line 3): expected a number, got '[9.81]'"});
   test::ExpectConfigError("lio:\n  init:\n    window: 5\n",
-                          {"lio.init.window (line 3): unknown key (expected window_scans,"});
+                          {"lio.init.window (line 3): unknown key (expected min_scans,"});
   test::ExpectConfigError("splat:\n  max_gaussians: -1\n",
                           {"splat.max_gaussians (line 2): expected an integer >= 0, got '-1'"});
 }

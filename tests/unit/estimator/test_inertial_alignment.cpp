@@ -81,7 +81,11 @@ TEST(InertialAlignment, StaticFindsTiltAndGyroBiasAtRest) {
   ASSERT_TRUE(imu.ok()) << imu.error();
   const std::vector<ImuSample> samples = testing::Samples(*imu, kSecond / 2, kSecond);
   const std::vector<SE3> poses(5, SE3());  // LO at rest, in the frame of the first IMU pose
-  auto aligned = StaticAlignment(samples, poses, InertialInitConfig(), ImuNoiseParams().gravity);
+  const double gravity = ImuNoiseParams().gravity;
+  const std::vector<Stamp> stamps = {kSecond / 2, kSecond * 6 / 10, kSecond * 7 / 10, kSecond * 8 / 10,
+                                     kSecond};
+  auto aligned = StaticAlignment(ComputeInitIndicators(samples, stamps, poses, 0.0, gravity), poses,
+                                 InertialInitConfig(), gravity);
   ASSERT_TRUE(aligned.ok()) << aligned.error();
   EXPECT_EQ(aligned->mode, "static");
   // The lo world is the imu frame: the aligned "down" seen in the imu frame is the true one.
@@ -93,7 +97,10 @@ TEST(InertialAlignment, StaticFindsTiltAndGyroBiasAtRest) {
 TEST(InertialAlignment, StaticRejectsMotion) {
   const ImuSimulator imu = testing::MovingImu(200.0);
   const std::vector<ImuSample> samples = testing::Samples(imu, kSecond, 2 * kSecond);
-  auto aligned = StaticAlignment(samples, std::vector<SE3>(5, SE3()), InertialInitConfig(), 9.80665);
+  const std::vector<SE3> poses(5, SE3());
+  const std::vector<Stamp> stamps = {kSecond, kSecond * 5 / 4, kSecond * 3 / 2, kSecond * 7 / 4, 2 * kSecond};
+  auto aligned = StaticAlignment(ComputeInitIndicators(samples, stamps, poses, 0.0, 9.80665), poses,
+                                 InertialInitConfig(), 9.80665);
   ASSERT_FALSE(aligned.ok());
   EXPECT_NE(aligned.error().find("not static"), std::string::npos) << aligned.error();
 }

@@ -53,6 +53,7 @@ void PrintSummary(const fs::path& out, const pipeline::RunSummary& s) {
                 steps, o.step.c_str(), static_cast<long long>(o.keyframes), o.timing.mean, o.step.c_str(),
                 o.timing.p95, static_cast<long long>(o.reader_warnings.size() + o.odometry_warnings.size()));
   std::printf("%s", pipeline::FormatStageTable(s.stages).c_str());
+  if (!o.initialization.empty()) std::printf("  initialized: %s\n", o.initialization.c_str());
   if (s.accuracy.evaluated) std::printf("  ATE (SE3-aligned RMSE): %.4f m\n", s.accuracy.ape_rmse_m);
   if (const auto& track = s.accuracy.gnss_track)
     std::printf("  against the GNSS track (%d fixes, %s): horizontal RMSE %.3f m, vertical %.3f m\n",

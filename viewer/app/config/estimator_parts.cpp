@@ -53,20 +53,44 @@ Schema<ImuNoiseParams> ImuNoiseSchema(const std::string& scale) {
 }
 
 Schema<InertialInitConfig> InitSchema(bool lidar) {
-  Schema<InertialInitConfig> init;
+  using I = InertialInitConfig;
+  Schema<I> init;
   if (lidar)
-    init.Key("window_scans", &InertialInitConfig::window_scans, "scans",
-             "scans solved as LO before the IMU alignment is tried, >= 3 and < lo.window_size");
-  init.Key("static_max_gyro_std", &InertialInitConfig::static_max_gyro_std, "rad/s",
+    init.Key("min_scans", &I::min_scans, "scans",
+             "LiDAR-aided initialization (M) needs this many registered scans in its window, >= 3 and < "
+             "lo.window_size");
+  if (lidar)
+    init.Key("map_settle_scans", &I::map_settle_scans, "scans",
+             "M leaves out a local map's first scans (its first sweep is mapped as if at rest), in [0, 20]");
+  if (lidar)
+    init.Key(
+        "max_scans", &I::max_scans, "scans",
+        "the initialization window holds at most this many scans (older ones after they left the odometry "
+        "window), in [min_scans, 200]");
+  init.Key("static_min_duration_s", &I::static_min_duration_s, "s",
+           "static initialization (S) needs the IMU at rest for at least this long");
+  init.Key("static_max_gyro_std", &I::static_max_gyro_std, "rad/s",
            "static initialization: spread of the angular rate at rest");
-  init.Key("static_max_acc_std", &InertialInitConfig::static_max_acc_std, "m/s^2",
+  init.Key("static_max_acc_std", &I::static_max_acc_std, "m/s^2",
            "static initialization: spread of the specific force at rest");
-  init.Key("static_max_motion_m", &InertialInitConfig::static_max_motion_m, "m",
-           lidar ? "static initialization: the LO poses may move this much at rest"
-                 : "static initialization: the wheel may move this much at rest");
-  init.Key("max_gravity_error", &InertialInitConfig::max_gravity_error, "fraction of gravity",
-           lidar ? "LiDAR-aided initialization is admitted when abs(|g| - gravity) <= this * gravity"
-                 : "wheel-aided initialization is admitted when abs(|g| - gravity) <= this * gravity");
+  init.Key(
+      "static_max_speed_mps", &I::static_max_speed_mps, "m/s",
+      lidar ? "static initialization: the LO speed beyond 3 sigma of its noise is at most this (S sets v = 0)"
+            : "static initialization: the wheel moves at most this fast (S sets v = 0)");
+  init.Key(
+      "max_gravity_error", &I::max_gravity_error, "fraction of gravity",
+      lidar ? "S and M are admitted when abs(|g| - gravity) <= this * gravity"
+            : "static and wheel-aided initialization are admitted when abs(|g| - gravity) <= this * gravity");
+  if (!lidar) return init;
+  init.Key("max_tilt_sigma_deg", &I::max_tilt_sigma_deg, "deg",
+           "M is admitted once the predicted standard deviation of its gravity direction is this small");
+  init.Key(
+      "lidar_position_sigma_m", &I::lidar_position_sigma_m, "m",
+      "least noise of an LO scan position (S's speed test, M; M takes more where its residuals show it)");
+  init.Key("accel_bias_sigma", &I::accel_bias_sigma, "m/s^2", "M: prior on the accelerometer bias, about 0");
+  init.Key("max_chi2_per_dof", &I::max_chi2_per_dof, "-",
+           "admission check: the IMU's velocity changes against the admitted state, whitened, chi-square per "
+           "dof");
   return init;
 }
 

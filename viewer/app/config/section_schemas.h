@@ -19,8 +19,8 @@ const Schema<SplatConfig>& SplatSchema();                      // splat_config.c
 const Schema<sim::SimulationConfig>& SimSchema();              // sim_config.cpp
 
 // The parts that the lio: and wio: sections share (estimator_parts.cpp). `scale`: what the IMU's default
-// noise densities are, for the key's meaning; `lidar`: the LIO initialization (window_scans, LO poses) or
-// the WIO one (wheel poses).
+// noise densities are, for the key's meaning; `lidar`: the LIO initialization (LO poses; with its window and
+// its mode M's keys) or the WIO one (wheel poses; the static and gravity-norm keys only).
 Schema<estimator::ImuNoiseParams> ImuNoiseSchema(const std::string& scale);
 Schema<estimator::InertialInitConfig> InitSchema(bool lidar);
 Schema<estimator::WheelFactorConfig> WheelSchema();

@@ -1,0 +1,40 @@
+// The LiDAR window's side of the inertial initialization (init/inertial_initializer.h): what an attempt
+// sees of the window, and the record (see odometry_window.h; TryInitializeInertial and
+// ApplyInertialAlignment are in window_nodes.cpp).
+#include <algorithm>
+
+#include "odometry/estimator/lidar_odometry/odometry_window.h"
+
+namespace uf::estimator {
+
+// The first initialization counts from the first IMU sample (none trimmed yet: the window is not full before
+// its first scans); a re-initialization after a divergence from the new window's first node.
+Stamp LidarOdometry::Impl::InitializationStart() const {
+  if (initializer.started() || imu.empty()) return nodes.front().stamp;
+  return imu.OldestStamp();
+}
+
+// Every scan of the window with its middle (stamp and current LO pose) and whether it is registered (a
+// rejected scan's poses are only predicted), and the window's nodes.
+InitWindow LidarOdometry::Impl::InitializationWindow() const {
+  InitWindow out;
+  auto node = [&](long id) -> const Node& { return nodes[static_cast<std::size_t>(id - first_node_id)]; };
+  for (const ScanState& scan : window) {
+    const Node& begin = node(scan.begin_node);
+    const Node& end = node(scan.end_node);
+    out.scans.push_back({scan.id, begin.stamp, begin.stamp + (end.stamp - begin.stamp) / 2,
+                         PoseAt(PoseFromBlock(begin.pose.data()), PoseFromBlock(end.pose.data()), 0.5),
+                         scan.in_map});
+  }
+  for (const Node& n : nodes) {
+    out.node_stamps.push_back(n.stamp);
+    out.node_poses.push_back(PoseFromBlock(n.pose.data()));
+  }
+  return out;
+}
+
+const InitializationRecord& LidarOdometry::initialization_record() const {
+  return impl_->initializer.record();
+}
+
+}  // namespace uf::estimator
