@@ -1,4 +1,4 @@
-// Helpers shared by the ROS bag reader tests: reading everything out of a reader, Velodyne-like clouds, and
+// Helpers shared by the ROS bag reader tests (ReadAll: tests/support/read_all.h): Velodyne-like clouds, and
 // a walk over the top-level records of a bag file (to aim damage at a chunk).
 #pragma once
 
@@ -10,24 +10,11 @@
 
 #include "odometry/io/dataset_reader.h"
 #include "odometry/io/rosbag/bag_record.h"
+#include "tests/support/read_all.h"
 #include "tests/support/temp_dir.h"
 #include "tests/unit/io/rosbag/ros_bag_fixtures.h"
 
 namespace uf::testing {
-
-// Every measurement until the end; an error fails the test.
-inline std::vector<Measurement> ReadAll(DatasetReader& reader) {
-  std::vector<Measurement> all;
-  while (true) {
-    auto next = reader.Next();
-    if (!next.ok()) {
-      ADD_FAILURE() << next.error();
-      return all;
-    }
-    if (!next->has_value()) return all;
-    all.push_back(std::move(**next));
-  }
-}
 
 // A Velodyne-style cloud: x y z intensity float32, ring uint16, time float32 s after the stamp (22 bytes).
 inline RosMessage VelodyneCloud(std::int64_t stamp_ns, int points, float time_step_s = 1e-4f) {
