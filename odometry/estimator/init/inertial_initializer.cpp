@@ -158,8 +158,10 @@ InertialInitializer::Outcome InertialInitializer::Attempt(const ImuBuffer& imu, 
   std::vector<ImuPreintegration> preintegrations;
   for (std::size_t k = 1; k < stamps.size() && decision.mode != InitMode::kDeferred; ++k) {
     Expected<ImuPreintegration> pre = imu_.Preintegrate(stamps[k - 1], stamps[k], nullptr);
-    if (!pre) {
-      check.reason = "IMU: " + pre.status().message();
+    if (!pre) {  // a gap (or a hole) in the IMU: the window starts again after it
+      check.reason = "IMU: " + pre.status().message() + "; the window starts again after it";
+      while (!scans_.empty() && scans_.front().begin < stamps[k]) scans_.pop_front();
+      first_allowed_id_ = scans_.empty() ? last_window_id_ + 1 : scans_.front().id;
       break;
     }
     preintegrations.push_back(std::move(*pre));

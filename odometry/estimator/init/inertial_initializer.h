@@ -12,7 +12,8 @@
 //
 // Attempts are bounded by the data: one per scan, each O(max_scans^3) at most. A deferral waits for the next
 // scan with a longer window; a rejection also drops the window's oldest scan while more than min_scans
-// remain: a transient that spoiled the window leaves it, and a shorter window grows instead. The first
+// remain: a transient that spoiled the window leaves it, and a shorter window grows instead. An IMU gap in
+// the window (the preintegration refuses it) defers, and the window starts again after the gap. The first
 // deferral and the first rejection of an initialization are returned as warnings; all are counted in the
 // record, and the first few rejection reasons kept.
 //

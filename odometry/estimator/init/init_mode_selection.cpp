@@ -119,11 +119,11 @@ ModeDecision SelectInitMode(const InitIndicators& in, const InertialInitConfig& 
     return {InitMode::kStatic, why.str()};
   }
   if (in.lidar_scans < config.min_scans) {
-    why << "not at rest (" << not_static << ") and " << in.lidar_scans << " registered scans of the "
-        << in.scans << ", M needs min_scans " << config.min_scans;
+    why << "not at rest (" << not_static << ") and " << in.lidar_scans << " of the " << in.scans
+        << " scans registered past the map's first map_settle_scans, M needs min_scans " << config.min_scans;
     return {InitMode::kDeferred, why.str()};
   }
-  why << "moving (" << not_static << "), " << in.lidar_scans << " registered scans";
+  why << "moving (" << not_static << "), " << in.lidar_scans << " scans for M";
   return {InitMode::kLidarAided, why.str()};
 }
 
