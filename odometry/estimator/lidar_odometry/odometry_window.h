@@ -128,7 +128,7 @@ struct LidarOdometry::Impl {
   ImuBuffer imu;                  // from before the oldest node on
   std::deque<LidarScan> pending;  // scans waiting for the IMU (and the wheel) to cover their end
   bool inertial = false;          // initialized: IMU factors active
-  std::string init_summary, last_init_failure;
+  std::string init_summary;
   InertialInitializer initializer{config.init, config.imu, config.imu_max_gap_s};  // window_init.cpp
   // Optional factors.
   std::unique_ptr<WheelProvider> wheel;

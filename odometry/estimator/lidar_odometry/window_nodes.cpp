@@ -177,7 +177,6 @@ void LidarOdometry::Impl::Reset() {
   if (gnss) gnss->Reset();
   map.Clear();
   inertial = false;
-  last_init_failure.clear();
   last_registered.reset();
   recent_match_fractions.clear();
   consecutive_rejections = 0;
