@@ -2,8 +2,9 @@
 // scans, the local map, and the factor graph (window/factor_graph.h) holding every factor between the nodes
 // (point-to-plane residuals, the constant-velocity prior in LO, IMU preintegration in LIO) and the
 // marginalization prior. The design is described in lidar_odometry.h; the methods live in lidar_odometry.cpp
-// (scan flow), window_nodes.cpp (nodes, IMU, initialization), window_scans.cpp (association, map, keyframes)
-// and window_solve.cpp (solve, marginalize).
+// (scan flow, restart), window_nodes.cpp (nodes, IMU, initialization), window_init.cpp (feeding the
+// initialization), window_registration.cpp (registration, acceptance, fallback guesses), window_scans.cpp
+// (association, map, coarse map, keyframes) and window_solve.cpp (solve, marginalize).
 #pragma once
 
 #include <array>
