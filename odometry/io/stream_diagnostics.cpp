@@ -2,16 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
+
+#include "odometry/types/printf_text.h"
 
 namespace uf {
 namespace {
-
-std::string Format(const char* format, double a, double b = 0) {
-  char buffer[160];
-  std::snprintf(buffer, sizeof buffer, format, a, b);
-  return buffer;
-}
 
 double Percent(std::int64_t part, std::int64_t whole) { return whole ? 100.0 * part / whole : 0; }
 
@@ -32,25 +27,26 @@ void Judge(StreamTimeReport& r, const StreamDiagnosticsOptions& options) {
   if (r.count == 1) raise(StreamVerdict::kWarning, "a single message: no rate");
   if (r.backwards) {
     raise(Percent(r.backwards, r.count) > 1 ? StreamVerdict::kBad : StreamVerdict::kWarning,
-          Format("%.0f stamps go backwards (%.2f%%); they are dropped", r.backwards,
-                 Percent(r.backwards, r.count)));
+          PrintfText("%.0f stamps go backwards (%.2f%%); they are dropped", r.backwards,
+                     Percent(r.backwards, r.count)));
   }
   if (r.duplicates) {
-    raise(StreamVerdict::kWarning, Format("%.0f duplicate stamps (%.2f%%); they are dropped", r.duplicates,
-                                          Percent(r.duplicates, r.count)));
+    raise(StreamVerdict::kWarning, PrintfText("%.0f duplicate stamps (%.2f%%); they are dropped",
+                                              r.duplicates, Percent(r.duplicates, r.count)));
   }
   if (r.out_of_order) {
     raise(Percent(r.out_of_order, r.count) > 1 ? StreamVerdict::kBad : StreamVerdict::kWarning,
-          Format("%.0f messages stored more than %.3g s after newer ones of other streams; they are dropped",
-                 r.out_of_order, options.reorder_window * 1e-9));
+          PrintfText(
+              "%.0f messages stored more than %.3g s after newer ones of other streams; they are dropped",
+              r.out_of_order, options.reorder_window * 1e-9));
   }
   if (r.gaps) {
     raise(StreamVerdict::kWarning,
-          Format("%.0f gaps longer than %.3g x the median period", r.gaps, options.gap_factor) +
-              Format(", largest %.3f s", r.largest_gap_s));
+          PrintfText("%.0f gaps longer than %.3g x the median period", r.gaps, options.gap_factor) +
+              PrintfText(", largest %.3f s", r.largest_gap_s));
   }
   if (r.jitter_percent > options.jitter_warning_percent) {
-    raise(StreamVerdict::kWarning, Format("rate jitter %.1f%% of the mean period", r.jitter_percent));
+    raise(StreamVerdict::kWarning, PrintfText("rate jitter %.1f%% of the mean period", r.jitter_percent));
   }
 }
 

@@ -75,9 +75,8 @@ void LidarOdometry::Impl::ProcessScan(const LidarScan& input) {
   last_stamp = input.stamp;
   last_end = input.end;
 
-  // Nodes: the very first sweep gets a single node at its middle: its motion is unknown (no map yet), so
-  // it is mapped as if at rest, which is the pose at its middle to first order; two nodes would leave its
-  // end node without data. Later sweeps share the previous end node when they start where it ended.
+  // Nodes: the first sweep of a map gets a single node (StartMap); later sweeps a begin and an end node,
+  // sharing the previous end node when they start where it ended.
   if (nodes.empty()) {
     StartMap(std::move(scan));
   } else {

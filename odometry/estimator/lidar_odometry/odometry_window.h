@@ -137,8 +137,9 @@ struct LidarOdometry::Impl {
 
   // Nodes (window_nodes.cpp).
   Node& NodeAt(long id) { return nodes[static_cast<std::size_t>(id - first_node_id)]; }
+  const Node& NodeAt(long id) const { return nodes[static_cast<std::size_t>(id - first_node_id)]; }
   long LastNodeId() const { return first_node_id + static_cast<long>(nodes.size()) - 1; }
-  SE3 NodePose(long id) { return PoseFromBlock(NodeAt(id).pose.data()); }
+  SE3 NodePose(long id) const { return PoseFromBlock(NodeAt(id).pose.data()); }
   NavState NodeState(long id) { return NodeNavState(NodeAt(id)); }
   SE3 Extrapolate(Stamp stamp) { return ExtrapolateFrom(LastNodeId(), stamp, 0); }
   SE3 ExtrapolateFrom(long id, Stamp stamp, Stamp baseline);

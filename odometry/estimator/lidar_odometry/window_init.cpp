@@ -18,13 +18,10 @@ Stamp LidarOdometry::Impl::InitializationStart() const {
 // rejected scan's poses are only predicted), and the window's nodes.
 InitWindow LidarOdometry::Impl::InitializationWindow() const {
   InitWindow out;
-  auto node = [&](long id) -> const Node& { return nodes[static_cast<std::size_t>(id - first_node_id)]; };
   for (const ScanState& scan : window) {
-    const Node& begin = node(scan.begin_node);
-    const Node& end = node(scan.end_node);
-    out.scans.push_back({scan.id, begin.stamp, begin.stamp + (end.stamp - begin.stamp) / 2,
-                         PoseAt(PoseFromBlock(begin.pose.data()), PoseFromBlock(end.pose.data()), 0.5),
-                         scan.in_map});
+    const Stamp begin = NodeAt(scan.begin_node).stamp, end = NodeAt(scan.end_node).stamp;
+    out.scans.push_back({scan.id, begin, begin + (end - begin) / 2,
+                         PoseAt(NodePose(scan.begin_node), NodePose(scan.end_node), 0.5), scan.in_map});
   }
   for (const Node& n : nodes) {
     out.node_stamps.push_back(n.stamp);

@@ -4,9 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-#include <sstream>
 
 #include "odometry/estimator/lidar_odometry/odometry_window.h"
+#include "odometry/types/printf_text.h"
 
 namespace uf::estimator {
 namespace {
@@ -17,12 +17,6 @@ constexpr int kMinResiduals = 6;                 // a rigid pose has 6 dof
 constexpr std::size_t kMatchHistory = 10;        // registered scans behind the reference match fraction
 constexpr double kMovedTranslation = 0.1;        // m: a scan this far from the last registered one moved
 constexpr double kMovedRotation = 0.035;         // rad (2 deg): or turned this much
-
-std::string Format(const char* format, double a, double b = 0, double c = 0) {
-  char text[160];
-  std::snprintf(text, sizeof text, format, a, b, c);
-  return text;
-}
 
 }  // namespace
 
@@ -73,15 +67,15 @@ std::optional<std::string> LidarOdometry::Impl::RejectionReason(const ScanState&
            std::to_string(kMinResiduals);
   const double reference = ReferenceMatchFraction();
   if (current.MatchFraction() < config.min_match_ratio * reference)
-    return Format("%.0f %% of its points on a map plane, the recent scans %.0f %%",
-                  100 * current.MatchFraction(), 100 * reference);
+    return PrintfText("%.0f %% of its points on a map plane, the recent scans %.0f %%",
+                      100 * current.MatchFraction(), 100 * reference);
   if (last_registered) {
     const double dt = std::max(ToSeconds(current.end - last_registered->stamp), 1e-3);
     const SE3 motion = last_registered->pose.inverse() * NodePose(current.end_node);
     const double distance = motion.translation().norm(), angle = motion.so3().angle();
     if (distance > config.max_speed_mps * dt || angle > config.max_angular_rate_rad_s * dt)
-      return Format("moved %.2f m and %.0f deg in %.2f s since the last registered scan", distance,
-                    angle * 180 / std::numbers::pi, dt);
+      return PrintfText("moved %.2f m and %.0f deg in %.2f s since the last registered scan", distance,
+                        angle * 180 / std::numbers::pi, dt);
   }
   return std::nullopt;
 }
@@ -134,7 +128,7 @@ std::vector<LidarOdometry::Impl::Guess> LidarOdometry::Impl::TurnedGuesses() {
     const SE3 turned =
         last_registered->pose * SE3(SO3::Exp(Eigen::Vector3d(0, 0, turn)), Eigen::Vector3d::Zero());
     guesses.push_back(
-        {Format("zero-motion guess turned by %+.0f deg", turn * 180 / std::numbers::pi), turned, turned});
+        {PrintfText("zero-motion guess turned by %+.0f deg", turn * 180 / std::numbers::pi), turned, turned});
   }
   return guesses;
 }
@@ -166,7 +160,7 @@ bool LidarOdometry::Impl::RegisterNewScan(ScanState& current) {
       best_fraction = kClearlyMore * current.MatchFraction();
     }
     const std::string first =
-        why ? *why : Format("%.0f %% of its points on a map plane", 100 * current.MatchFraction());
+        why ? *why : PrintfText("%.0f %% of its points on a map plane", 100 * current.MatchFraction());
     const auto try_guesses = [&](const std::vector<Guess>& guesses) {
       for (const Guess& guess : guesses) {
         Restore(saved, nodes);
@@ -192,7 +186,7 @@ bool LidarOdometry::Impl::RegisterNewScan(ScanState& current) {
       if (!best_guess.empty())
         events.push_back({TrackEvent::Kind::kFallbackGuess, current.stamp,
                           "registered from the " + best_guess + ", " +
-                              Format("%.0f %% of its points on a map plane", 100 * best_fraction) +
+                              PrintfText("%.0f %% of its points on a map plane", 100 * best_fraction) +
                               " (the first guess: " + first + ")"});
       why.reset();
     }

@@ -87,7 +87,7 @@ void LidarOdometry::Impl::Associate(ScanState& scan, bool coarse) {
       }
     });
     for (; next < end && static_cast<std::size_t>(scan.residuals) < cap; ++next) {
-      if (!usable[next]) continue;
+      if (usable[next] == kNoPlane) continue;
       if (usable[next] == kOnPlane) ++scan.on_plane;
       const PreparedPoint& p = points[order[next]];
       const Plane& plane = *scan.plane_cache[order[next]].plane;

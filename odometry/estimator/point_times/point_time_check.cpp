@@ -5,26 +5,19 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <unordered_map>
 
 #include "odometry/estimator/lidar/voxel_downsample.h"
 #include "odometry/estimator/lidar/voxel_hash_map.h"
 #include "odometry/estimator/lidar_odometry/lidar_odometry.h"
+#include "odometry/types/printf_text.h"
 #include "odometry/types/trajectory.h"
 
 namespace uf::estimator {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-// `value` by a printf format: "%.4f m" for the scores, "%g" for the options.
-std::string Printed(const char* format, double value) {
-  char text[32];
-  std::snprintf(text, sizeof(text), format, value);
-  return text;
-}
 
 // The run's settings, LiDAR-only: the LiDAR is the body, no IMU, wheel or GNSS factors; the solver stopped
 // by its iteration count only (deterministic).
@@ -72,7 +65,8 @@ std::vector<Eigen::Vector3f> DeskewAlong(const Trajectory& trajectory, const Lid
 
 Status PointTimeCheckOptions::Validate() const {
   auto error = [](const std::string& field, const std::string& rule, double value) {
-    return Status::Error("point_time_check." + field + ": must be " + rule + ", got " + Printed("%g", value));
+    return Status::Error("point_time_check." + field + ": must be " + rule + ", got " +
+                         PrintfText("%g", value));
   };
   if (min_scans < 2) return error("min_scans", ">= 2", min_scans);
   if (max_scans < min_scans) return error("max_scans", ">= min_scans", max_scans);
@@ -246,8 +240,8 @@ PointTimeCheckResult PointTimeCheck::Impl::Decide() {
     result.seconds = seconds;
     return result;
   };
-  const std::string motion_rule = Printed("%g", options.min_sweep_motion_m) + " m per sweep at " +
-                                  Printed("%g", options.reference_range_m) + " m range";
+  const std::string motion_rule = PrintfText("%g", options.min_sweep_motion_m) + " m per sweep at " +
+                                  PrintfText("%g", options.reference_range_m) + " m range";
   if (!first_moving) {
     result.reason = NotCompared("no motion in the " + std::to_string(read) + " scans read (none moved " +
                                 motion_rule + "); every convention fits a still scan equally");
@@ -282,15 +276,15 @@ PointTimeCheckResult PointTimeCheck::Impl::Decide() {
   for (const ConventionScore& score : result.scores) {
     if (score.convention == result.chosen) continue;
     others += (others.empty() ? " vs " : ", ") + AzimuthConventionText(score.convention) + " " +
-              Printed("%.4f m", score.score_m);
+              PrintfText("%.4f m", score.score_m);
   }
   const ConventionScore& chosen = clearly_better ? *best : kept;
   result.reason = AzimuthConventionText(result.chosen) + ": point-to-plane " +
-                  Printed("%.4f m", chosen.score_m) + others + " over " + std::to_string(count) + " scans (" +
-                  std::to_string(result.moving_scans) + " moving)";
+                  PrintfText("%.4f m", chosen.score_m) + others + " over " + std::to_string(count) +
+                  " scans (" + std::to_string(result.moving_scans) + " moving)";
   if (!clearly_better && best->convention != current)
     result.reason += "; kept: " + AzimuthConventionText(best->convention) + " is not " +
-                     Printed("%g", 100 * options.margin) + " % lower";
+                     PrintfText("%g", 100 * options.margin) + " % lower";
   return finish();
 }
 
