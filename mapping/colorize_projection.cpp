@@ -23,9 +23,20 @@ int PixelIndex(float coordinate, int size) {
   return std::clamp(static_cast<int>(std::lround(coordinate)), 0, size - 1);
 }
 
-// The block a point's depth is written to: pixels [u - left, u + right] x [v - up, v + down].
+// The block a point's depth is written to: pixels [u - left, u + right] x [v - up, v + down], with the
+// inverse depth changing by step_* per pixel in each direction (0: the point's own depth over the block).
 struct Splat {
   int left = 0, right = 0, up = 0, down = 0;
+  float step_left = 0, step_right = 0, step_up = 0, step_down = 0;  // 1/m per pixel
+
+  // The depth written at pixel offset (dx, dy) from the point at `depth`: 1/z = 1/depth + |dx| step_x +
+  // |dy| step_y (step_x, step_y those of the side the offset lies on); infinite where that leaves the
+  // camera's front.
+  float DepthAt(float depth, int dx, int dy) const {
+    const float inverse = 1 / depth + static_cast<float>(std::abs(dx)) * (dx < 0 ? step_left : step_right) +
+                          static_cast<float>(std::abs(dy)) * (dy < 0 ? step_up : step_down);
+    return inverse > 0 ? 1 / inverse : std::numeric_limits<float>::infinity();
+  }
 };
 
 // Nearest depth per pixel of the projected points, and the automatic splat of each point (see the header).
@@ -44,39 +55,50 @@ class DepthGrid {
     return depth_[static_cast<std::size_t>(v) * width_ + static_cast<std::size_t>(u)];
   }
 
-  // Pixels to the nearest same-surface point from (u, v) along (du, dv), within +-1 pixel across from 3
-  // pixels on; 0 if none.
-  int Gap(int u, int v, int du, int dv, float depth) const {
+  // The nearest same-surface point from (u, v) along (du, dv), within +-1 pixel across from 3 pixels on:
+  // its distance in pixels (0 if none) and the change of inverse depth per pixel towards it.
+  struct Neighbour {
+    int gap = 0;
+    float inverse_depth_step = 0;  // 1/m per pixel
+  };
+  Neighbour Nearest(int u, int v, int du, int dv, float depth) const {
     const float same = std::max(kSameSurfaceMinM, kSameSurfaceRatio * depth);
     for (int g = 1; g <= kMaxGapSearchPx; ++g) {
       const int x0 = u + g * du, y0 = v + g * dv;
-      if (x0 < 0 || y0 < 0 || x0 >= width_ || y0 >= height_) return 0;
+      if (x0 < 0 || y0 < 0 || x0 >= width_ || y0 >= height_) return {};
       const int band = g >= 3 ? 1 : 0;  // no diagonal neighbours close by: they belong to this row/column
       for (int across = -band; across <= band; ++across) {
         const int x = x0 + across * dv, y = y0 + across * du;
-        if (x >= 0 && y >= 0 && x < width_ && y < height_ && std::abs(at(x, y) - depth) <= same) return g;
+        if (x >= 0 && y >= 0 && x < width_ && y < height_ && std::abs(at(x, y) - depth) <= same)
+          return {g, (1 / at(x, y) - 1 / depth) / static_cast<float>(g)};
       }
     }
-    return 0;
+    return {};
   }
 
   // Half-way to the neighbour in each direction, rounded up but short of the neighbour's own pixel
   // (min(ceil(g / 2), g - 1) for a gap of g pixels), so that the blocks of a surface overlap; mirrored
-  // where there is no neighbour; at most kMaxSplatHalfSize. -1 marks "no neighbour" until mirrored.
+  // where there is no neighbour; at most max_half. The depth written over the block follows the surface:
+  // inverse depth is affine in the pixel coordinates on a plane, so it steps by the change towards each
+  // neighbour (mirrored with the opposite sign), and a ground or wall seen at a grazing angle does not hide
+  // its own farther points under a flat block.
   Splat AutomaticSplat(int u, int v, float depth, int max_half) const {
-    const auto half = [max_half](int gap) {
-      return gap == 0 ? -1 : std::min({(gap + 1) / 2, gap - 1, max_half});
+    const Neighbour left = Nearest(u, v, -1, 0, depth), right = Nearest(u, v, 1, 0, depth);
+    const Neighbour up = Nearest(u, v, 0, -1, depth), down = Nearest(u, v, 0, 1, depth);
+    const auto half = [max_half](const Neighbour& n) {
+      return n.gap == 0 ? -1 : std::min({(n.gap + 1) / 2, n.gap - 1, max_half});
     };
-    Splat s{half(Gap(u, v, -1, 0, depth)), half(Gap(u, v, 1, 0, depth)), half(Gap(u, v, 0, -1, depth)),
-            half(Gap(u, v, 0, 1, depth))};
-    const auto mirror = [](int& a, int& b) {
-      if (a < 0) a = b;
-      if (b < 0) b = a;
+    Splat s{half(left), half(right), half(up), half(down)};
+    s.step_left = left.inverse_depth_step, s.step_right = right.inverse_depth_step;
+    s.step_up = up.inverse_depth_step, s.step_down = down.inverse_depth_step;
+    const auto mirror = [](int& a, int& b, float& step_a, float& step_b) {
+      if (a < 0) a = b, step_a = -step_b;
+      if (b < 0) b = a, step_b = -step_a;
       a = std::max(a, 0);
       b = std::max(b, 0);
     };
-    mirror(s.left, s.right);
-    mirror(s.up, s.down);
+    mirror(s.left, s.right, s.step_left, s.step_right);
+    mirror(s.up, s.down, s.step_up, s.step_down);
     return s;
   }
 
@@ -146,7 +168,7 @@ ProjectedScan ProjectWithOcclusion(std::span<const Eigen::Vector3f> points_world
     if (options.splat_half_height_px >= 0) s.up = s.down = options.splat_half_height_px;
     for (int y = std::max(0, v - s.up); y <= std::min(height - 1, v + s.down); ++y) {
       for (int x = std::max(0, u - s.left); x <= std::min(width - 1, u + s.right); ++x)
-        zbuffer.at(x, y) = std::min(zbuffer.at(x, y), p.depth);
+        zbuffer.at(x, y) = std::min(zbuffer.at(x, y), s.DepthAt(p.depth, x - u, y - v));
     }
   }
 

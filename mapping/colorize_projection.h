@@ -12,7 +12,9 @@
 // max(0.3 m, 10 %)) up, down, left and right (searched up to 64 pixels, within +-1 pixel across beyond 2
 // pixels); in a direction without such a neighbour (an object's outline) it mirrors the opposite direction.
 // The block thus adapts to the local density: dense far rings near the horizon get small blocks, a pole's
-// sparse rings large ones. It is capped at max_automatic_half_size_px: through see-through structures
+// sparse rings large ones. The depth written over the block follows the surface towards those neighbours
+// (inverse depth is affine in the pixel on a plane), so a road or wall seen at a grazing angle, whose depth
+// grows fast from row to row, does not hide its own farther points under a flat block. It is capped at max_automatic_half_size_px: through see-through structures
 // (fence bars, foliage) the camera does see the background; on the recorded LiDAR-camera pair the uncapped
 // splat leaves 70 % of the in-image points visible, a cap of 3 pixels 96 %, of 1 pixel 99 %.
 // A point is visible when its depth d satisfies

@@ -12,10 +12,10 @@
 
 namespace uf {
 
-enum class DatasetFormat { kAuto, kRosBag, kKittiFolder, kEuroc, kUltrafusion };
+enum class DatasetFormat { kAuto, kRosBag, kKittiFolder, kKittiRaw, kEuroc, kUltrafusion };
 
 std::string_view DatasetFormatName(
-    DatasetFormat format);  // "auto", "rosbag", "kitti", "euroc", "ultrafusion"
+    DatasetFormat format);  // "auto", "rosbag", "kitti", "kitti_raw", "euroc", "ultrafusion"
 
 // Unit of sensor_msgs/Imu linear_acceleration. kAuto: the reader looks at the first second of samples and
 // takes g when the median norm is near 1 (0.5..1.5), m/s^2 when it is near 9.81 (5..15), else reports an

@@ -16,6 +16,7 @@
 #include "odometry/types/geodetic.h"
 #include "odometry/types/se3.h"
 #include "odometry/types/status.h"
+#include "odometry/types/trajectory.h"
 
 namespace uf {
 
@@ -49,6 +50,7 @@ struct StreamInfo {
   std::optional<SE3> T_body_sensor;
   std::shared_ptr<const CameraModel> camera_model;  // camera streams: intrinsics and distortion
   double nominal_rate_hz = 0;                       // from the calibration file, 0 when unknown
+  std::string note;  // what a user should know about the stream's data (`info` prints it), e.g. its limits
 };
 
 // Damage the reader recovered from by skipping data: shown as a warning with the number of messages lost.
@@ -59,12 +61,21 @@ struct ReadWarning {
   std::int64_t count = 0;
 };
 
+// Reference poses a reader derives from the data itself when no ground-truth file comes with it (KITTI raw:
+// the OXTS INS solution), used like a ground-truth file that would stand beside the data.
+struct ReferenceTrajectory {
+  Trajectory poses;  // T_world_sensor of stream `stream`'s sensor (the world: that sensor at the first pose)
+  int stream = -1;   // index into DatasetDescription::streams
+  std::string source;  // what the poses are, for `info` and the report
+};
+
 struct DatasetDescription {
   std::filesystem::path path;
   DatasetFormat format = DatasetFormat::kAuto;
   std::vector<StreamInfo> streams;
   std::optional<std::filesystem::path> ground_truth;  // TUM/KITTI/EuRoC ground truth found beside the data
   std::optional<GeodeticOrigin> ground_truth_enu_origin;  // its world is ENU at this point, when known
+  std::optional<ReferenceTrajectory> reference;           // when the reader derived one (see above)
 };
 
 class DatasetReader {
@@ -87,6 +98,7 @@ class DatasetReader {
 // Detects the format from the path (unless options.format says it) and opens the dataset:
 //   *.bag file                          -> ROS1 bag
 //   folder with velodyne/ or lidar/ + times.txt -> KITTI-style folder
+//   folder with velodyne_points/ or oxts/ -> KITTI raw drive (calib_*.txt one level up)
 //   folder with mav0/ (or the mav0 folder itself) -> EuRoC ASL
 //   folder with dataset.yaml            -> the project's own format
 Expected<std::unique_ptr<DatasetReader>> OpenDataset(const std::filesystem::path& path,

@@ -47,6 +47,8 @@ std::string_view DatasetFormatName(DatasetFormat format) {
       return "rosbag";
     case DatasetFormat::kKittiFolder:
       return "kitti";
+    case DatasetFormat::kKittiRaw:
+      return "kitti_raw";
     case DatasetFormat::kEuroc:
       return "euroc";
     case DatasetFormat::kUltrafusion:

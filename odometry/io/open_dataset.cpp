@@ -25,15 +25,16 @@ Expected<DatasetFormat> DetectFormat(const fs::path& path) {
   if (IsFile(path)) {
     if (path.extension() == ".bag") return DatasetFormat::kRosBag;
     return Status::Error(path.string() +
-                         ": not a dataset (a file must be a ROS1 .bag; folders may be KITTI-style, EuRoC or "
-                         "ultrafusion datasets)");
+                         ": not a dataset (a file must be a ROS1 .bag; folders may be KITTI-style, KITTI raw "
+                         "drives, EuRoC or ultrafusion datasets)");
   }
   if (IsFile(path / "dataset.yaml")) return DatasetFormat::kUltrafusion;
   if (IsDirectory(path / "mav0") || path.filename() == "mav0") return DatasetFormat::kEuroc;
   if (IsDirectory(path / "velodyne") || IsDirectory(path / "lidar")) return DatasetFormat::kKittiFolder;
+  if (IsKittiRawDrive(path)) return DatasetFormat::kKittiRaw;
   return Status::Error(path.string() +
-                       ": unrecognised dataset folder (expected dataset.yaml, mav0/, velodyne/ or lidar/ "
-                       "inside; or pass a .bag file; the format can also be set in the config)");
+                       ": unrecognised dataset folder (expected dataset.yaml, mav0/, velodyne/, lidar/, "
+                       "velodyne_points/ or oxts/ inside; or pass a .bag file; the format can also be set in the config)");
 }
 
 }  // namespace
@@ -50,6 +51,8 @@ Expected<std::unique_ptr<DatasetReader>> OpenDataset(const fs::path& path, const
       return OpenRosBag(path, options);
     case DatasetFormat::kKittiFolder:
       return OpenKittiFolder(path, options);
+    case DatasetFormat::kKittiRaw:
+      return OpenKittiRawDrive(path, options);
     case DatasetFormat::kEuroc:
       return OpenEurocFolder(path, options);
     case DatasetFormat::kUltrafusion:

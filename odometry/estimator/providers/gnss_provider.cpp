@@ -76,8 +76,8 @@ void GnssProvider::Link(FactorGraph& graph, std::span<const NodeView> nodes,
     const std::optional<FixPlacement> at = PlaceFix(fix.stamp, stamps, config_);
     if (!at) {
       ++counts_.skipped;
-      warnings.push_back("GNSS fix at " + StampText(fix.stamp) + " skipped: no window node within " +
-                         std::to_string(config_.max_snap_s) + " s or an interpolation gap");
+      warnings.push_back("GNSS fixes skipped: no window node within " + std::to_string(config_.max_snap_s) +
+                         " s or an interpolation gap (first at " + StampText(fix.stamp) + ")");
       continue;
     }
     if (aligned_) {

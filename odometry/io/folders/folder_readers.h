@@ -25,6 +25,28 @@ namespace uf {
 Expected<std::unique_ptr<DatasetReader>> OpenKittiFolder(const std::filesystem::path& path,
                                                          const DatasetOptions& options = {});
 
+// A KITTI raw drive (the "sync" package, rectified images; or "extract", raw images): `path` is the drive
+// folder (2011_09_26_drive_0009_sync), its date folder one level up holds calib_imu_to_velo.txt,
+// calib_velo_to_cam.txt and calib_cam_to_cam.txt (kitti_raw_calibration.h). Streams, each a <name>/data/
+// folder of files named by their 10-digit frame index and a <name>/timestamps.txt (wall-clock times read as
+// UTC, line N for frame N):
+//   velodyne_points  .bin (float32 x y z reflectance), .bin.xz, or .txt (extract: ASCII) -> LiDAR in the
+//                    Velodyne frame; the sweep from timestamps_start/_end.txt when present (else half of
+//                    options.lidar_sweep_period_s either side of the timestamps.txt stamp, the instant the
+//                    head faced forward); point times from azimuth as for KITTI-style folders
+//   oxts             30 numbers per record (kitti_raw_oxts.h) -> an IMU stream (ax ay az, wx wy wz) and a
+//                    GNSS stream (lat lon alt, pos_accuracy), both in the OXTS frame = the body; the INS
+//                    poses -> DatasetDescription::reference
+//   image_00..03     PNG -> camera N (rectified pinhole for sync, K/D for extract); a folder with
+//                    timestamps only (no data/) is no stream
+// Extrinsics: T_body_sensor with the body = the OXTS IMU. A file whose stamp line is empty (KITTI marks
+// lost frames so), frame indices missing between the first and last file, and a damaged scan file are
+// counted warnings (the file is skipped); a missing calibration file, a stamp that does not parse, stamps
+// that do not increase, a damaged OXTS record and an image of another size than the calibration are errors.
+bool IsKittiRawDrive(const std::filesystem::path& path);
+Expected<std::unique_ptr<DatasetReader>> OpenKittiRawDrive(const std::filesystem::path& path,
+                                                           const DatasetOptions& options = {});
+
 // A EuRoC ASL folder: `path` is the dataset root holding mav0/, or mav0/ itself. Reads
 //   mav0/imu0/data.csv      `timestamp [ns], w_RS_S_x, _y, _z [rad s^-1], a_RS_S_x, _y, _z [m s^-2]`
 //   mav0/camN/data.csv      `timestamp [ns], filename` with the images in mav0/camN/data/ (camera index N)

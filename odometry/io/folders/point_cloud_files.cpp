@@ -17,6 +17,7 @@
 #include "odometry/io/folders/lzf.h"
 #include "odometry/io/folders/pcd_decode.h"
 #include "odometry/io/folders/pcd_header.h"
+#include "odometry/io/folders/xz_file.h"
 #include "odometry/io/text_table.h"
 #include "odometry/types/azimuth_convention.h"
 
@@ -178,7 +179,7 @@ Expected<LidarScan> ReadPcdFile(const std::filesystem::path& path, PointCloudFil
 
 Expected<LidarScan> ReadKittiBin(const std::filesystem::path& path, PointCloudFileInfo* info) {
   const std::string name = path.string();
-  auto file = ReadWholeFile(path);
+  auto file = path.extension() == ".xz" ? ReadXzFile(path) : ReadWholeFile(path);
   if (!file) return file.status();
   constexpr std::size_t kPointBytes = 16;  // float32 x, y, z, intensity
   if (file->size() % kPointBytes != 0)

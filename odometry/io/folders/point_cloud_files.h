@@ -34,7 +34,8 @@ struct PointCloudFileInfo {
 // stamp = end = 0.
 Expected<LidarScan> ReadPcdFile(const std::filesystem::path& path, PointCloudFileInfo* info = nullptr);
 
-// Reads a KITTI Velodyne .bin file; its size must be a multiple of 16 bytes. No point times: stamp = end = 0.
+// Reads a KITTI Velodyne .bin file (or .bin.xz, decompressed on the fly); its size must be a multiple of 16
+// bytes. No point times: stamp = end = 0.
 Expected<LidarScan> ReadKittiBin(const std::filesystem::path& path, PointCloudFileInfo* info = nullptr);
 
 // Gives every point of a spinning LiDAR's scan the time at which the beam swept its azimuth, for scans

@@ -213,10 +213,10 @@ std::string PointTimeConventionWords() {
 
 Expected<DatasetFormat> ParseDatasetFormat(const std::string& name) {
   for (DatasetFormat format : {DatasetFormat::kAuto, DatasetFormat::kRosBag, DatasetFormat::kKittiFolder,
-                               DatasetFormat::kEuroc, DatasetFormat::kUltrafusion}) {
+                               DatasetFormat::kKittiRaw, DatasetFormat::kEuroc, DatasetFormat::kUltrafusion}) {
     if (DatasetFormatName(format) == name) return format;
   }
-  return Status::Error("unknown dataset format '" + name + "' (auto, rosbag, kitti, euroc, ultrafusion)");
+  return Status::Error("unknown dataset format '" + name + "' (auto, rosbag, kitti, kitti_raw, euroc, ultrafusion)");
 }
 
 std::string EmitDatasetConfig(const DatasetConfig& config) {

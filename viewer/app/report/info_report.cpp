@@ -57,6 +57,16 @@ void PrintPointTimes(std::ostream& out, const pipeline::PointTimeSelection& time
       << check.moving_scans << " moving), " << Fixed(check.seconds, 1) << " s\n";
 }
 
+// The ground-truth file, or the reference the reader derived (with its pose count and frame).
+std::string GroundTruthText(const DatasetDescription& d) {
+  if (d.ground_truth) return d.ground_truth->string();
+  if (!d.reference) return "none found";
+  const std::size_t stream = static_cast<std::size_t>(d.reference->stream);
+  return "none beside the data; reference: " + d.reference->source + ", " +
+         std::to_string(d.reference->poses.size()) + " poses of " +
+         (stream < d.streams.size() ? d.streams[stream].name : std::string("?"));
+}
+
 void PrintStreamDetails(std::ostream& out, const StreamSummary& s,
                         const std::optional<pipeline::PointTimeSelection>& times) {
   const std::string indent = "    ";
@@ -77,6 +87,7 @@ void PrintStreamDetails(std::ostream& out, const StreamSummary& s,
     }
   }
   if (s.info.camera_model) out << indent << "calibration: " << CameraLine(*s.info.camera_model) << "\n";
+  if (!s.info.note.empty()) out << indent << "note: " << s.info.note << "\n";
   if (s.info.kind == SensorKind::kImu && !s.info.imu_accel_unit.empty()) {
     out << indent << "acceleration unit: " << s.info.imu_accel_unit
         << (s.info.imu_accel_unit == "g" ? " (converted to m/s^2)" : "") << "\n";
@@ -95,7 +106,7 @@ void PrintDatasetTable(std::ostream& out, const DatasetSummary& summary) {
   const DatasetDescription& d = summary.description;
   out << "dataset: " << d.path.string() << " (" << DatasetFormatName(d.format) << ", "
       << Fixed(summary.bytes / 1e6, 1) << " MB read in " << Fixed(summary.read_seconds, 2) << " s)\n";
-  out << "ground truth: " << (d.ground_truth ? d.ground_truth->string() : "none found") << "\n\n";
+  out << "ground truth: " << GroundTruthText(d) << "\n\n";
   out << Cell("stream", 34) << Cell("kind", 7) << Cell("type", 30) << Cell("count", 8) << Cell("rate Hz", 9)
       << Cell("first [s]", 22) << Cell("last [s]", 22) << "verdict\n";
   for (const StreamSummary& s : summary.streams) {
@@ -181,6 +192,7 @@ void PrintDatasetJson(std::ostream& out, const DatasetSummary& summary) {
   json root = {{"dataset", d.path.string()},
                {"format", DatasetFormatName(d.format)},
                {"ground_truth", d.ground_truth ? json(d.ground_truth->string()) : json(nullptr)},
+               {"reference", d.reference ? json(GroundTruthText(d)) : json(nullptr)},
                {"bytes", summary.bytes},
                {"read_seconds", summary.read_seconds},
                {"streams", streams},

@@ -137,6 +137,9 @@ std::string FormatRunReport(const pipeline::RunSummary& r) {
   md += "\n## Accuracy\n\n";
   if (r.accuracy.evaluated) {
     md += "ATE (APE translation RMSE, SE3-aligned): " + FormatValue("%.4f", r.accuracy.ape_rmse_m) + " m\n\n";
+    if (!r.accuracy.reference_source.empty())
+      md += "Ground truth: no file came with the data; the reader's reference, " +
+            r.accuracy.reference_source + ", in trajectory.tum's frame: reference.tum.\n\n";
     if (const std::optional<pipeline::EnuAccuracy>& enu = r.accuracy.enu)
       md += "Position error in ENU without alignment (the estimator's georeference, " +
             std::to_string(enu->matched_poses) + " poses): RMSE " + FormatValue("%.4f", enu->rmse_m) +

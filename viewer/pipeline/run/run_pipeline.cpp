@@ -3,6 +3,7 @@
 #include <charconv>
 #include <iostream>
 
+#include "odometry/types/printf_text.h"
 #include "viewer/app/config/estimator_config.h"
 #include "viewer/app/config/wio_config.h"
 
@@ -114,6 +115,20 @@ Status CheckModeOptions(const RunRequest& r, const DatasetSensors& sensors,
                        description.streams[sensors.lidar].name + "; use --output-frame " + other);
 }
 
+// An IMU that samples slower than its configured gap allows (KITTI raw's 10 Hz OXTS against the default
+// 0.05 s) would see a gap between every two samples and never initialize: the gap becomes 1.5 sample periods
+// of the stream's nominal rate, and the report says so.
+void FitImuGapToRate(double& imu_max_gap_s, const DatasetDescription& description, int imu,
+                     std::vector<std::string>& notes) {
+  if (imu < 0) return;
+  const StreamInfo& stream = description.streams[static_cast<std::size_t>(imu)];
+  if (!(stream.nominal_rate_hz > 0) || 1.5 / stream.nominal_rate_hz <= imu_max_gap_s) return;
+  const double fitted = 1.5 / stream.nominal_rate_hz;
+  notes.push_back(PrintfText("imu_max_gap_s raised from %.3f to %.3f s: ", imu_max_gap_s, fitted) +
+                  stream.name + PrintfText(" samples at %.1f Hz", stream.nominal_rate_hz));
+  imu_max_gap_s = fitted;
+}
+
 // The estimator's configuration from the request's and the dataset's extrinsics. LO and LIO: the body is
 // the LiDAR in LO and the IMU in LIO; WIO: the IMU.
 void ConfigureEstimator(RunPlan& plan) {
@@ -122,19 +137,23 @@ void ConfigureEstimator(RunPlan& plan) {
   const DatasetSensors& sensors = plan.sensors;
   // The GNSS lever arm: T_imu_gnss (GNSS needs an inertial core); without an extrinsic, the antenna is
   // taken at the IMU, and the report says so.
+  const DatasetDescription& description = plan.stream->description();
   const SE3 T_imu_gnss = sensors.T_imu_gnss.value_or(SE3());
   if (mode.gnss && !sensors.T_imu_gnss)
-    plan.summary.notes.push_back("GNSS: " + plan.stream->description().streams[sensors.gnss].name +
+    plan.summary.notes.push_back("GNSS: " + description.streams[sensors.gnss].name +
                                  " has no T_body_sensor: the antenna is taken at the IMU (no lever arm)");
   if (mode.core == OdometryMode::kWio) {
     plan.wio_config = r.wio_config;
     plan.wio_config.T_body_wheel = *sensors.T_imu_wheel;  // ChooseMode checked it
     plan.wio_config.use_gnss = mode.gnss;
     plan.wio_config.T_body_gnss = T_imu_gnss;
+    FitImuGapToRate(plan.wio_config.imu_max_gap_s, description, sensors.imu, plan.summary.notes);
     return;
   }
   plan.lo_config = r.lo_config;
   plan.lo_config.use_imu = mode.core == OdometryMode::kLio;
+  if (plan.lo_config.use_imu)
+    FitImuGapToRate(plan.lo_config.imu_max_gap_s, description, sensors.imu, plan.summary.notes);
   plan.lo_config.T_body_lidar = plan.frames.T_estimator_lidar();
   plan.lo_config.use_wheel = mode.wheel;
   // T_body_wheel: T_imu_wheel in LIO, T_lidar_wheel = T_imu_lidar^-1 T_imu_wheel in LO (ChooseMode checked

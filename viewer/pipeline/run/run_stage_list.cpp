@@ -132,7 +132,8 @@ std::vector<Stage> RunStageList(RunPlan& plan, const fs::path& out, StageOutputs
     if (plan.sensors.gnss >= 0)
       gnss.T_frame_antenna =
           plan.frames.T_output_body * description.streams[plan.sensors.gnss].T_body_sensor.value_or(SE3());
-    o.accuracy = RunAccuracyStage(description, out, o.odometry ? o.odometry->georef : std::nullopt, gnss, c);
+    o.accuracy = RunAccuracyStage(description, out, o.odometry ? o.odometry->georef : std::nullopt, gnss,
+                                  plan.frames.T_output_body, c);
     return Status();
   };
   const char* odometry_input = core == OdometryMode::kLio   ? "LiDAR and IMU streams"
@@ -152,7 +153,7 @@ std::vector<Stage> RunStageList(RunPlan& plan, const fs::path& out, StageOutputs
       {"splat", "map.vdb, trajectory.tum, camera images", no_splat, splat},
       {"views", "splats (splat stage)", no_splat.empty() ? "" : "no splats", views},
       {"accuracy", "trajectory.tum, ground truth (else the GNSS fixes)",
-       description.ground_truth || plan.sensors.gnss >= 0 ? ""
+       description.ground_truth || description.reference || plan.sensors.gnss >= 0 ? ""
                                                           : "no ground truth beside the dataset, no GNSS",
        accuracy},
   };

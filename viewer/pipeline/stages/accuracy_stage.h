@@ -35,6 +35,7 @@ struct GroundTruthCheck {
   std::string table;               // as `ultrafusion eval` prints it
   std::vector<std::string> plots;  // paths relative to the output folder
   std::string note;                // "no ground truth in the dataset", or the evaluation's error
+  std::string reference_source;    // the reader's reference, when that was the ground truth (reference.tum)
   std::optional<EnuAccuracy> enu;  // a run georeferenced by the estimator, a ground truth with an ENU origin
   std::string enu_note;            // why there is no ENU figure for a georeferenced run
   std::optional<GnssTrackError> gnss_track;  // without ground truth: trajectory.tum against the GNSS fixes
@@ -65,12 +66,14 @@ GroundTruthCheck EvaluateAgainstGroundTruth(const std::filesystem::path& ground_
 Expected<EnuAccuracy> EvaluateInEnu(const Trajectory& ground_truth, const GeodeticOrigin& truth_origin,
                                     const Trajectory& trajectory_enu, const GeodeticOrigin& run_origin);
 
-// The stage on out/trajectory.tum; its message says why an evaluation was not possible. With the
-// estimator's georeference, trajectory.tum is in ENU: with the ground truth's ENU origin the check also has
-// the unaligned ENU figures. Without ground truth, with fixes: the GNSS-track figures (unaligned when
+// The stage on out/trajectory.tum; its message says why an evaluation was not possible. Without a
+// ground-truth file, a reference the reader derived (DatasetDescription::reference) is written to
+// out/reference.tum in trajectory.tum's frame F (T_output_body = T_F_B) and evaluated against instead. With
+// the estimator's georeference, trajectory.tum is in ENU: with the ground truth's ENU origin the check also
+// has the unaligned ENU figures. Without ground truth, with fixes: the GNSS-track figures (unaligned when
 // georeferenced).
 GroundTruthCheck RunAccuracyStage(const DatasetDescription& description, const std::filesystem::path& out,
                                   const std::optional<Georeference>& georef, const GnssTrackInput& gnss,
-                                  StageContext& context);
+                                  const SE3& T_output_body, StageContext& context);
 
 }  // namespace uf::pipeline
