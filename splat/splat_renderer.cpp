@@ -34,6 +34,14 @@ Expected<std::vector<std::string>> ListSplatDevices() {
   return lines;
 }
 
+Expected<std::string> FindSplatDevice(const std::string& device) {
+  Expected<std::vector<vk::DeviceInfo>> devices = vk::ListDevices();
+  if (!devices.ok()) return devices.status();
+  Expected<std::size_t> found = vk::FindDevice(*devices, device);
+  if (!found.ok()) return found.status();
+  return (*devices)[*found].name;
+}
+
 Expected<std::unique_ptr<SplatRenderer>> SplatRenderer::Create(const SplatRendererOptions& options) {
   auto impl = std::make_unique<Impl>();
   Expected<std::unique_ptr<vk::Context>> context = vk::Context::Create({options.device});

@@ -42,6 +42,11 @@ struct SplatFrameStats {
 // "0: llvmpipe (LLVM 15.0.6, 256 bits) (CPU)" per device, or an error saying what to install.
 Expected<std::vector<std::string>> ListSplatDevices();
 
+// The name of the device that SplatRendererOptions::device `device` (not empty) picks, without creating
+// anything on it: a cheap check of a user's choice before long work. Errors: no Vulkan driver (what to
+// install), no device of that index or name (the devices present).
+Expected<std::string> FindSplatDevice(const std::string& device);
+
 class SplatRenderer {
  public:
   static Expected<std::unique_ptr<SplatRenderer>> Create(const SplatRendererOptions& options = {});

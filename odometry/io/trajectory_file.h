@@ -43,8 +43,13 @@ Expected<Trajectory> ReadKittiTrajectory(const std::string& path);  // no stamps
 Expected<Trajectory> ReadEurocTrajectory(const std::string& path, const TrajectoryReadOptions& options = {},
                                          TrajectoryReadReport* report = nullptr);
 
-// One stamp per line in seconds (KITTI times.txt); must increase strictly.
+// One stamp per line in seconds (KITTI times.txt), exact to the nanosecond; must increase strictly. Blank
+// lines and '#' comments (a whole line, or after the time) are skipped.
 Expected<std::vector<Stamp>> ReadTimesFile(const std::string& path);
+// The same lines in any order, repeats allowed (the times `ultrafusion render --stamps` renders at). Errors
+// name the file, the line and the text that is not a time ("stamps.txt:3: time (column 1) is not a time in
+// seconds: 'abc'").
+Expected<std::vector<Stamp>> ReadStampsFile(const std::string& path);
 // Attaches stamps to a stampless (KITTI) trajectory; the counts must agree.
 Status AttachStamps(Trajectory& trajectory, std::vector<Stamp> stamps, const std::string& times_path);
 

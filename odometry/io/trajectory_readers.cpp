@@ -125,22 +125,35 @@ Expected<Trajectory> ReadKittiTrajectory(const std::string& path) {
   return trajectory;
 }
 
-Expected<std::vector<Stamp>> ReadTimesFile(const std::string& path) {
+namespace {
+
+// One time in seconds per line (a '#' comment may follow it); strictly increasing when `increasing`.
+Expected<std::vector<Stamp>> ReadStampLines(const std::string& path, bool increasing) {
   auto opened = TextTableReader::Open(path);
   if (!opened) return opened.status();
   TextTableReader& in = *opened;
   std::vector<Stamp> stamps;
   StampOrderCheck order;
   while (in.Next()) {
-    if (Status s = in.ExpectColumns(1, "one time in seconds per line"); !s.ok()) return s;
+    const bool commented = in.columns() > 1 && in.field(1).front() == '#';
+    if (!commented)
+      if (Status s = in.ExpectColumns(1, "one time in seconds per line"); !s.ok()) return s;
     auto stamp = in.Seconds(0, "time");
     if (!stamp) return stamp.status();
-    if (auto keep = order.Add(in, *stamp); !keep) return keep.status();
+    if (increasing)
+      if (auto keep = order.Add(in, *stamp); !keep) return keep.status();
     stamps.push_back(*stamp);
   }
+  if (Status s = in.read_status(); !s.ok()) return s;
   if (stamps.empty()) return Status::Error(path + ": no times in file");
   return stamps;
 }
+
+}  // namespace
+
+Expected<std::vector<Stamp>> ReadTimesFile(const std::string& path) { return ReadStampLines(path, true); }
+
+Expected<std::vector<Stamp>> ReadStampsFile(const std::string& path) { return ReadStampLines(path, false); }
 
 Status AttachStamps(Trajectory& trajectory, std::vector<Stamp> stamps, const std::string& times_path) {
   if (stamps.size() != trajectory.size())

@@ -148,6 +148,17 @@ Expected<std::vector<DeviceInfo>> ListDevices() {
   return devices;
 }
 
+Expected<std::size_t> FindDevice(const std::vector<DeviceInfo>& devices, const std::string& wanted) {
+  if (devices.empty()) return Status::Error("Vulkan: no device found; " + std::string(kInstallHint));
+  const bool is_index =
+      std::all_of(wanted.begin(), wanted.end(), [](unsigned char c) { return std::isdigit(c); });
+  for (std::size_t i = 0; i < devices.size(); ++i)
+    if (is_index ? std::to_string(i) == wanted
+                 : Lower(devices[i].name).find(Lower(wanted)) != std::string::npos)
+      return i;
+  return Status::Error("Vulkan: no device matches '" + wanted + "'; devices present: " + Listing(devices));
+}
+
 Expected<std::unique_ptr<Context>> Context::Create(const ContextOptions& options) {
   Expected<VkInstance> instance = CreateInstance();
   if (!instance.ok()) return instance.status();
@@ -160,16 +171,10 @@ Expected<std::unique_ptr<Context>> Context::Create(const ContextOptions& options
   for (VkPhysicalDevice device : physical) infos.push_back(Describe(device));
   if (physical.empty()) return Status::Error("Vulkan: no device found; " + std::string(kInstallHint));
   int chosen = -1;
-  const std::string& wanted = options.device;
-  if (!wanted.empty()) {
-    const bool is_index =
-        std::all_of(wanted.begin(), wanted.end(), [](unsigned char c) { return std::isdigit(c); });
-    for (std::size_t i = 0; i < infos.size() && chosen < 0; ++i)
-      if (is_index ? std::to_string(i) == wanted
-                   : Lower(infos[i].name).find(Lower(wanted)) != std::string::npos)
-        chosen = static_cast<int>(i);
-    if (chosen < 0)
-      return Status::Error("Vulkan: no device matches '" + wanted + "'; devices present: " + Listing(infos));
+  if (!options.device.empty()) {
+    Expected<std::size_t> named = FindDevice(infos, options.device);
+    if (!named.ok()) return named.status();
+    chosen = static_cast<int>(*named);
     const std::string why = Unsupported(physical[chosen], &context->queue_family_);
     if (!why.empty())
       return Status::Error("Vulkan: device '" + infos[chosen].name + "' cannot be used: " + why);

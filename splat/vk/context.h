@@ -30,6 +30,11 @@ struct DeviceInfo {
 // The Vulkan devices present. Error (with what to install) when no Vulkan driver answers at all.
 Expected<std::vector<DeviceInfo>> ListDevices();
 
+// The index of the device `wanted` names (ContextOptions::device, not empty): a decimal index, else the first
+// device whose name contains it (case-insensitive). The error lists the devices present (or, without any,
+// says what to install).
+Expected<std::size_t> FindDevice(const std::vector<DeviceInfo>& devices, const std::string& wanted);
+
 class Context {
  public:
   static Expected<std::unique_ptr<Context>> Create(const ContextOptions& options);

@@ -63,12 +63,24 @@ TEST(RenderCamera, TheRepositorysCameraFileIsTheSimulatorsCamera) {
 TEST(RenderCamera, ResizeScalesTheIntrinsicsAboutPixelCorners) {
   Expected<RenderCamera> camera = LoadRenderCamera(WriteCameraFile("resize", kPinhole));
   ASSERT_TRUE(camera.ok());
-  const RenderCamera half = ResizeRenderCamera(*camera, 320, 240);
-  EXPECT_DOUBLE_EQ(half.intrinsics.pinhole.fx, 262.5);
+  Expected<std::shared_ptr<const CameraModel>> half = ResizeCameraModel(*camera->model, 320, 240);
+  ASSERT_TRUE(half.ok()) << half.error();
+  const auto* radtan = dynamic_cast<const PinholeRadtan*>(half->get());
+  ASSERT_NE(radtan, nullptr);
+  EXPECT_DOUBLE_EQ(radtan->intrinsics().pinhole.fx, 262.5);
   // The image centre stays the image centre: (319.5 + 0.5) / 2 - 0.5 = 159.5.
-  EXPECT_DOUBLE_EQ(half.intrinsics.pinhole.cx, 159.5);
-  EXPECT_DOUBLE_EQ(half.intrinsics.pinhole.cy, 119.5);
-  EXPECT_EQ(half.model->width(), 320);
+  EXPECT_DOUBLE_EQ(radtan->intrinsics().pinhole.cx, 159.5);
+  EXPECT_DOUBLE_EQ(radtan->intrinsics().pinhole.cy, 119.5);
+  EXPECT_EQ(radtan->width(), 320);
+  // A fisheye keeps its model and coefficients.
+  const Equidistant fisheye(EquidistantIntrinsics{{640, 480, 300, 300, 319.5, 239.5}, 0.1, -0.02, 0, 0});
+  Expected<std::shared_ptr<const CameraModel>> small = ResizeCameraModel(fisheye, 160, 120);
+  ASSERT_TRUE(small.ok()) << small.error();
+  const auto* equidistant = dynamic_cast<const Equidistant*>(small->get());
+  ASSERT_NE(equidistant, nullptr);
+  EXPECT_DOUBLE_EQ(equidistant->intrinsics().pinhole.fx, 75);
+  EXPECT_DOUBLE_EQ(equidistant->intrinsics().pinhole.cx, 79.5);
+  EXPECT_DOUBLE_EQ(equidistant->intrinsics().k1, 0.1);
 }
 
 TEST(RenderCamera, ErrorsNameTheFileKeyAndValue) {

@@ -87,15 +87,22 @@ struct BadFile {
   const char* expected;  // part of the message
 };
 
+// `read` on a file `name` holding bad.text fails with an error naming the file and holding bad.expected.
+template <typename Read>
+void ExpectErrorNamingTheFile(const BadFile& bad, const char* name, Read read) {
+  TempDir dir;
+  const std::string path = dir.Write(name, bad.text);
+  auto result = read(path);
+  ASSERT_FALSE(result);
+  EXPECT_NE(result.error().find(path), std::string::npos) << result.error();
+  EXPECT_NE(result.error().find(bad.expected), std::string::npos) << result.error();
+}
+
 class BadTumFile : public ::testing::TestWithParam<BadFile> {};
 
 TEST_P(BadTumFile, ErrorNamesFileLineAndValue) {
-  TempDir dir;
-  const std::string path = dir.Write("bad.tum", GetParam().text);
-  auto read = ReadTumTrajectory(path);
-  ASSERT_FALSE(read);
-  EXPECT_NE(read.error().find(path), std::string::npos) << read.error();
-  EXPECT_NE(read.error().find(GetParam().expected), std::string::npos) << read.error();
+  ExpectErrorNamingTheFile(GetParam(), "bad.tum",
+                           [](const std::string& path) { return ReadTumTrajectory(path); });
 }
 
 INSTANTIATE_TEST_SUITE_P(
@@ -128,6 +135,35 @@ TEST(TrajectoryFile, DuplicateStampsCanBeSkippedKeepingTheFirst) {
   EXPECT_FALSE(ReadTumTrajectory(dir.Write("b.tum", "2 0 0 0 0 0 0 1\n1 0 0 0 0 0 0 1\n"),
                                  {.skip_duplicate_stamps = true}));
 }
+
+// The stamps of `render --stamps`: exact nanoseconds, comments and blank lines, any order.
+TEST(StampsFile, ReadsExactNanosecondsInAnyOrderWithComments) {
+  TempDir dir;
+  auto stamps = ReadStampsFile(dir.Write(
+      "stamps.txt", "# frames to render\n\n1305031102.160407123\n  0.5 # the bridge\r\n1.037359e-01\n0.5\n"));
+  ASSERT_TRUE(stamps) << stamps.error();
+  // Decreasing and repeated stamps are kept as they are: each is one view.
+  EXPECT_EQ(*stamps, (std::vector<Stamp>{1'305'031'102'160'407'123, 500'000'000, 103'735'900, 500'000'000}));
+  // times.txt takes the same trailing comment, and still wants its times increasing.
+  auto times = ReadTimesFile(dir.Write("times.txt", "0.1 # first\n0.2\n"));
+  ASSERT_TRUE(times) << times.error();
+  EXPECT_EQ((*times)[0], 100'000'000);
+  EXPECT_FALSE(ReadTimesFile(dir.File("stamps.txt")));
+}
+
+class BadStampsFile : public ::testing::TestWithParam<BadFile> {};
+
+TEST_P(BadStampsFile, ErrorNamesFileLineAndText) {
+  ExpectErrorNamingTheFile(GetParam(), "stamps.txt", ReadStampsFile);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Cases, BadStampsFile,
+    ::testing::Values(BadFile{"text", "1.0\nabc\n", ":2: time (column 1) is not a time in seconds: 'abc'"},
+                      BadFile{"nan", "NaN\n", ":1: time (column 1) is not a time in seconds: 'NaN'"},
+                      BadFile{"two", "1.0 2.0\n", ":1: expected 1 columns (one time in seconds per line)"},
+                      BadFile{"empty", "# nothing\n\n", "no times in file"}),
+    [](const auto& info) { return std::string(info.param.name); });
 
 TEST(TrajectoryFile, KittiRejectsNonRotation) {
   TempDir dir;

@@ -215,6 +215,14 @@ TEST(VulkanRendererSetup, UnknownDeviceListsTheDevicesPresent) {
   Expected<std::unique_ptr<SplatRenderer>> by_name = SplatRenderer::Create(options);
   ASSERT_TRUE(by_name.ok()) << by_name.error();
   EXPECT_EQ((*by_name)->device_name(), (*by_index)->device_name());
+  // FindSplatDevice makes the same choice without creating anything, and the same error.
+  Expected<std::string> found = FindSplatDevice(options.device);
+  ASSERT_TRUE(found.ok()) << found.error();
+  EXPECT_EQ(*found, (*by_index)->device_name());
+  Expected<std::string> missing = FindSplatDevice("no-such-gpu");
+  ASSERT_FALSE(missing.ok());
+  EXPECT_NE(missing.error().find("no device matches 'no-such-gpu'; devices present: 0: "), std::string::npos)
+      << missing.error();
 }
 
 }  // namespace

@@ -18,7 +18,8 @@ using pipeline::RunRequest;
 
 struct RunArguments {
   std::string dataset, out, config, mode = "auto", output_frame;  // output_frame "": the mode's body
-  std::string from;  // "map" / "splat": re-run from that stage on the outputs of an earlier run in --out
+  std::string from;    // "map" / "splat": re-run from that stage on the outputs of an earlier run in --out
+  std::string device;  // the splat stage's Vulkan device ("": the default)
   bool no_map = false, no_splat = false, no_mesh = false;
   double map_voxel_m = 0.05;
 };
@@ -36,6 +37,7 @@ Expected<RunRequest> MakeRequest(const RunArguments& a) {
                                : pipeline::RunFrom::kStart;
   r.no_map = a.no_map, r.no_splat = a.no_splat, r.no_mesh = a.no_mesh;
   r.map_voxel_m = a.map_voxel_m;
+  r.splat_device = a.device;
   if (a.config.empty()) return r;
   Expected<ConfigFile> loaded = LoadConfigFile(a.config);
   if (!loaded) return loaded.status();
@@ -125,6 +127,9 @@ Subcommand AddRunCommand(CLI::App& app) {
       ->capture_default_str();
   run->add_flag("--no-mesh", a->no_mesh, "No surface mesh in map.glb (points only; faster on big maps)");
   run->add_flag("--no-splat", a->no_splat, "No splats: no splats.ply, splats.glb, metrics.json, views/");
+  run->add_option("--device", a->device,
+                  "Vulkan device of the splat and views stages: index or part of its name (default: a GPU if "
+                  "any, else lavapipe on the CPU); checked before the odometry runs");
   return {run, [a] { return RunRun(*a); }};
 }
 

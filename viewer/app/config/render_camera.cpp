@@ -1,6 +1,7 @@
 #include "viewer/app/config/render_camera.h"
 
 #include "odometry/io/calibration_file.h"
+#include "splat/views/training_images.h"
 
 namespace uf::app {
 
@@ -21,18 +22,19 @@ Expected<RenderCamera> LoadRenderCamera(const std::string& path) {
   return camera;
 }
 
-RenderCamera ResizeRenderCamera(const RenderCamera& camera, int width, int height) {
-  RenderCamera resized = camera;
-  PinholeIntrinsics& p = resized.intrinsics.pinhole;
-  const double sx = static_cast<double>(width) / p.width, sy = static_cast<double>(height) / p.height;
-  p.fx *= sx;
-  p.fy *= sy;
-  p.cx = (p.cx + 0.5) * sx - 0.5;
-  p.cy = (p.cy + 0.5) * sy - 0.5;
-  p.width = width;
-  p.height = height;
-  resized.model = std::make_shared<PinholeRadtan>(resized.intrinsics);
-  return resized;
+Expected<std::shared_ptr<const CameraModel>> ResizeCameraModel(const CameraModel& model, int width,
+                                                               int height) {
+  if (const auto* radtan = dynamic_cast<const PinholeRadtan*>(&model)) {
+    PinholeRadtanIntrinsics k = radtan->intrinsics();
+    k.pinhole = splat::ScalePinhole(k.pinhole, width, height);
+    return std::shared_ptr<const CameraModel>(std::make_shared<PinholeRadtan>(k));
+  }
+  if (const auto* fisheye = dynamic_cast<const Equidistant*>(&model)) {
+    EquidistantIntrinsics k = fisheye->intrinsics();
+    k.pinhole = splat::ScalePinhole(k.pinhole, width, height);
+    return std::shared_ptr<const CameraModel>(std::make_shared<Equidistant>(k));
+  }
+  return Status::Error("--width/--height: only pinhole-radtan and equidistant cameras are resized");
 }
 
 }  // namespace uf::app

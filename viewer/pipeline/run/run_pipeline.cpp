@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "odometry/types/printf_text.h"
+#include "splat/splat_renderer.h"
 #include "viewer/app/config/estimator_config.h"
 #include "viewer/app/config/wio_config.h"
 
@@ -171,6 +172,9 @@ void ConfigureEstimator(RunPlan& plan) {
 Expected<RunPlan> PlanRun(RunRequest request, PlanErrorKind& kind) {
   kind = PlanErrorKind::kUsage;
   if (Status s = CheckOutputFolder(request); !s.ok()) return s;
+  if (!request.no_splat && !request.splat_device.empty())
+    if (Expected<std::string> device = splat::FindSplatDevice(request.splat_device); !device)
+      return Status::Error("--device: " + device.error());
   RunPlan plan;
   kind = PlanErrorKind::kData;
   // Azimuth-derived point times: the convention (configured, or checked on the first scans) every reader

@@ -43,6 +43,7 @@ struct RunRequest {
   RunFrom from = RunFrom::kStart;
   bool no_map = false, no_splat = false, no_mesh = false;
   double map_voxel_m = 0.05;
+  std::string splat_device;  // --device: the splat and views stages' Vulkan device ("": the default)
   // The sections of --config (the defaults without one).
   app::DatasetConfig dataset_config;
   estimator::LidarOdometryConfig lo_config;
@@ -68,12 +69,13 @@ struct RunPlan {
 // Whether a planning error is the user's options or configuration (exit code 2) or the data (1).
 enum class PlanErrorKind { kUsage, kData };
 
-// Checks the request and opens what the stages use; writes nothing. `kind` receives the error's kind.
+// Checks the request and opens what the stages use; writes nothing. `kind` receives the error's kind. A
+// --device that names no Vulkan device is a usage error here, before any data is read.
 Expected<RunPlan> PlanRun(RunRequest request, PlanErrorKind& kind);
 
-// Creates the output folder (request.out, new or empty, else a new versioned one), writes config.yaml and
-// run.json, runs the stages and returns what happened (a failed stage is in summary.stages, not an error).
-// Errors: the output folder or its first files cannot be written.
+// Creates the output folder (request.out, new or empty, else a new versioned one), writes config.yaml,
+// run.json and cameras.yaml (run_cameras.h), runs the stages and returns what happened (a failed stage is
+// in summary.stages, not an error). Errors: the output folder or its first files cannot be written.
 Expected<RunSummary> RunPipeline(RunPlan& plan, std::filesystem::path& out);
 
 }  // namespace uf::pipeline

@@ -1,8 +1,10 @@
 // The stages of `ultrafusion run` in order, each wired to the plan and to the outputs of the stages before
-// it (run_pipeline.h), and the run around them: output folder, config.yaml, run.json, the summary.
+// it (run_pipeline.h), and the run around them: output folder, config.yaml, run.json, cameras.yaml, the
+// summary.
 #include <chrono>
 #include <cstdio>
 
+#include "viewer/pipeline/run/run_cameras.h"
 #include "viewer/pipeline/run/run_pipeline.h"
 #include "viewer/pipeline/run/run_record.h"
 #include "viewer/pipeline/run_files.h"
@@ -118,9 +120,12 @@ std::vector<Stage> RunStageList(RunPlan& plan, const fs::path& out, StageOutputs
         .mapper = plan.mapper.get(), .georef = o.map->georef, .mesh = !r.no_mesh, .out = out};
     return Keep(o.exports, RunExportsStage(in, c));
   };
-  auto splat = [&](StageContext& c) { return Keep(o.splat, RunSplatStage(out, r.splat_config, c)); };
+  auto splat = [&](StageContext& c) {
+    return Keep(o.splat, RunSplatStage(out, r.splat_config, r.splat_device, c));
+  };
   auto views = [&](StageContext& c) {
-    return Keep(o.views, RunViewsStage(out, o.splat->result, r.splat_config.training.render.background, c));
+    return Keep(o.views, RunViewsStage(out, o.splat->result, r.splat_config.training.render.background,
+                                       r.splat_device, c));
   };
   auto accuracy = [&](StageContext& c) {
     const std::vector<GnssFix>* fixes = o.odometry          ? &o.odometry->fixes
@@ -237,6 +242,12 @@ Expected<RunSummary> RunPipeline(RunPlan& plan, fs::path& out) {
   // run.json: --from splat keeps the earlier run's (its trajectory and map are the ones trained on).
   if (r.from != RunFrom::kSplat || !ReadRunRecord(out).ok())
     if (Status s = WriteRunRecord(out, {fs::absolute(r.dataset).string(), plan.frames}); !s.ok()) return s;
+  // cameras.yaml: where the cameras sit and how they project, for `render RUN_DIR --stamps`.
+  std::vector<Stamp> time_offsets;
+  for (std::size_t stream = 0; stream < plan.stream->description().streams.size(); ++stream)
+    time_offsets.push_back(plan.stream->time_offset(static_cast<int>(stream)));
+  if (Status s = WriteRunCameras(out, PlacedCameras(plan.stream->description(), time_offsets)); !s.ok())
+    return s;
 
   ProgressLine progress("run");
   StageOutputs outputs;

@@ -32,11 +32,12 @@ std::string SplatSkipReason(const DatasetDescription& description, const SE3& T_
 }
 
 Expected<SplatStageOutput> RunSplatStage(const fs::path& out, const app::SplatConfig& config,
-                                         StageContext& context) {
+                                         const std::string& device, StageContext& context) {
   context.SetUnit("iterations");
   SplatStageOutput output;
   SplatJobOptions options;
   options.config = config;
+  options.device = device;
   SplatJobCallbacks callbacks;
   std::int64_t iterations = 0;
   callbacks.progress = [&](const std::string& phase, std::int64_t done, std::int64_t total,
@@ -58,12 +59,13 @@ Expected<SplatStageOutput> RunSplatStage(const fs::path& out, const app::SplatCo
 }
 
 Expected<std::string> RunViewsStage(const fs::path& out, const SplatJobResult& splat,
-                                    const Eigen::Vector3f& background, StageContext& context) {
+                                    const Eigen::Vector3f& background, const std::string& device,
+                                    StageContext& context) {
   context.SetUnit("views");
   const std::vector<StoredView>& views = splat.test;
   Expected<splat::GaussianModel> model = exporting::ReadSplatPly((out / "splats.ply").string());
   if (!model) return model.status();
-  Expected<std::unique_ptr<splat::SplatRenderer>> renderer = splat::SplatRenderer::Create();
+  Expected<std::unique_ptr<splat::SplatRenderer>> renderer = splat::SplatRenderer::Create({.device = device});
   if (!renderer) return renderer.status();
   if (Status s = (*renderer)->Upload(*model); !s.ok()) return s;
   const fs::path folder = out / "views";

@@ -28,11 +28,14 @@ struct SplatStageOutput {
   std::vector<std::string> notes;  // the job's warnings
 };
 
+// `device`: the Vulkan device (SplatRendererOptions::device; "": a GPU if any, else lavapipe), as both
+// stages take it.
 Expected<SplatStageOutput> RunSplatStage(const std::filesystem::path& out, const app::SplatConfig& config,
-                                         StageContext& context);
+                                         const std::string& device, StageContext& context);
 
 // Renders the held-out views of `splat` into out/views/; returns the report's line on them.
 Expected<std::string> RunViewsStage(const std::filesystem::path& out, const SplatJobResult& splat,
-                                    const Eigen::Vector3f& background, StageContext& context);
+                                    const Eigen::Vector3f& background, const std::string& device,
+                                    StageContext& context);
 
 }  // namespace uf::pipeline
