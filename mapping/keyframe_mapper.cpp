@@ -1,5 +1,8 @@
 #include "mapping/keyframe_mapper.h"
 
+#include <algorithm>
+#include <iterator>
+
 #include "odometry/io/image_decode.h"
 
 namespace uf::mapping {
@@ -50,41 +53,49 @@ void KeyframeMapper::AddCameraFrame(int stream, CameraFrame frame) {
 }
 
 Status KeyframeMapper::AddKeyframe(Keyframe keyframe) {
-  if (!keyframes_.empty()) {
-    const Keyframe* before = keyframes_.size() >= 2 ? &keyframes_[keyframes_.size() - 2] : nullptr;
-    if (Status s = MapKeyframe(keyframes_.back(), before, &keyframe); !s.ok()) return s;
-  }
   keyframes_.push_back(std::move(keyframe));
-  while (keyframes_.size() > 2) keyframes_.pop_front();
-  DropFramesBefore(keyframes_.front().stamp - FromSeconds(options_.max_frame_distance_s));
-  return {};
+  return MapReady(/*finishing=*/false);
 }
 
 Status KeyframeMapper::Finish() {
-  if (!keyframes_.empty()) {
-    const Keyframe* before = keyframes_.size() >= 2 ? &keyframes_[keyframes_.size() - 2] : nullptr;
-    if (Status s = MapKeyframe(keyframes_.back(), before, nullptr); !s.ok()) return s;
-  }
+  const Status mapped = MapReady(/*finishing=*/true);
   keyframes_.clear();
   frames_.clear();
+  next_ = 0;
+  return mapped;
+}
+
+Status KeyframeMapper::MapReady(bool finishing) {
+  const Stamp reach = FromSeconds(options_.max_frame_distance_s);
+  for (; next_ < keyframes_.size(); ++next_) {
+    if (!finishing && keyframes_.back().stamp < keyframes_[next_].stamp + reach) break;
+    if (Status s = MapKeyframe(keyframes_[next_]); !s.ok()) return s;
+  }
+  // What a keyframe still to come needs: frames from `oldest` on, and the keyframes that bracket them.
+  const Stamp oldest = (next_ < keyframes_.size() ? keyframes_[next_].stamp : keyframes_.back().stamp) - reach;
+  while (next_ > 0 && keyframes_.size() >= 2 && keyframes_[1].stamp <= oldest) {
+    keyframes_.pop_front();
+    --next_;
+  }
+  DropFramesBefore(oldest);
   return {};
 }
 
-std::optional<SE3> KeyframeMapper::BodyPoseAt(Stamp stamp, const Keyframe& keyframe, const Keyframe* before,
-                                              const Keyframe* after) const {
-  if (stamp == keyframe.stamp) return keyframe.T_world_body;
-  if (before && stamp >= before->stamp && stamp < keyframe.stamp)
-    return Interpolate(*before, keyframe, stamp);
-  if (after && stamp > keyframe.stamp && stamp <= after->stamp) return Interpolate(keyframe, *after, stamp);
-  return std::nullopt;  // no extrapolation
+std::optional<SE3> KeyframeMapper::BodyPoseAt(Stamp stamp) const {
+  const auto after = std::lower_bound(keyframes_.begin(), keyframes_.end(), stamp,
+                                      [](const Keyframe& k, Stamp t) { return k.stamp < t; });
+  if (after == keyframes_.end()) return std::nullopt;  // no extrapolation
+  if (after->stamp == stamp) return after->T_world_body;
+  if (after == keyframes_.begin()) return std::nullopt;
+  return Interpolate(*std::prev(after), *after, stamp);
 }
 
-Status KeyframeMapper::MapKeyframe(const Keyframe& keyframe, const Keyframe* before, const Keyframe* after) {
+Status KeyframeMapper::MapKeyframe(const Keyframe& keyframe) {
   const Stamp reach = FromSeconds(options_.max_frame_distance_s);
   std::vector<CameraView> views;
   for (HeldFrame& held : frames_) {
     if (held.decode_failed || std::llabs(held.frame.stamp - keyframe.stamp) > reach) continue;
-    const std::optional<SE3> T_world_body = BodyPoseAt(held.frame.stamp, keyframe, before, after);
+    const std::optional<SE3> T_world_body = BodyPoseAt(held.frame.stamp);
     if (!T_world_body) continue;
     if (Status s = DecodeCameraFrame(held.frame); !s.ok()) {
       held.decode_failed = true;

@@ -4,9 +4,12 @@
 //
 // A keyframe carries its pose at the middle of its sweep; a camera frame is taken at its own time, so the
 // camera pose is interpolated between the keyframes that bracket the frame (slerp/lerp of T_world_body),
-// then T_world_cam = T_world_body(t_frame) * T_body_cam. A keyframe is therefore coloured once the next one
-// has arrived (or at Finish, from frames up to its own time). Frames farther than max_frame_distance_s from
-// the keyframe are not used, and a frame is decoded only when a keyframe uses it.
+// then T_world_cam = T_world_body(t_frame) * T_body_cam. A keyframe is coloured from every frame within
+// max_frame_distance_s of it, so it waits until a keyframe that far after it has arrived (or Finish, which
+// uses the frames up to the last keyframe: no extrapolation); the mapper holds the keyframes and frames of
+// that window. Each point takes the colour of the nearest image in time in which it is visible (colorizer.h):
+// the other images of the window colour what the nearest one does not see (behind a pole, a parked car).
+// A frame is decoded only when a keyframe uses it.
 //
 // Cameras without intrinsics or without an extrinsic (T_body_sensor) cannot colour: the map is then built
 // uncoloured and a warning says why. Frames that fail to decode are skipped with a warning.
@@ -27,7 +30,9 @@ namespace uf::mapping {
 struct KeyframeMapperOptions {
   GlobalMapConfig map;
   ColorizerOptions colorizer;
-  double max_frame_distance_s = 0.1;  // camera frames used for a keyframe: within this of its stamp
+  // Camera frames used for a keyframe: within this of its stamp. On KITTI raw (images at 5 Hz, scans at
+  // 10 Hz) 0.1 s gives a scan 1-2 images and colours 93.5 % of the in-image points, 0.3 s 3-4 images.
+  double max_frame_distance_s = 0.3;
 };
 
 class KeyframeMapper {
@@ -61,18 +66,21 @@ class KeyframeMapper {
     bool decode_failed = false;
   };
   KeyframeMapper(KeyframeMapperOptions options, GlobalMap map) : options_(options), map_(std::move(map)) {}
-  // Colours and inserts `keyframe`, interpolating camera poses between `before` and `after` (either may be
-  // missing: frames outside the bracket are not used).
-  Status MapKeyframe(const Keyframe& keyframe, const Keyframe* before, const Keyframe* after);
-  std::optional<SE3> BodyPoseAt(Stamp stamp, const Keyframe& keyframe, const Keyframe* before,
-                                const Keyframe* after) const;
+  // Maps the held keyframes that have a keyframe max_frame_distance_s after them (every one when
+  // finishing), then drops the keyframes and frames that no keyframe still to map needs.
+  Status MapReady(bool finishing);
+  // Colours and inserts `keyframe` from the held frames within max_frame_distance_s of it.
+  Status MapKeyframe(const Keyframe& keyframe);
+  // The body pose at `stamp`, interpolated between the held keyframes that bracket it; none outside them.
+  std::optional<SE3> BodyPoseAt(Stamp stamp) const;
   void DropFramesBefore(Stamp stamp);
 
   KeyframeMapperOptions options_;
   GlobalMap map_;
   std::vector<Camera> cameras_;
   std::deque<HeldFrame> frames_;
-  std::deque<Keyframe> keyframes_;  // at most two: the one waiting for its successor, and its predecessor
+  std::deque<Keyframe> keyframes_;  // in time order: those waiting to be mapped and those before them that
+  std::size_t next_ = 0;            // ... bracket their frames; next_: the first not mapped yet
   std::vector<std::string> warnings_;
   std::size_t colored_ = 0, in_footprint_ = 0;
 };

@@ -41,6 +41,10 @@ int EndRow() { return min(height, FirstRow() + kBandRows); }
 // Where this subgroup's `word` of its band goes.
 uint PartialSlot(uint word) { return (gl_WorkGroupID.x * kMaxSubgroups + gl_SubgroupID) * kPartialWords + word; }
 
+// A target depth below 0 marks a masked pixel (LossPass::kMaskedDepth): the rendered rgb counts as the
+// target's there (no loss, no gradient). Returns 1 for a masked pixel, else 0.
+float Masked(float target_depth) { return target_depth < 0.0 ? 1.0 : 0.0; }
+
 // Whether pixel p has a depth pair: target depth > 0 and rendered alpha >= 1e-4 (expected depth defined).
 bool HasDepthPair(float target_depth, float alpha, float expected_depth) {
   return target_depth > 0.0 && alpha >= 1e-4 && !isinf(expected_depth) && !isnan(expected_depth);

@@ -2,7 +2,8 @@
 // the whole view-gradient image, with per band and subgroup the sums of |r - t| and |E - d| (the host adds the bands).
 // With n = 3 width height, x / y the rendered / target value of a channel and (A, B, C) the blurred (a, b, c):
 //   dL/dx = (1 - l) sign(x - y) / n - l / n (A + 2 x B + y C),
-// and where the pixel has a depth pair (count of them: m, summed over the slots of stage 1), with
+// (0 where masked: x is the target there, whatever the render), and where the pixel has a depth pair (count
+// of them: m, summed over the slots of stage 1), with
 // E = D / alpha: dL/dE = w_d sign(E - d) / m, dL/dD = dL/dE / alpha, dL/dalpha = -dL/dE E / alpha.
 #version 460
 #extension GL_GOOGLE_include_directive : require
@@ -50,8 +51,9 @@ void main() {
       }
       uint p = uint((y0 + j) * width + x);
       vec4 rendered = colour[p], wanted = target[p];
-      vec3 r = rendered.rgb, t = wanted.rgb;
-      vec3 g = l1_scale * sign(r - t) + ssim_scale * (A + 2.0 * r * B + t * C);
+      float keep = 1.0 - Masked(wanted.w);
+      vec3 t = wanted.rgb, r = mix(t, rendered.rgb, keep);
+      vec3 g = keep * (l1_scale * sign(r - t) + ssim_scale * (A + 2.0 * r * B + t * C));
       l1_sum += dot(abs(r - t), vec3(1.0));
       float E = depth[p].y, alpha = rendered.a, dD = 0.0, dalpha = 0.0;
       if (HasDepthPair(wanted.w, alpha, E)) {

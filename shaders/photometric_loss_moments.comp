@@ -1,5 +1,6 @@
 // Photometric loss, stage 1 of 4 (see photometric_loss.glsl): the row half of the SSIM window blur of the
-// five moment images x, y, x^2, y^2, xy (x rendered rgb, y target rgb; packed in 4 vec4 per pixel), and per
+// five moment images x, y, x^2, y^2, xy (x rendered rgb, the target's where masked; y target rgb; packed in 4
+// vec4 per pixel), and per
 // band and subgroup the number of pixels with a depth pair (stage 4 normalizes the depth term by the total).
 // The depth-pair test takes alpha and target depth from the run's own colour / target loads instead of
 // loading them again (on lavapipe each per-lane load is a loop over the lanes: 2 of 3 loads per pixel saved).
@@ -30,7 +31,7 @@ void main() {
       float inside = x >= 0 && x < width ? 1.0 : 0.0;
       uint q = row + uint(clamp(x, 0, width - 1));
       vec4 c = colour[q], t = target[q];
-      PackMoments(inside * c.rgb, inside * t.rgb, m[i]);
+      PackMoments(inside * mix(c.rgb, t.rgb, Masked(t.w)), inside * t.rgb, m[i]);
       if (i >= kRadius && i < kRadius + kRun) {  // compile-time condition (unrolled)
         alpha[i - kRadius] = c.a;
         target_depth[i - kRadius] = t.w;

@@ -56,19 +56,27 @@ double AddSsimChannel(const std::vector<double>& x, const std::vector<double>& y
 
 PhotometricLoss EvaluatePhotometricLoss(const RenderedView& rendered, const std::vector<float>& target_rgb,
                                         const std::vector<float>& target_depth,
-                                        const PhotometricLossWeights& weights) {
+                                        const PhotometricLossWeights& weights,
+                                        const std::vector<std::uint8_t>& mask) {
   const int width = rendered.width, height = rendered.height;
   const std::size_t pixels = static_cast<std::size_t>(width) * height;
   assert(width > 0 && height > 0 && rendered.rgb.size() == 3 * pixels && target_rgb.size() == 3 * pixels);
   assert(target_depth.empty() || target_depth.size() == pixels);
+  assert(mask.empty() || mask.size() == pixels);
   const double l = weights.ssim_weight, n = 3.0 * static_cast<double>(pixels);
   PhotometricLoss loss;
+  auto masked = [&](std::size_t p) { return !mask.empty() && mask[p] == 0; };
+  // The rendered rgb the loss sees: the target's at masked pixels.
+  std::vector<float> r = rendered.rgb;
+  for (std::size_t p = 0; p < pixels; ++p)
+    if (masked(p))
+      for (int c = 0; c < 3; ++c) r[3 * p + c] = target_rgb[3 * p + c];
 
   // L1 and its gradient (1 - l) sign(r - t) / n.
   std::vector<double> gradient(3 * pixels);
   double l1_sum = 0;
   for (std::size_t i = 0; i < 3 * pixels; ++i) {
-    const double d = static_cast<double>(rendered.rgb[i]) - target_rgb[i];
+    const double d = static_cast<double>(r[i]) - target_rgb[i];
     l1_sum += std::abs(d);
     gradient[i] = (1 - l) * Sign(d) / n;
   }
@@ -79,11 +87,14 @@ PhotometricLoss EvaluatePhotometricLoss(const RenderedView& rendered, const std:
   std::vector<double> x(pixels), y(pixels);
   for (int c = 0; c < 3; ++c) {
     for (std::size_t p = 0; p < pixels; ++p) {
-      x[p] = rendered.rgb[3 * p + c];
+      x[p] = r[3 * p + c];
       y[p] = target_rgb[3 * p + c];
     }
     ssim_sum += AddSsimChannel(x, y, width, height, c, -l / n, &gradient);
   }
+  for (std::size_t p = 0; p < pixels; ++p)  // r does not depend on the render where it is masked
+    if (masked(p))
+      for (int c = 0; c < 3; ++c) gradient[3 * p + c] = 0;
   loss.dssim = 1.0 - ssim_sum / n;
   loss.gradients.rgb.assign(gradient.begin(), gradient.end());
   loss.gradients.alpha.assign(pixels, 0.0f);
@@ -95,7 +106,8 @@ PhotometricLoss EvaluatePhotometricLoss(const RenderedView& rendered, const std:
     double depth_sum = 0;
     std::size_t count = 0;
     auto valid = [&](std::size_t p) {
-      return target_depth[p] > 0 && rendered.alpha[p] >= 1e-4f && std::isfinite(rendered.expected_depth[p]);
+      return target_depth[p] > 0 && !masked(p) && rendered.alpha[p] >= 1e-4f &&
+             std::isfinite(rendered.expected_depth[p]);
     };
     for (std::size_t p = 0; p < pixels; ++p)
       if (valid(p)) {

@@ -8,8 +8,14 @@
 //             expected depth D / alpha (0 when there is no such pixel or no target depth).
 // The gradient goes to ViewGradients: rgb directly; the depth term through E = D / alpha to depth_sum (dL/dD)
 // and alpha (AddExpectedDepthGradient). |.| has the subgradient sign(.) (0 at 0).
+//
+// Masked pixels (an image's pixels that show nothing to learn: outside what an undistorted camera fills, the
+// car's own hood) count as rendered perfectly: r is replaced by t there, in L1 and in every SSIM window that
+// covers them, so they add nothing to the loss, their gradient is 0, they have no depth pair, and n stays
+// 3 x width x height. On the device the mask travels as a negative target depth (vk/loss_pass.h).
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "splat/cpu_reference/reference_backward.h"
@@ -33,9 +39,11 @@ struct PhotometricLoss {
 };
 
 // The loss of `rendered` (rgb, alpha, expected_depth used) against target_rgb (width x height x 3) and
-// target_depth (width x height, 0: no depth; or empty: no depth term). Sizes must match (asserted).
+// target_depth (width x height, 0: no depth; or empty: no depth term); mask (width x height, 0: masked; or
+// empty: none). Sizes must match (asserted).
 PhotometricLoss EvaluatePhotometricLoss(const RenderedView& rendered, const std::vector<float>& target_rgb,
                                         const std::vector<float>& target_depth,
-                                        const PhotometricLossWeights& weights);
+                                        const PhotometricLossWeights& weights,
+                                        const std::vector<std::uint8_t>& mask = {});
 
 }  // namespace uf::splat

@@ -42,14 +42,18 @@ std::vector<double> BlurWithSsimWindow(const std::vector<double>& image, int wid
   return out;
 }
 
-double Psnr(const std::vector<float>& a, const std::vector<float>& b) {
-  assert(a.size() == b.size() && !a.empty());
+double Psnr(const std::vector<float>& a, const std::vector<float>& b, std::span<const std::uint8_t> mask) {
+  assert(a.size() == b.size() && !a.empty() && (mask.empty() || 3 * mask.size() == a.size()));
   double sum = 0;
+  std::size_t count = 0;
   for (std::size_t i = 0; i < a.size(); ++i) {
+    if (!mask.empty() && mask[i / 3] == 0) continue;
     const double d = static_cast<double>(a[i]) - b[i];
     sum += d * d;
+    ++count;
   }
-  const double mse = sum / static_cast<double>(a.size());
+  if (count == 0) return std::numeric_limits<double>::infinity();
+  const double mse = sum / static_cast<double>(count);
   return mse > 0 ? 10.0 * std::log10(1.0 / mse) : std::numeric_limits<double>::infinity();
 }
 

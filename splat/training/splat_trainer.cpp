@@ -51,6 +51,9 @@ Status CheckView(const TrainingView& view) {
   if (!view.depth.empty() && view.depth.size() != pixels)
     return Status::Error("training view: depth has " + std::to_string(view.depth.size()) +
                          " values, expected " + std::to_string(pixels) + " (or none)");
+  if (!view.mask.empty() && view.mask.size() != pixels)
+    return Status::Error("training view: mask has " + std::to_string(view.mask.size()) +
+                         " values, expected " + std::to_string(pixels) + " (or none)");
   return Status();
 }
 
@@ -166,7 +169,7 @@ Expected<bool> SplatTrainer::Impl::Submit(const TrainingView& view, const FloatC
   return true;
 }
 
-Expected<IterationStats> SplatTrainer::Step(const TrainingView& view) {
+Expected<IterationStats> SplatTrainer::Step(const TrainingView& view, std::vector<float>* rendered_rgb) {
   if (Status s = CheckView(view); !s.ok()) return s;
   Impl& m = *impl_;
   const FloatCamera camera = MakeFloatCamera(view.camera);
@@ -178,6 +181,11 @@ Expected<IterationStats> SplatTrainer::Step(const TrainingView& view) {
     done = submitted.value();
   }
   if (!done) return Status::Error("splat training: key buffers did not grow");
+  if (rendered_rgb) {
+    RenderedView rendered;
+    m.forward->ReadView(&rendered);
+    *rendered_rgb = std::move(rendered.rgb);
+  }
   ++m.iteration;
   stats.iteration = m.iteration;
   stats.active_sh_degree = m.ActiveShDegree();
@@ -192,8 +200,10 @@ Status SplatTrainer::Impl::Densify(IterationStats* stats) {
   const TrainingOptions& o = options;
   const bool densify =
       iteration >= o.densify_from && iteration < o.densify_until && iteration % o.densify_interval == 0;
+  // A reset leaves the model nearly transparent; the opacities need iterations to come back, so none in
+  // the last half interval of the run (1000 iterations would otherwise end on a reset, an almost black model).
   const bool reset = o.opacity_reset_interval > 0 && iteration % o.opacity_reset_interval == 0 &&
-                     iteration < o.densify_until;
+                     iteration < o.densify_until && iteration + o.opacity_reset_interval / 2 <= o.iterations;
   if (!densify && !reset) return Status();
   Expected<OptimizerHostState> state = adam->Download(gaussians);
   if (!state.ok()) return state.status();

@@ -41,8 +41,10 @@ class SplatTrainer {
   SplatTrainer(const SplatTrainer&) = delete;
   SplatTrainer& operator=(const SplatTrainer&) = delete;
 
-  // One optimization step on `view` (its image size must match its camera).
-  Expected<IterationStats> Step(const TrainingView& view);
+  // One optimization step on `view` (its image size must match its camera). `rendered_rgb` (optional)
+  // receives the step's forward render (width x height x 3, before the update), e.g. for fitting the view's
+  // exposure (training/exposure.h).
+  Expected<IterationStats> Step(const TrainingView& view, std::vector<float>* rendered_rgb = nullptr);
   // The current model (downloaded from the device).
   Expected<GaussianModel> Model() const;
   // Renders the current model (evaluation, comparisons); does not change the optimizer state.

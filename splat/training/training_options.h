@@ -33,7 +33,9 @@ struct TrainingOptions {
   double dense_fraction = 0.01;
   double prune_opacity = 0.005;
   double prune_world_fraction = 0.1;
-  int opacity_reset_interval = 1000;  // opacities are clamped to 0.01 every this many iterations (0: never)
+  // Opacities are clamped to 0.01 every this many iterations before densify_until, except in the run's last
+  // half interval (they need the iterations after it to recover); 0: never.
+  int opacity_reset_interval = 1000;
   std::size_t max_gaussians = 2'000'000;  // densification stops growing the model here
   RenderSettings render;                  // background etc. of the training renders
   std::uint64_t seed = 1;
@@ -46,6 +48,10 @@ struct TrainingView {
   SplatCamera camera;        // intrinsics at the training resolution, pose T_world_camera
   std::vector<float> rgb;    // width x height x 3, display-referred (sRGB) in [0, 1], row-major
   std::vector<float> depth;  // optional LiDAR depth t_z per pixel, m (0: none); empty: no depth
+  // Optional, width x height: 0 where the image shows nothing to learn (not filled by an undistorted camera,
+  // the car's own hood); masked pixels add nothing to the loss (cpu_reference/photometric_loss.h). Empty:
+  // every pixel counts.
+  std::vector<std::uint8_t> mask;
 };
 
 }  // namespace uf::splat

@@ -83,6 +83,28 @@ std::vector<float> Undistort(std::span<const float> rgb, const CameraModel& mode
   return out;
 }
 
+std::vector<std::uint8_t> UndistortedCoverage(const CameraModel& model, const PinholeIntrinsics& pinhole) {
+  std::vector<std::uint8_t> coverage(static_cast<std::size_t>(pinhole.width) * pinhole.height, 0);
+  for (int y = 0; y < pinhole.height; ++y)
+    for (int x = 0; x < pinhole.width; ++x) {
+      const Eigen::Vector3d ray((x - pinhole.cx) / pinhole.fx, (y - pinhole.cy) / pinhole.fy, 1.0);
+      const std::optional<Eigen::Vector2d> p = model.Project(ray);
+      coverage[static_cast<std::size_t>(y) * pinhole.width + x] = p && model.InImage(*p) ? 1 : 0;
+    }
+  return coverage;
+}
+
+std::vector<std::uint8_t> ResizeMask(std::span<const std::uint8_t> mask, int width, int height, int new_width,
+                                     int new_height) {
+  // The share of masked area under each target pixel, by the area weights; any share at all masks it.
+  std::vector<float> masked(mask.size());
+  for (std::size_t i = 0; i < mask.size(); ++i) masked[i] = mask[i] == 0 ? 1.0f : 0.0f;
+  const std::vector<float> share = ResizeArea(masked, width, height, 1, new_width, new_height);
+  std::vector<std::uint8_t> out(share.size());
+  for (std::size_t i = 0; i < share.size(); ++i) out[i] = share[i] > 1e-4f ? 0 : 1;
+  return out;
+}
+
 std::vector<float> ResizeArea(std::span<const float> image, int width, int height, int channels,
                               int new_width, int new_height) {
   const AxisWeights wx = BoxWeights(width, new_width), wy = BoxWeights(height, new_height);

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <span>
 #include <vector>
 
@@ -32,6 +33,15 @@ std::vector<float> ToRgbFloat(const Image& image);
 // (clamped to the image's edge pixels); rays the model cannot project or that land outside the image are 0.
 std::vector<float> Undistort(std::span<const float> rgb, const CameraModel& model,
                              const PinholeIntrinsics& pinhole);
+
+// Which pixels of Undistort's result the image fills: pinhole.width x pinhole.height, 1 where the ray
+// lands inside the image, 0 where Undistort leaves 0 for want of a source pixel.
+std::vector<std::uint8_t> UndistortedCoverage(const CameraModel& model, const PinholeIntrinsics& pinhole);
+
+// A mask (1: use, 0: masked) of width x height resized to new_width x new_height: a target pixel is used
+// only when every source pixel its footprint overlaps is (area weights as ResizeArea).
+std::vector<std::uint8_t> ResizeMask(std::span<const std::uint8_t> mask, int width, int height, int new_width,
+                                     int new_height);
 
 // Area-weighted resize of a width x height x channels image (see the top of this file).
 std::vector<float> ResizeArea(std::span<const float> image, int width, int height, int channels,

@@ -71,12 +71,15 @@ Status LossPass::Prepare(int width, int height) {
 void LossPass::UploadTarget(const TrainingView& view) {
   const std::size_t pixels = static_cast<std::size_t>(width_) * height_;
   assert(view.rgb.size() == 3 * pixels && (view.depth.empty() || view.depth.size() == pixels));
+  assert(view.mask.empty() || view.mask.size() == pixels);
   auto* out = static_cast<float*>(target_.data());
   for (std::size_t p = 0; p < pixels; ++p) {
     out[4 * p] = view.rgb[3 * p];
     out[4 * p + 1] = view.rgb[3 * p + 1];
     out[4 * p + 2] = view.rgb[3 * p + 2];
-    out[4 * p + 3] = view.depth.empty() ? 0.0f : view.depth[p];
+    // A depth <= 0 is no depth (as in the reference); only a masked pixel's is negative.
+    out[4 * p + 3] = view.depth.empty() ? 0.0f : std::max(view.depth[p], 0.0f);
+    if (!view.mask.empty() && view.mask[p] == 0) out[4 * p + 3] = kMaskedDepth;
   }
 }
 

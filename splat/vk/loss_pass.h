@@ -32,8 +32,11 @@ class LossPass {
   // pixel) and partial-sum buffers for this image size. Errors: a size that is not positive, a buffer over
   // the device's binding limit.
   Status Prepare(int width, int height);
-  // Writes the view's rgb (and depth; 0 where it has none) into the host-visible target buffer. The view
-  // must have the prepared size (asserted).
+  // Target depth of a masked pixel (TrainingView::mask): the shaders take the target's rgb as the rendered
+  // value there and give it no gradient.
+  static constexpr float kMaskedDepth = -1.0f;
+  // Writes the view's rgb (and depth; 0 where it has none, kMaskedDepth where masked) into the host-visible
+  // target buffer. The view must have the prepared size (asserted).
   void UploadTarget(const TrainingView& view);
   // Records the four stages (each followed by a barrier) into the open frame, with a timestamp before the
   // first and after each (kStageCount + 1). colour: vec4 per pixel (rgb

@@ -244,6 +244,43 @@ TEST(CliRunKitti, FirstTenKeyframesRunAndReportTheAccuracy) {
   EXPECT_FALSE(fs::exists(dir.File("wgio")));
 }
 
+// The real KITTI raw drive end to end (issue 25): LIO+G on the HDL-64E and the 10 Hz OXTS, the map
+// coloured from image_02, splats trained on the real images for a few dozen iterations at the default
+// reduced resolution, and the accuracy against the OXTS reference the reader derives.
+TEST(CliRunKittiRaw, TheRealDriveRunsEndToEndAndItsSplatsLearnFromTheImages) {
+  const std::string data = testing::SharedData();
+  const fs::path drive = fs::path(data) / "kitti-raw-0009" / "2011_09_26" / "2011_09_26_drive_0009_sync";
+  if (data.empty() || !fs::exists(drive)) GTEST_SKIP() << "../shared/data/kitti-raw-0009 is absent";
+  TempDir dir;
+  const std::string config = dir.File("splat.yaml");
+  std::ofstream(config) << "splat:\n  iterations: 40\n";
+  const std::string run = dir.File("run");
+  const auto result = Ultrafusion("run " + drive.string() + " --config " + config + " --out " + run);
+  ASSERT_EQ(result.code, 0) << result.output;
+  // 51 scans, 55 m at 10.7 m/s; the reference is decimetre-accurate, the issue's figure is 0.20 m.
+  const std::string report = testing::ReadText(run + "/report.md");
+  const double ate = ReportedAte(report);
+  EXPECT_GE(ate, 0) << report;
+  EXPECT_LT(ate, 0.2) << report;
+  // The reference at the trajectory's stamps: all but the first, which precedes the first OXTS record (the
+  // OXTS lags the scanner's trigger by 12-19 ms; no extrapolation).
+  EXPECT_EQ(ReadRows(run + "/reference.tum").size() + 1, ReadRows(run + "/trajectory.tum").size());
+  // The colour map: the share of the LiDAR points inside an image's footprint that took a colour.
+  const std::size_t at = result.output.find(" % of the in-image points coloured");
+  ASSERT_NE(at, std::string::npos) << result.output;
+  EXPECT_GT(std::stod(result.output.substr(result.output.rfind(' ', at - 1) + 1)), 90.0) << result.output;
+  // Splats: the 26 images, 1 before the trajectory's first pose, 25 used: 4 held out (index % 8 == 0).
+  const auto metrics = nlohmann::json::parse(testing::ReadText(run + "/metrics.json"));
+  EXPECT_EQ(metrics["views_test"].get<int>(), 4);
+  EXPECT_EQ(metrics["views_train"].get<int>(), 21);
+  EXPECT_EQ(metrics["resolution"], nlohmann::json::array({310, 93}));
+  EXPECT_EQ(metrics["iterations"].get<int>(), 40);
+  EXPECT_GT(metrics["psnr_test"].get<double>(), metrics["psnr_test_initial"].get<double>() + 1.0) << metrics;
+  EXPECT_EQ(metrics["exposures"].size(), 25u);  // before exposure_from: every gain 1, bias 0
+  EXPECT_EQ(metrics["masked_pixels"].get<int>(), 0);  // rectified images: every pixel filled
+  EXPECT_TRUE(fs::exists(run + "/splats.ply"));
+}
+
 // The number after "against the GNSS track (... ): horizontal RMSE " in run's output, or -1.
 double GnssTrackHorizontalRmse(const std::string& output) {
   const std::size_t at = output.find("against the GNSS track (");

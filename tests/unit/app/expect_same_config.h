@@ -280,6 +280,10 @@ inline void ExpectSameSplat(const SplatConfig& a, const SplatConfig& b) {
   EXPECT_FIELD(comparisons);
   EXPECT_FIELD(seed_points);
   EXPECT_FIELD(sky_gaussians);
+  EXPECT_FIELD(mask_image);
+  EXPECT_FIELD(exposure_compensation);
+  EXPECT_FIELD(exposure_from);
+  EXPECT_FIELD(exposure_prior);
   EXPECT_FIELD(training.iterations);
   EXPECT_FIELD(training.sh_degree);
   EXPECT_FIELD(training.sh_degree_interval);

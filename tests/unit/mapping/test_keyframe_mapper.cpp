@@ -134,6 +134,32 @@ TEST(KeyframeMapper, AFrameBetweenKeyframesIsPlacedAtTheInterpolatedPose) {
   }
 }
 
+TEST(KeyframeMapper, AKeyframeIsColouredFromFramesBeyondItsNeighbours) {
+  // The points belong to a keyframe at 0 s; the only frame, at 0.4 s, lies between two later keyframes
+  // (0.3 s and 0.5 s, the body moving 2.5 m/s along x), within the 0.5 s reach: its pose is interpolated
+  // between those two, and it colours the first keyframe's points.
+  Scene scene = MakeScene();
+  Keyframe at_03, at_05, at_09;
+  at_03.stamp = FromSeconds(0.3), at_03.T_world_body = SE3(SO3(), Eigen::Vector3d(0.75, 0, 0));
+  at_05.stamp = FromSeconds(0.5), at_05.T_world_body = SE3(SO3(), Eigen::Vector3d(1.25, 0, 0));
+  at_09.stamp = FromSeconds(0.9), at_09.T_world_body = SE3(SO3(), Eigen::Vector3d(2.25, 0, 0));
+  Expected<KeyframeMapper> mapper = KeyframeMapper::Create(Options(0.5), Description(), SE3());
+  ASSERT_TRUE(mapper.ok()) << mapper.error();
+  ASSERT_TRUE(mapper->AddKeyframe(scene.first).ok());
+  ASSERT_TRUE(mapper->AddKeyframe(at_03).ok());
+  mapper->AddCameraFrame(kCameraStream, PatternFrame(0.4));
+  ASSERT_TRUE(mapper->AddKeyframe(at_05).ok());
+  ASSERT_TRUE(mapper->AddKeyframe(at_09).ok());  // 0.9 s: the first keyframe's window is complete
+  EXPECT_EQ(mapper->colored_points(), scene.pixels.size());
+  ASSERT_TRUE(mapper->Finish().ok());
+  const MapView view(mapper->map(), {.compute_normals = false});
+  for (const Eigen::Vector2i& pixel : scene.pixels) {
+    const std::optional<MapPoint> point = view.Nearest(PointAtPixel(pixel.x(), pixel.y()).cast<double>(), 0.01);
+    ASSERT_TRUE(point.has_value() && point->has_color) << pixel.transpose();
+    EXPECT_EQ(point->rgb, PixelColor(pixel.x(), pixel.y())) << pixel.transpose();
+  }
+}
+
 TEST(KeyframeMapper, FramesFartherThanTheMaximumDistanceAreNotUsed) {
   const Scene scene = MakeScene();
   // 0.4 s from both keyframes, beyond 0.3 s. The undecodable frame at 0.45 s is never decoded, so it gives

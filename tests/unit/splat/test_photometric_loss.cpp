@@ -232,5 +232,67 @@ TEST(PhotometricLoss, GradientMatchesFiniteDifferences) {
   }
 }
 
+// Masked pixels count as rendered perfectly: the loss is that of the render with the target pasted into the
+// masked pixels, whatever the render holds there, and their gradient is 0; the other pixels' gradient still
+// matches finite differences.
+TEST(PhotometricLoss, MaskedPixelsCountAsRenderedPerfectly) {
+  const int width = 13, height = 9;
+  LossCase c = RandomLossCase(8, width, height);
+  std::vector<std::uint8_t> mask(width * height, 1);
+  for (int p = 0; p < width * height; p += 4) mask[p] = 0;
+  const PhotometricLossWeights weights{0.2f, 0.3f};
+  const PhotometricLoss loss = EvaluatePhotometricLoss(c.rendered, c.target_rgb, c.target_depth, weights, mask);
+  RenderedView pasted = c.rendered;
+  std::vector<float> depth = c.target_depth;
+  for (int p = 0; p < width * height; ++p)
+    if (mask[p] == 0) {
+      for (int k = 0; k < 3; ++k) pasted.rgb[3 * p + k] = c.target_rgb[3 * p + k];
+      depth[p] = 0;  // no depth pair
+    }
+  const PhotometricLoss expected = EvaluatePhotometricLoss(pasted, c.target_rgb, depth, weights);
+  EXPECT_NEAR(loss.total, expected.total, 1e-12);
+  EXPECT_NEAR(loss.dssim, expected.dssim, 1e-12);
+  EXPECT_NEAR(loss.depth, expected.depth, 1e-12);
+  EXPECT_LT(loss.total, EvaluatePhotometricLoss(c.rendered, c.target_rgb, c.target_depth, weights).total);
+  double scale = 0, error = 0;
+  for (int p = 0; p < width * height; ++p) {
+    const bool masked = mask[p] == 0;
+    for (int k = 0; k < 3; ++k) {
+      if (masked) {
+        EXPECT_EQ(loss.gradients.rgb[3 * p + k], 0.0f);
+        continue;
+      }
+      // Unmasked: central difference of the masked loss.
+      float& value = c.rendered.rgb[3 * p + k];
+      const float saved = value;
+      value = saved + 1e-3f;
+      const float up = value;
+      const double plus = EvaluatePhotometricLoss(c.rendered, c.target_rgb, c.target_depth, weights, mask).total;
+      value = saved - 1e-3f;
+      const float down = value;
+      const double minus = EvaluatePhotometricLoss(c.rendered, c.target_rgb, c.target_depth, weights, mask).total;
+      value = saved;
+      const double fd = (plus - minus) / (static_cast<double>(up) - down);
+      scale = std::max(scale, std::abs(fd));
+      error = std::max(error, std::abs(fd - loss.gradients.rgb[3 * p + k]));
+    }
+    if (masked) {
+      EXPECT_EQ(loss.gradients.depth_sum[p], 0.0f);
+      EXPECT_EQ(loss.gradients.alpha[p], 0.0f);
+    }
+  }
+  EXPECT_LT(error, 1e-4 * scale);  // as GradientMatchesFiniteDifferences
+}
+
+TEST(ImageMetrics, PsnrOverTheUnmaskedPixels) {
+  // Two pixels: equal in the first, 0.1 apart in every channel of the second. Unmasked: MSE 0.005 (23.0 dB);
+  // the second masked: identical (inf); the first masked: MSE 0.01, 20 dB.
+  const std::vector<float> a = {0.5f, 0.5f, 0.5f, 0.2f, 0.2f, 0.2f}, b = {0.5f, 0.5f, 0.5f, 0.3f, 0.3f, 0.3f};
+  EXPECT_NEAR(Psnr(a, b), 10 * std::log10(1 / 0.005), 1e-4);
+  const std::vector<std::uint8_t> second = {1, 0}, first = {0, 1};
+  EXPECT_TRUE(std::isinf(Psnr(a, b, second)));
+  EXPECT_NEAR(Psnr(a, b, first), 20.0, 1e-4);
+}
+
 }  // namespace
 }  // namespace uf::splat

@@ -178,6 +178,21 @@ TEST_F(SplatTrainerTest, DensificationAndOpacityResetRunOnTheirSchedule) {
   EXPECT_EQ(model->size(), gaussians);
 }
 
+TEST_F(SplatTrainerTest, NoOpacityResetInTheLastHalfIntervalOfTheRun) {
+  // Reset every 20 iterations in a run of 25: the reset at 20 would leave 5 iterations to recover from it.
+  TrainingOptions options = NoDensification(25);
+  options.densify_until = 30;
+  options.densify_from = 30;  // no densification (from = until), only the reset's schedule
+  options.opacity_reset_interval = 20;
+  auto trainer = SplatTrainer::Create(Perturbed(truth_), options, 2.0);
+  ASSERT_TRUE(trainer.ok()) << trainer.error();
+  for (int it = 1; it <= 25; ++it) {
+    Expected<IterationStats> stats = (*trainer)->Step(views_[it % views_.size()]);
+    ASSERT_TRUE(stats.ok()) << stats.error();
+    EXPECT_FALSE(stats->densified) << it;
+  }
+}
+
 // Large Gaussians touch many tiles: the first step's pairs overflow the initial key buffers (4096 slots
 // for few Gaussians). The step must then be recorded again without applying Adam twice: the result equals a
 // trainer whose buffers were already large (grown by a Render before its first step).

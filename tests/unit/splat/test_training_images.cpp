@@ -73,6 +73,38 @@ TEST(TrainingImages, UndistortionSamplesTheDistortedImageWhereTheModelProjectsEa
   EXPECT_FALSE(IsDistorted(plain));
 }
 
+TEST(TrainingImages, CoverageMarksThePixelsUndistortionCannotFill) {
+  // Pincushion distortion: the pinhole view's corners see rays that land outside the distorted image.
+  PinholeRadtanIntrinsics k;
+  k.pinhole = {.width = 40, .height = 30, .fx = 30, .fy = 30, .cx = 19.5, .cy = 14.5};
+  k.k1 = 0.4;
+  const PinholeRadtan model(k);
+  const PinholeIntrinsics pinhole = *PinholeOf(model);
+  const std::vector<std::uint8_t> coverage = UndistortedCoverage(model, pinhole);
+  // An all-white image undistorts to 1 exactly where the coverage says the image fills the pixel.
+  const std::vector<float> white(3 * 40 * 30, 1.0f);
+  const std::vector<float> out = Undistort(white, model, pinhole);
+  int uncovered = 0;
+  for (std::size_t p = 0; p < coverage.size(); ++p) {
+    EXPECT_EQ(coverage[p], out[3 * p] > 0.5f ? 1 : 0) << "pixel " << p;
+    uncovered += coverage[p] == 0;
+  }
+  EXPECT_EQ(coverage[0], 0);                // a corner
+  EXPECT_EQ(coverage[15 * 40 + 20], 1);     // the centre
+  EXPECT_GT(uncovered, 20);
+  EXPECT_LT(uncovered, 40 * 30 / 2);
+}
+
+TEST(TrainingImages, AResizedMaskMasksEveryPixelThatOverlapsAMaskedOne) {
+  // 6 x 2 -> 3 x 1 (2 x 2 blocks) and 6 x 2 -> 4 x 1 (1.5 px footprints).
+  std::vector<std::uint8_t> mask(12, 1);
+  mask[2] = 0;  // (2, 0)
+  EXPECT_EQ(ResizeMask(mask, 6, 2, 3, 1), (std::vector<std::uint8_t>{1, 0, 1}));
+  EXPECT_EQ(ResizeMask(mask, 6, 2, 4, 1), (std::vector<std::uint8_t>{1, 0, 1, 1}));
+  mask[2] = 1, mask[3] = 0;  // (3, 0): overlapped by the 2nd and 3rd of 4 footprints [1.5, 3) and [3, 4.5)
+  EXPECT_EQ(ResizeMask(mask, 6, 2, 4, 1), (std::vector<std::uint8_t>{1, 1, 0, 1}));
+}
+
 // A model that is neither pinhole-radtan nor equidistant (an orthographic camera, for the test only).
 class Orthographic : public CameraModel {
  public:

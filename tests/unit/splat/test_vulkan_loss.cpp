@@ -123,8 +123,9 @@ float MaxAbs(const std::vector<float>& v) {
 void ExpectMatchesReference(const Scene& scene, const PhotometricLossWeights& weights,
                             const std::vector<float>& gpu, const PhotometricLossValue& loss) {
   const std::vector<float> no_depth;
-  const PhotometricLoss reference = EvaluatePhotometricLoss(
-      scene.rendered, scene.target.rgb, scene.target.depth.empty() ? no_depth : scene.target.depth, weights);
+  const PhotometricLoss reference =
+      EvaluatePhotometricLoss(scene.rendered, scene.target.rgb,
+                              scene.target.depth.empty() ? no_depth : scene.target.depth, weights, scene.target.mask);
   EXPECT_NEAR(loss.l1, reference.l1, 1e-6 * reference.l1);
   EXPECT_NEAR(loss.dssim, reference.dssim, 1e-6);
   EXPECT_NEAR(loss.depth, reference.depth, 1e-6 * reference.depth + 1e-12);
@@ -184,6 +185,23 @@ TEST_F(VulkanLoss, ViewWithoutDepthHasNoDepthTermAndIsDeterministic) {
   const std::vector<float> repeated = Run(scene, weights, &again);
   EXPECT_EQ(std::memcmp(gpu.data(), repeated.data(), gpu.size() * 4), 0);
   EXPECT_EQ(loss.total, again.total);
+}
+
+TEST_F(VulkanLoss, MaskedPixelsMatchTheCpuReference) {
+  // A band of masked rows and columns (an undistorted view's unfilled border) plus scattered pixels.
+  Scene scene = RandomScene(11, 70, 45);
+  scene.target.mask.assign(70 * 45, 1);
+  for (int y = 0; y < 45; ++y)
+    for (int x = 0; x < 70; ++x)
+      if (x < 6 || y > 40 || (x * 7 + y * 3) % 17 == 0) scene.target.mask[y * 70 + x] = 0;
+  const PhotometricLossWeights weights{0.2f, 0.5f};
+  PhotometricLossValue loss;
+  const std::vector<float> gpu = Run(scene, weights, &loss);
+  ExpectMatchesReference(scene, weights, gpu, loss);
+  for (std::size_t p = 0; p < scene.target.mask.size(); ++p) {
+    if (scene.target.mask[p] != 0) continue;
+    for (int k = 0; k < 5; ++k) ASSERT_EQ(gpu[8 * p + k], 0.0f) << "pixel " << p;
+  }
 }
 
 TEST_F(VulkanLoss, RejectsAnEmptyImage) {

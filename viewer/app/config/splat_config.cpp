@@ -1,6 +1,8 @@
 // The `splat:` section: its schema (every key once, with its unit and meaning) and its checks.
 #include "viewer/app/config/splat_config.h"
 
+#include <cmath>
+
 #include "viewer/app/config/section_schemas.h"
 
 namespace uf::app {
@@ -96,6 +98,17 @@ Schema<SplatConfig> MakeSplatSchema() {
   s.Key("sky_gaussians", &C::sky_gaussians, "Gaussians",
         "on a sphere beyond the map (radius: 1.2 x the 95th percentile distance of the map from the cameras) "
         "that learn the sky and far background (0: none)");
+  s.Key("mask_image", &C::mask_image, "path",
+        "an image of the camera's size (PNG) that is black where the camera sees nothing to learn (the car's "
+        "own hood): those pixels are not trained on nor scored; pixels an undistorted view cannot fill are "
+        "masked without it");
+  s.Key("exposure_compensation", &C::exposure_compensation, "",
+        "fit each training image's gain and bias per channel with the splats (automatic exposure and white "
+        "balance); held-out images take theirs interpolated in time between the training images around them");
+  s.Key("exposure_from", &C::exposure_from, "steps",
+        "the exposures are fitted from this iteration on (the splats first learn the average appearance)");
+  s.Key("exposure_prior", &C::exposure_prior, "",
+        "weight per pixel of the pull of each exposure towards gain 1, bias 0");
   s.Nest("", &C::training, t);
   return s;
 }
@@ -117,6 +130,9 @@ Status SplatConfig::Validate() const {
   if (comparisons < 0) return error("comparisons", "must be >= 0", comparisons);
   if (seed_points == 0) return error("seed_points", "must be > 0", 0);
   if (sky_gaussians < 0) return error("sky_gaussians", "must be >= 0", sky_gaussians);
+  if (exposure_from < 0) return error("exposure_from", "must be >= 0", exposure_from);
+  if (!(exposure_prior >= 0 && std::isfinite(exposure_prior)))
+    return error("exposure_prior", "must be finite and >= 0", exposure_prior);
   if (Status s = training.Validate(); !s.ok()) return s;
   return {};
 }

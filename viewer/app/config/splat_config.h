@@ -21,6 +21,13 @@ struct SplatConfig {
   int comparisons = 4;                // >= 0
   std::size_t seed_points = 200'000;  // at most this many map points seed Gaussians (thinned evenly), > 0
   int sky_gaussians = 30'000;         // Gaussians on a sphere beyond the map for the sky (0: none)
+  // Exposure compensation (splat/training/exposure.h): each training image's gain and bias per channel are
+  // fitted from exposure_from iterations on, towards (1, 0) with exposure_prior; held-out images take theirs
+  // interpolated in time.
+  std::string mask_image;  // PNG of the camera's size, black where the image shows nothing to learn; "": none
+  bool exposure_compensation = true;
+  int exposure_from = 300;      // iterations, >= 0
+  double exposure_prior = 0.01;  // >= 0
 
   // Checks every field (the trainer's through TrainingOptions::Validate); the message names the field.
   Status Validate() const;

@@ -1,5 +1,7 @@
 #include "viewer/pipeline/splat/splat_job.h"
 
+#include <algorithm>
+
 #include "odometry/io/dataset_reader.h"
 #include "viewer/pipeline/run/run_record.h"
 #include "viewer/pipeline/splat/splat_run_inputs.h"
@@ -89,10 +91,13 @@ Expected<SplatJobResult> RunSplatJob(const fs::path& run_dir, const SplatJobOpti
   SplatJobResult result;
   SplatMetrics& m = result.metrics;
   std::vector<splat::RenderedView> renders;
-  Expected<SplatScores> test =
-      ScoreViews(trainer, views->test, &renders, static_cast<std::size_t>(config.comparisons));
+  const std::vector<splat::Exposure> test_exposures = ExposuresAt(views->test, views->train, trained->exposures);
+  Expected<SplatScores> test = ScoreViews(trainer, views->test, test_exposures, &renders,
+                                          static_cast<std::size_t>(config.comparisons));
   if (!test) return test.status();
-  Expected<SplatScores> train = ScoreViews(trainer, SampleViews(views->train, kTrainViewsScored));
+  const std::vector<StoredView> train_sample = SampleViews(views->train, kTrainViewsScored);
+  Expected<SplatScores> train =
+      ScoreViews(trainer, train_sample, ExposuresAt(train_sample, views->train, trained->exposures));
   if (!train) return train.status();
   Expected<splat::GaussianModel> model = trainer.Model();
   if (!model) return model.status();
@@ -110,8 +115,18 @@ Expected<SplatJobResult> RunSplatJob(const fs::path& run_dir, const SplatJobOpti
   m.views_train = views->train.size(), m.views_test = views->test.size();
   m.images = views->images, m.images_outside_trajectory = views->outside_trajectory;
   m.images_undecodable = views->undecodable;
+  m.masked_pixels = views->masked_pixels;
   m.scene_extent_m = trained->scene_extent;
   m.sh_degree = config.training.sh_degree;
+  m.exposure_compensation = config.exposure_compensation;
+  if (config.exposure_compensation) {
+    for (std::size_t i = 0; i < views->train.size(); ++i)
+      m.exposures.push_back({views->train[i].stamp, false, trained->exposures[i]});
+    for (std::size_t i = 0; i < views->test.size(); ++i)
+      m.exposures.push_back({views->test[i].stamp, true, test_exposures[i]});
+    std::sort(m.exposures.begin(), m.exposures.end(),
+              [](const ViewExposure& a, const ViewExposure& b) { return a.stamp < b.stamp; });
+  }
 
   // Outputs, each atomic; metrics.json last (its presence says the rest is there).
   Expected<std::vector<std::string>> splats = WriteSplatFiles(run_dir, *model);

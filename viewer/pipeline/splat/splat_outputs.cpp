@@ -35,6 +35,12 @@ Status WriteSplatMetrics(const fs::path& file, const SplatMetrics& m) {
   nlohmann::json views = nlohmann::json::array();
   for (const ViewScore& v : m.test.views)
     views.push_back({{"stamp_ns", v.stamp}, {"psnr", Number(v.psnr)}, {"ssim", v.ssim}});
+  nlohmann::json exposures = nlohmann::json::array();
+  for (const ViewExposure& v : m.exposures)
+    exposures.push_back({{"stamp_ns", v.stamp},
+                         {"held_out", v.held_out},
+                         {"gain", v.exposure.gain},
+                         {"bias", v.exposure.bias}});
   const nlohmann::json json = {{"psnr_test", Number(m.test.psnr)},
                                {"ssim_test", m.test.ssim},
                                {"psnr_test_initial", Number(m.psnr_test_initial)},
@@ -58,9 +64,12 @@ Status WriteSplatMetrics(const fs::path& file, const SplatMetrics& m) {
                                {"images", m.images},
                                {"images_outside_trajectory", m.images_outside_trajectory},
                                {"images_undecodable", m.images_undecodable},
+                               {"masked_pixels", m.masked_pixels},
                                {"scene_extent_m", m.scene_extent_m},
                                {"sh_degree", m.sh_degree},
-                               {"test_views", views}};
+                               {"test_views", views},
+                               {"exposure_compensation", m.exposure_compensation},
+                               {"exposures", exposures}};
   AtomicFileWriter writer(file.string());
   if (Status s = writer.status(); !s.ok()) return s;
   writer.stream() << json.dump(2) << "\n";

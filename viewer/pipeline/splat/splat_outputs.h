@@ -22,7 +22,16 @@ namespace uf::pipeline {
 // seconds, stopped_by ("iterations" or "time_budget"), gaussians, gaussians_initial (map seeds + sky),
 // map_seeds, sky_gaussians, uncoloured_seeds,
 // device, camera, resolution [w, h], views_train, views_test, images, images_outside_trajectory,
-// images_undecodable, scene_extent_m, sh_degree, test_views [{stamp_ns, psnr, ssim}].
+// images_undecodable, masked_pixels (of the training resolution: not trained on nor scored), scene_extent_m,
+// sh_degree, test_views [{stamp_ns, psnr, ssim}], exposure_compensation,
+// exposures [{stamp_ns, held_out, gain [r, g, b], bias [r, g, b]}] (every view in stamp order; fitted for
+// the training views, interpolated for the held-out ones; empty without compensation).
+struct ViewExposure {
+  Stamp stamp = 0;
+  bool held_out = false;
+  splat::Exposure exposure;
+};
+
 struct SplatMetrics {
   SplatScores test, train;
   double psnr_test_initial = 0;
@@ -34,8 +43,11 @@ struct SplatMetrics {
   int width = 0, height = 0;
   std::size_t views_train = 0, views_test = 0;
   std::int64_t images = 0, images_outside_trajectory = 0, images_undecodable = 0;
+  std::size_t masked_pixels = 0;
   double scene_extent_m = 0;
   int sh_degree = 0;
+  bool exposure_compensation = false;
+  std::vector<ViewExposure> exposures;
 
   double iterations_per_s() const { return seconds > 0 ? iterations / seconds : 0.0; }
 };

@@ -56,13 +56,24 @@ Expected<SplatTrainingResult> TrainSplats(const splat::GaussianModel& seed,
   const int iterations = config.training.iterations;
   result.loss.reserve(static_cast<std::size_t>(iterations));
   const Clock::time_point start = Clock::now();
+  result.exposures.assign(train.size(), splat::Exposure{});
+  splat::ExposureFitOptions exposure_fit;
+  exposure_fit.prior_weight = config.exposure_prior;
+  std::vector<float> rendered;
   for (int i = 0; i < iterations; ++i) {
     if (next == order.size()) {
       std::iota(order.begin(), order.end(), std::size_t{0});
       std::shuffle(order.begin(), order.end(), random);
       next = 0;
     }
-    Expected<splat::IterationStats> step = result.trainer->Step(ToTrainingView(train[order[next++]]));
+    const std::size_t k = order[next++];
+    splat::TrainingView view = ToTrainingView(train[k]);
+    const bool fit_exposure = config.exposure_compensation && i >= config.exposure_from;
+    const std::vector<float> image = fit_exposure ? view.rgb : std::vector<float>{};
+    splat::RemoveExposure(result.exposures[k], view.rgb);
+    Expected<splat::IterationStats> step = result.trainer->Step(view, fit_exposure ? &rendered : nullptr);
+    if (fit_exposure && step)
+      result.exposures[k] = splat::FitExposure(rendered, image, exposure_fit, view.mask);
     if (!step)
       return Status::Error("splat training, iteration " + std::to_string(i + 1) + ": " + step.error());
     result.loss.push_back(step->loss);
@@ -77,17 +88,36 @@ Expected<SplatTrainingResult> TrainSplats(const splat::GaussianModel& seed,
   return result;
 }
 
+std::vector<splat::Exposure> ExposuresAt(const std::vector<StoredView>& views,
+                                         const std::vector<StoredView>& train,
+                                         const std::vector<splat::Exposure>& exposures) {
+  if (exposures.empty()) return {};
+  std::vector<Stamp> stamps;
+  for (const StoredView& view : train) stamps.push_back(view.stamp);
+  std::vector<splat::Exposure> at;
+  for (const StoredView& view : views) at.push_back(splat::InterpolateExposure(stamps, exposures, view.stamp));
+  return at;
+}
+
 Expected<SplatScores> ScoreViews(splat::SplatTrainer& trainer, const std::vector<StoredView>& views,
+                                 const std::vector<splat::Exposure>& exposures,
                                  std::vector<splat::RenderedView>* renders, std::size_t keep) {
   SplatScores scores;
-  for (const StoredView& view : views) {
+  for (std::size_t i = 0; i < views.size(); ++i) {
+    const StoredView& view = views[i];
     Expected<splat::RenderedView> rendered = trainer.Render(view.camera);
     if (!rendered) return rendered.status();
+    if (i < exposures.size()) splat::ApplyExposure(exposures[i], rendered->rgb);
     const splat::TrainingView real = ToTrainingView(view);
     // The renderer's colours may leave [0, 1] (SH + 0.5, blending); the images are in [0, 1].
     std::vector<float> rgb = rendered->rgb;
     for (float& v : rgb) v = std::clamp(v, 0.0f, 1.0f);
-    const ViewScore score{view.stamp, splat::Psnr(rgb, real.rgb),
+    // Masked pixels are left out of PSNR and count as equal in SSIM's windows (as in the training loss).
+    const std::span<const std::uint8_t> mask = view.mask ? std::span(*view.mask) : std::span<const std::uint8_t>();
+    for (std::size_t p = 0; p < mask.size(); ++p)
+      if (mask[p] == 0)
+        for (int c = 0; c < 3; ++c) rgb[3 * p + c] = real.rgb[3 * p + c];
+    const ViewScore score{view.stamp, splat::Psnr(rgb, real.rgb, mask),
                           splat::Ssim(rgb, real.rgb, view.camera.pinhole.width, view.camera.pinhole.height)};
     scores.views.push_back(score);
     scores.psnr += score.psnr / static_cast<double>(views.size());

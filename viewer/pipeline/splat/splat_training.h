@@ -2,7 +2,10 @@
 // views in a seeded shuffled order (a new permutation each pass, std::mt19937_64 on TrainingOptions::seed),
 // one view per iteration, until the iteration count or the time budget is reached; then the held-out and
 // (a sample of) the training views are rendered and scored with PSNR and SSIM (splat/training/
-// image_metrics.h, the 3DGS conventions).
+// image_metrics.h, the 3DGS conventions). With exposure compensation (splat/training/exposure.h) each
+// training view is trained against its image brought to the canonical exposure, its exposure refitted from
+// the render of each of its steps from SplatConfig::exposure_from on; views are scored with the render in
+// their exposure (the training views' own, the held-out views' interpolated in time).
 #pragma once
 
 #include <cstdint>
@@ -11,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "splat/training/exposure.h"
 #include "splat/training/splat_trainer.h"
 #include "viewer/app/config/splat_config.h"
 #include "viewer/pipeline/splat/splat_views.h"
@@ -43,7 +47,14 @@ struct SplatTrainingResult {
   double scene_extent = 0;       // m, the radius of the training camera centres
   std::vector<double> loss;      // per iteration
   double psnr_test_initial = 0;  // of the seeded model on the held-out views (0 without them)
+  std::vector<splat::Exposure> exposures;  // per training view, in the order given ((1, 0) when not fitted)
 };
+
+// The exposure of each of `views` from the training views' (`train` in stamp order, `exposures` theirs):
+// interpolated in time (splat::InterpolateExposure); empty `exposures`: none.
+std::vector<splat::Exposure> ExposuresAt(const std::vector<StoredView>& views,
+                                         const std::vector<StoredView>& train,
+                                         const std::vector<splat::Exposure>& exposures);
 
 // Adds the sky sphere of config.sky_gaussians Gaussians around the training cameras (splat/sky.h).
 void AddSky(splat::GaussianModel& model, const std::vector<StoredView>& train, const SplatConfig& config);
@@ -56,9 +67,11 @@ Expected<SplatTrainingResult> TrainSplats(const splat::GaussianModel& seed,
                                           const std::string& device,
                                           const std::function<void(const TrainingProgress&)>& progress = {});
 
-// Renders every view with the trainer's current model and scores it against the real image; `renders`
-// (optional) receives the first `keep` rendered views.
+// Renders every view with the trainer's current model, in the view's exposure (exposures[i] for views[i];
+// empty: the canonical one), and scores it against the real image; `renders` (optional) receives the first
+// `keep` rendered views (their rgb in the view's exposure).
 Expected<SplatScores> ScoreViews(splat::SplatTrainer& trainer, const std::vector<StoredView>& views,
+                                 const std::vector<splat::Exposure>& exposures = {},
                                  std::vector<splat::RenderedView>* renders = nullptr, std::size_t keep = 0);
 
 // Up to `count` views spread evenly over `views` (all of them when there are fewer).

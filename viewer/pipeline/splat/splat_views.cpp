@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <numbers>
 
 #include "odometry/io/for_each_measurement.h"
@@ -30,6 +32,38 @@ StoredView MakeView(const Image& image, const CameraModel& model, const PinholeI
     view.rgb[i] = static_cast<std::uint8_t>(std::lround(255.0f * std::clamp(rgb[i], 0.0f, 1.0f)));
   if (!depth_points.empty()) view.depth = splat::ProjectDepth(depth_points, view.camera);
   return view;
+}
+
+// The camera's mask at the training size (see the header); null when every pixel counts.
+Expected<std::shared_ptr<const std::vector<std::uint8_t>>> CameraMask(const CameraModel& model,
+                                                                      const PinholeIntrinsics& native,
+                                                                      const PinholeIntrinsics& target,
+                                                                      const std::string& mask_image) {
+  const std::size_t pixels = static_cast<std::size_t>(native.width) * native.height;
+  std::vector<std::uint8_t> mask(pixels, 1);
+  if (splat::IsDistorted(model)) mask = splat::UndistortedCoverage(model, native);
+  if (!mask_image.empty()) {
+    std::ifstream file(mask_image, std::ios::binary);
+    if (!file) return Status::Error("splat.mask_image: cannot open " + mask_image);
+    EncodedImage encoded;
+    encoded.format = "png";
+    encoded.bytes.assign(std::istreambuf_iterator<char>(file), {});
+    if (encoded.bytes.empty()) return Status::Error("splat.mask_image: " + mask_image + " is empty");
+    Expected<Image> image = DecodeImage(encoded);
+    if (!image) return Status::Error("splat.mask_image: " + mask_image + ": " + image.error());
+    if (image->width != native.width || image->height != native.height)
+      return Status::Error("splat.mask_image: " + mask_image + " is " + std::to_string(image->width) + " x " +
+                           std::to_string(image->height) + " px, the camera " + std::to_string(native.width) +
+                           " x " + std::to_string(native.height));
+    const int channels = image->channels;
+    for (std::size_t p = 0; p < pixels; ++p)
+      if (image->pixels[p * channels] < 128) mask[p] = 0;  // black (the first channel) masks
+  }
+  if (std::all_of(mask.begin(), mask.end(), [](std::uint8_t m) { return m != 0; }))
+    return std::shared_ptr<const std::vector<std::uint8_t>>();
+  if (target.width != native.width || target.height != native.height)
+    mask = splat::ResizeMask(mask, native.width, native.height, target.width, target.height);
+  return std::make_shared<const std::vector<std::uint8_t>>(std::move(mask));
 }
 
 }  // namespace
@@ -68,6 +102,7 @@ splat::TrainingView ToTrainingView(const StoredView& view) {
   training.rgb.resize(view.rgb.size());
   for (std::size_t i = 0; i < view.rgb.size(); ++i) training.rgb[i] = view.rgb[i] / 255.0f;
   training.depth = view.depth;
+  if (view.mask) training.mask = *view.mask;
   return training;
 }
 
@@ -82,6 +117,10 @@ Expected<SplatViews> LoadSplatViews(MeasurementStream& stream, const SplatCamera
   int width = config.width, height = config.height;
   if (width == 0) DefaultSize(native.width, native.height, config.max_width, width, height);
   views.pinhole = splat::ScalePinhole(native, width, height);
+  Expected<std::shared_ptr<const std::vector<std::uint8_t>>> mask =
+      CameraMask(*camera.model, native, views.pinhole, config.mask_image);
+  if (!mask) return mask.status();
+  if (*mask) views.masked_pixels = static_cast<std::size_t>(std::count((*mask)->begin(), (*mask)->end(), 0));
   KeyframeSelector selector(config.keyframe_distance_m, config.keyframe_angle_deg);
   std::int64_t selected = 0;
   const Status read = ForEachMeasurement(stream, [&](Measurement& m) {
@@ -104,6 +143,7 @@ Expected<SplatViews> LoadSplatViews(MeasurementStream& stream, const SplatCamera
     }
     StoredView view = MakeView(frame->image, *camera.model, native, views.pinhole, T_map_camera, frame->stamp,
                                loading.depth_points);
+    view.mask = *mask;
     (selected++ % config.holdout_stride == 0 ? views.test : views.train).push_back(std::move(view));
     return Status();
   });

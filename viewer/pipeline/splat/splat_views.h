@@ -1,7 +1,8 @@
 // The training and held-out views of a run: the dataset's first camera stream read again, each image placed
 // at its stamp on the run's trajectory, keyframe images selected by camera motion, made into pinhole images
 // at the training resolution (splat/views/training_images.h), and split: every holdout_stride-th selected
-// image (index % stride == 0, as 3DGS) is held out for testing and never trained on.
+// image (index % stride == 0, as 3DGS) is held out for testing and never trained on. One mask for all of
+// them: the pixels an undistorted view cannot fill and the black pixels of SplatConfig::mask_image.
 //
 // Where the camera was (frames of run_frames.h, recorded in run.json): trajectory.tum holds T_W_F(t), the
 // camera sits at T_F_C = T_F_B * T_B_C in the trajectory's frame (T_B_C its T_body_sensor), and the map is
@@ -59,6 +60,9 @@ struct StoredView {
   splat::SplatCamera camera;      // training resolution, T_world_camera in the map frame
   std::vector<std::uint8_t> rgb;  // width x height x 3
   std::vector<float> depth;       // LiDAR depth per pixel (0: none); empty without depth
+  // 0 where the pixel is not trained on nor scored (TrainingView::mask), shared by the camera's views;
+  // null: every pixel counts.
+  std::shared_ptr<const std::vector<std::uint8_t>> mask;
 };
 
 splat::TrainingView ToTrainingView(const StoredView& view);
@@ -71,6 +75,7 @@ struct SplatViews {
   std::int64_t images = 0;                   // frames of the camera stream
   std::int64_t outside_trajectory = 0;       // dropped: no pose at their stamp
   std::int64_t undecodable = 0;              // dropped: could not be decoded
+  std::size_t masked_pixels = 0;             // of the training resolution (StoredView::mask)
 };
 
 struct ViewLoading {
@@ -81,6 +86,7 @@ struct ViewLoading {
 };
 
 // Reads the stream to its end and keeps the selected views; `progress` is called with the images read.
+// Errors: a mask_image that cannot be read or decoded, or not of the camera's size (naming the file).
 Expected<SplatViews> LoadSplatViews(MeasurementStream& stream, const SplatCameraStream& camera,
                                     const ViewLoading& loading,
                                     const std::function<void(std::int64_t)>& progress = {});
