@@ -13,6 +13,7 @@
 #include "export/exr_view.h"
 #include "export/splat_gltf.h"
 #include "export/splat_ply.h"
+#include "odometry/io/image_decode.h"
 #include "tests/support/cli_runner.h"
 #include "tests/support/temp_dir.h"
 
@@ -221,6 +222,44 @@ TEST_F(CliSplat, AMapWithoutColourIsSeededGreyWithAWarning) {
   EXPECT_EQ(m["uncoloured_seeds"], m["map_seeds"]);
   EXPECT_EQ(m["gaussians_initial"].get<int>(), m["map_seeds"].get<int>() + m["sky_gaussians"].get<int>());
   EXPECT_EQ(m["sky_gaussians"], 30000);
+}
+
+// A PNG mask of width x height whose bottom `black_rows` rows are black (masked).
+std::string WriteMask(const TempDir& work, int width, int height, int black_rows) {
+  Image mask{width, height, 1, std::vector<std::uint8_t>(static_cast<std::size_t>(width) * height, 255)};
+  std::fill(mask.pixels.end() - static_cast<std::ptrdiff_t>(black_rows) * width, mask.pixels.end(), 0);
+  const Expected<std::vector<std::uint8_t>> png = EncodePng(mask, "mask");
+  EXPECT_TRUE(png.ok()) << png.error();
+  const std::string file = work.File("mask.png");
+  std::ofstream(file, std::ios::binary).write(reinterpret_cast<const char*>(png->data()),
+                                              static_cast<std::streamsize>(png->size()));
+  return file;
+}
+
+TEST_F(CliSplat, AMaskImageLeavesItsBlackPixelsOutAndAWrongOneIsAnError) {
+  TempDir work;
+  const std::string run = CopyRun(work);
+  // The camera is 160 x 120; its bottom quarter black: at 80 x 60, the bottom 15 rows.
+  const std::string config = work.Write("splat.yaml", "splat:\n  mask_image: " + WriteMask(work, 160, 120, 30) + "\n");
+  auto result = Ultrafusion("splat " + run + kTiny + " --config " + config);
+  ASSERT_EQ(result.code, 0) << result.output;
+  EXPECT_EQ(ReadJson(fs::path(run) / "metrics.json")["masked_pixels"], 80 * 15);
+
+  TempDir fresh;  // a run folder that has no splat outputs yet
+  const std::string other = CopyRun(fresh);
+  const std::string wrong = WriteMask(work, 100, 120, 30);
+  const std::string wrong_config = work.Write("wrong.yaml", "splat:\n  mask_image: " + wrong + "\n");
+  result = Ultrafusion("splat " + other + kTiny + " --config " + wrong_config);
+  EXPECT_EQ(result.code, 1) << result.output;
+  EXPECT_NE(result.output.find(wrong + " is 100 x 120 px, the camera 160 x 120"), std::string::npos)
+      << result.output;
+  ExpectNoOutputs(other);
+  const std::string missing = work.Write("missing.yaml", "splat:\n  mask_image: " + work.File("none.png") + "\n");
+  result = Ultrafusion("splat " + other + kTiny + " --config " + missing);
+  EXPECT_EQ(result.code, 1) << result.output;
+  EXPECT_NE(result.output.find("splat.mask_image: cannot open " + work.File("none.png")), std::string::npos)
+      << result.output;
+  ExpectNoOutputs(other);
 }
 
 TEST_F(CliSplat, UnknownConfigurationKeysAreUsageErrors) {

@@ -237,7 +237,7 @@ inline SplatConfig NonDefaultSplat() {
   c.seed_points = 5000;
   c.sky_gaussians = 100;
   c.mask_image = "masks/hood.png";
-  c.exposure_compensation = false;
+  c.exposure_compensation = true;
   c.exposure_from = 50;
   c.exposure_prior = 0.25;
   return c;
