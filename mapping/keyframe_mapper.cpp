@@ -72,7 +72,8 @@ Status KeyframeMapper::MapReady(bool finishing) {
     if (Status s = MapKeyframe(keyframes_[next_]); !s.ok()) return s;
   }
   // What a keyframe still to come needs: frames from `oldest` on, and the keyframes that bracket them.
-  const Stamp oldest = (next_ < keyframes_.size() ? keyframes_[next_].stamp : keyframes_.back().stamp) - reach;
+  const Stamp oldest =
+      (next_ < keyframes_.size() ? keyframes_[next_].stamp : keyframes_.back().stamp) - reach;
   while (next_ > 0 && keyframes_.size() >= 2 && keyframes_[1].stamp <= oldest) {
     keyframes_.pop_front();
     --next_;

@@ -16,8 +16,9 @@ struct ChannelFit {
 
 // The weighted normal equations of the header for channel c, with the weights of the previous fit (none
 // for the first solve).
-ChannelFit SolveChannel(std::span<const float> r, std::span<const float> t, std::span<const std::uint8_t> mask,
-                        int c, const ChannelFit* previous, const ExposureFitOptions& o) {
+ChannelFit SolveChannel(std::span<const float> r, std::span<const float> t,
+                        std::span<const std::uint8_t> mask, int c, const ChannelFit* previous,
+                        const ExposureFitOptions& o) {
   double W = 0, S_r = 0, S_t = 0, S_rr = 0, S_rt = 0;
   for (std::size_t p = static_cast<std::size_t>(c); p < r.size(); p += 3) {
     if (!mask.empty() && mask[p / 3] == 0) continue;

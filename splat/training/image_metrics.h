@@ -42,7 +42,8 @@ SsimMoments LocalSsimMoments(const std::vector<double>& x, const std::vector<dou
 // 10 log10(1 / MSE) in dB with MSE the mean squared difference over all entries (rgb in [0, 1]); +inf for
 // identical images. The sizes must match (asserted). With a mask (one per pixel of 3 entries, 0: left out),
 // the mean runs over the pixels it keeps.
-double Psnr(const std::vector<float>& a, const std::vector<float>& b, std::span<const std::uint8_t> mask = {});
+double Psnr(const std::vector<float>& a, const std::vector<float>& b,
+            std::span<const std::uint8_t> mask = {});
 
 // Mean SSIM over pixels and the 3 channels (the convention above); a and b are width x height x 3 (asserted).
 double Ssim(const std::vector<float>& a, const std::vector<float>& b, int width, int height);

@@ -200,8 +200,8 @@ Status SplatTrainer::Impl::Densify(IterationStats* stats) {
   const TrainingOptions& o = options;
   const bool densify =
       iteration >= o.densify_from && iteration < o.densify_until && iteration % o.densify_interval == 0;
-  // A reset leaves the model nearly transparent; the opacities need iterations to come back, so none in
-  // the last half interval of the run (1000 iterations would otherwise end on a reset, an almost black model).
+  // A reset leaves the model nearly transparent and the opacities need iterations to come back: none in
+  // the run's last half interval (a run of 1000 would end on one, with an almost black model).
   const bool reset = o.opacity_reset_interval > 0 && iteration % o.opacity_reset_interval == 0 &&
                      iteration < o.densify_until && iteration + o.opacity_reset_interval / 2 <= o.iterations;
   if (!densify && !reset) return Status();

@@ -231,8 +231,8 @@ std::string WriteMask(const TempDir& work, int width, int height, int black_rows
   const Expected<std::vector<std::uint8_t>> png = EncodePng(mask, "mask");
   EXPECT_TRUE(png.ok()) << png.error();
   const std::string file = work.File("mask.png");
-  std::ofstream(file, std::ios::binary).write(reinterpret_cast<const char*>(png->data()),
-                                              static_cast<std::streamsize>(png->size()));
+  std::ofstream(file, std::ios::binary)
+      .write(reinterpret_cast<const char*>(png->data()), static_cast<std::streamsize>(png->size()));
   return file;
 }
 
@@ -240,7 +240,8 @@ TEST_F(CliSplat, AMaskImageLeavesItsBlackPixelsOutAndAWrongOneIsAnError) {
   TempDir work;
   const std::string run = CopyRun(work);
   // The camera is 160 x 120; its bottom quarter black: at 80 x 60, the bottom 15 rows.
-  const std::string config = work.Write("splat.yaml", "splat:\n  mask_image: " + WriteMask(work, 160, 120, 30) + "\n");
+  const std::string config =
+      work.Write("splat.yaml", "splat:\n  mask_image: " + WriteMask(work, 160, 120, 30) + "\n");
   auto result = Ultrafusion("splat " + run + kTiny + " --config " + config);
   ASSERT_EQ(result.code, 0) << result.output;
   EXPECT_EQ(ReadJson(fs::path(run) / "metrics.json")["masked_pixels"], 80 * 15);
@@ -254,7 +255,8 @@ TEST_F(CliSplat, AMaskImageLeavesItsBlackPixelsOutAndAWrongOneIsAnError) {
   EXPECT_NE(result.output.find(wrong + " is 100 x 120 px, the camera 160 x 120"), std::string::npos)
       << result.output;
   ExpectNoOutputs(other);
-  const std::string missing = work.Write("missing.yaml", "splat:\n  mask_image: " + work.File("none.png") + "\n");
+  const std::string missing =
+      work.Write("missing.yaml", "splat:\n  mask_image: " + work.File("none.png") + "\n");
   result = Ultrafusion("splat " + other + kTiny + " --config " + missing);
   EXPECT_EQ(result.code, 1) << result.output;
   EXPECT_NE(result.output.find("splat.mask_image: cannot open " + work.File("none.png")), std::string::npos)

@@ -18,7 +18,7 @@ namespace uf {
 // "2011-09-26 13:08:24.969505176" -> ns since the Unix epoch, the time read as UTC (KITTI writes local
 // wall-clock time without a zone; taking it as UTC keeps every stream of a drive on one clock, which is all
 // the estimator needs, and matches how KITTI tools convert it). 0 to 9 fraction digits; nullopt for
-// anything else (including impossible dates such as 2011-02-30).
+// anything else (including impossible dates such as 2011-02-30, and years outside 1970-2200).
 std::optional<Stamp> ParseKittiWallClock(std::string_view text);
 
 // A timestamps.txt: one entry per frame, the line number being the frame index. An empty line (KITTI marks

@@ -1,13 +1,14 @@
 // Colours of a real KITTI raw scan (../shared/data/kitti-raw-0009) against the image they were taken from:
 // the scan is placed in the world by the drive's OXTS reference poses at each point's time (deskewed) and
-// coloured from the image taken with it through the reader's camera model and extrinsics; the colours are then
-// compared with the image sampled where the KITTI devkit's own formula puts each point,
-// x = P_rect_02 R_rect_00 [R | T]_velo_to_cam X_velo, from the calibration files parsed here independently
-// of the reader. Only points the scanner measured within 5 deg of straight ahead are compared: the camera is
-// triggered when the scanner faces forward, so for them the devkit's static projection holds to about a
-// pixel (the car moves 0.11 m in the 10.5 ms to the exposure: 0.8 px measured). The same with the camera
-// turned by one degree (13 px) disagrees clearly more: the check that extrinsics, stamps, camera model and the
-// colorizer's projection put each colour on its point.
+// coloured from the image taken with it through the reader's camera model and extrinsics; the colours are
+// then compared with the image sampled where the KITTI devkit's own formula puts each point,
+//   x = P_rect_02 R_rect_00 [R | T]_velo_to_cam X_velo,
+// from the calibration files parsed here independently of the reader. Only points the scanner measured
+// within 5 deg of straight ahead are compared: the camera is triggered when the scanner faces forward, so
+// for them the devkit's static projection holds to about a pixel (the car moves 0.11 m in the 10.5 ms to
+// the exposure: 0.8 px measured). The same with the camera turned by one degree (13 px) disagrees clearly
+// more: the check that extrinsics, stamps, camera model and the colorizer's projection put each colour on
+// its point.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -122,7 +123,8 @@ Agreement CompareWithDevkit(const Drive& drive, const LidarScan& scan, const Cam
   const std::vector<CameraView> views = {{&image.image, drive.camera.get(), T_world_cam, image.stamp}};
   const Expected<ColorizeResult> colored = Colorize(points, std::span(&image.stamp, 1), views);
   EXPECT_TRUE(colored.ok()) << colored.error();
-  const ProjectedScan projected = ProjectWithOcclusion(points, *drive.camera, T_world_cam, VisibilityOptions{});
+  const ProjectedScan projected =
+      ProjectWithOcclusion(points, *drive.camera, T_world_cam, VisibilityOptions{});
   std::vector<double> colour_differences, pixel_distances;
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (!colored->colors[i] || std::abs(std::atan2(velo[i].y(), velo[i].x())) > 5 * M_PI / 180) continue;
@@ -158,8 +160,8 @@ TEST(ColorizerKittiRaw, ColoursAreTheImageAtTheDevkitProjection) {
     const CameraFrame& image = drive.images[frame / 2];
     ASSERT_LT(std::llabs(image.stamp - (scan.stamp + scan.end) / 2), 20'000'000);
     const Agreement calibrated = CompareWithDevkit(drive, scan, image, drive.T_imu_cam, devkit);
-    std::printf("frame %d: %zu points compared, median %.2f px from the devkit's pixel, colour %.1f DN\n", frame,
-                calibrated.compared, calibrated.median_pixel, calibrated.median_colour_dn);
+    std::printf("frame %d: %zu points compared, median %.2f px from the devkit's pixel, colour %.1f DN\n",
+                frame, calibrated.compared, calibrated.median_pixel, calibrated.median_colour_dn);
     EXPECT_GT(calibrated.compared, 1000u);
     EXPECT_LT(calibrated.median_pixel, 1.5);
     // The camera turned by one degree about its x and y axes (12.6 px at f = 721 px; about the optical axis

@@ -154,7 +154,8 @@ TEST(KeyframeMapper, AKeyframeIsColouredFromFramesBeyondItsNeighbours) {
   ASSERT_TRUE(mapper->Finish().ok());
   const MapView view(mapper->map(), {.compute_normals = false});
   for (const Eigen::Vector2i& pixel : scene.pixels) {
-    const std::optional<MapPoint> point = view.Nearest(PointAtPixel(pixel.x(), pixel.y()).cast<double>(), 0.01);
+    const std::optional<MapPoint> point =
+        view.Nearest(PointAtPixel(pixel.x(), pixel.y()).cast<double>(), 0.01);
     ASSERT_TRUE(point.has_value() && point->has_color) << pixel.transpose();
     EXPECT_EQ(point->rgb, PixelColor(pixel.x(), pixel.y())) << pixel.transpose();
   }

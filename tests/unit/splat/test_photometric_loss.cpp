@@ -241,7 +241,8 @@ TEST(PhotometricLoss, MaskedPixelsCountAsRenderedPerfectly) {
   std::vector<std::uint8_t> mask(width * height, 1);
   for (int p = 0; p < width * height; p += 4) mask[p] = 0;
   const PhotometricLossWeights weights{0.2f, 0.3f};
-  const PhotometricLoss loss = EvaluatePhotometricLoss(c.rendered, c.target_rgb, c.target_depth, weights, mask);
+  const PhotometricLoss loss =
+      EvaluatePhotometricLoss(c.rendered, c.target_rgb, c.target_depth, weights, mask);
   RenderedView pasted = c.rendered;
   std::vector<float> depth = c.target_depth;
   for (int p = 0; p < width * height; ++p)
@@ -267,10 +268,12 @@ TEST(PhotometricLoss, MaskedPixelsCountAsRenderedPerfectly) {
       const float saved = value;
       value = saved + 1e-3f;
       const float up = value;
-      const double plus = EvaluatePhotometricLoss(c.rendered, c.target_rgb, c.target_depth, weights, mask).total;
+      const double plus =
+          EvaluatePhotometricLoss(c.rendered, c.target_rgb, c.target_depth, weights, mask).total;
       value = saved - 1e-3f;
       const float down = value;
-      const double minus = EvaluatePhotometricLoss(c.rendered, c.target_rgb, c.target_depth, weights, mask).total;
+      const double minus =
+          EvaluatePhotometricLoss(c.rendered, c.target_rgb, c.target_depth, weights, mask).total;
       value = saved;
       const double fd = (plus - minus) / (static_cast<double>(up) - down);
       scale = std::max(scale, std::abs(fd));

@@ -89,8 +89,8 @@ TEST(TrainingImages, CoverageMarksThePixelsUndistortionCannotFill) {
     EXPECT_EQ(coverage[p], out[3 * p] > 0.5f ? 1 : 0) << "pixel " << p;
     uncovered += coverage[p] == 0;
   }
-  EXPECT_EQ(coverage[0], 0);                // a corner
-  EXPECT_EQ(coverage[15 * 40 + 20], 1);     // the centre
+  EXPECT_EQ(coverage[0], 0);             // a corner
+  EXPECT_EQ(coverage[15 * 40 + 20], 1);  // the centre
   EXPECT_GT(uncovered, 20);
   EXPECT_LT(uncovered, 40 * 30 / 2);
 }

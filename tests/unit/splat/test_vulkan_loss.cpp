@@ -123,9 +123,9 @@ float MaxAbs(const std::vector<float>& v) {
 void ExpectMatchesReference(const Scene& scene, const PhotometricLossWeights& weights,
                             const std::vector<float>& gpu, const PhotometricLossValue& loss) {
   const std::vector<float> no_depth;
-  const PhotometricLoss reference =
-      EvaluatePhotometricLoss(scene.rendered, scene.target.rgb,
-                              scene.target.depth.empty() ? no_depth : scene.target.depth, weights, scene.target.mask);
+  const PhotometricLoss reference = EvaluatePhotometricLoss(
+      scene.rendered, scene.target.rgb, scene.target.depth.empty() ? no_depth : scene.target.depth, weights,
+      scene.target.mask);
   EXPECT_NEAR(loss.l1, reference.l1, 1e-6 * reference.l1);
   EXPECT_NEAR(loss.dssim, reference.dssim, 1e-6);
   EXPECT_NEAR(loss.depth, reference.depth, 1e-6 * reference.depth + 1e-12);

@@ -27,7 +27,7 @@ struct SplatConfig {
   // interpolated in time. Off by default: with a camera of fixed exposure (the simulator's) the fits absorb
   // the splats' own errors (-0.3 dB held out); on for automatic exposure (configs/kitti-raw.yaml).
   bool exposure_compensation = false;
-  int exposure_from = 300;      // iterations, >= 0
+  int exposure_from = 300;       // iterations, >= 0
   double exposure_prior = 0.01;  // >= 0
 
   // Checks every field (the trainer's through TrainingOptions::Validate); the message names the field.

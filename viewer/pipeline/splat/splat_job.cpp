@@ -91,7 +91,8 @@ Expected<SplatJobResult> RunSplatJob(const fs::path& run_dir, const SplatJobOpti
   SplatJobResult result;
   SplatMetrics& m = result.metrics;
   std::vector<splat::RenderedView> renders;
-  const std::vector<splat::Exposure> test_exposures = ExposuresAt(views->test, views->train, trained->exposures);
+  const std::vector<splat::Exposure> test_exposures =
+      ExposuresAt(views->test, views->train, trained->exposures);
   Expected<SplatScores> test = ScoreViews(trainer, views->test, test_exposures, &renders,
                                           static_cast<std::size_t>(config.comparisons));
   if (!test) return test.status();

@@ -95,7 +95,8 @@ std::vector<splat::Exposure> ExposuresAt(const std::vector<StoredView>& views,
   std::vector<Stamp> stamps;
   for (const StoredView& view : train) stamps.push_back(view.stamp);
   std::vector<splat::Exposure> at;
-  for (const StoredView& view : views) at.push_back(splat::InterpolateExposure(stamps, exposures, view.stamp));
+  for (const StoredView& view : views)
+    at.push_back(splat::InterpolateExposure(stamps, exposures, view.stamp));
   return at;
 }
 
@@ -113,7 +114,8 @@ Expected<SplatScores> ScoreViews(splat::SplatTrainer& trainer, const std::vector
     std::vector<float> rgb = rendered->rgb;
     for (float& v : rgb) v = std::clamp(v, 0.0f, 1.0f);
     // Masked pixels are left out of PSNR and count as equal in SSIM's windows (as in the training loss).
-    const std::span<const std::uint8_t> mask = view.mask ? std::span(*view.mask) : std::span<const std::uint8_t>();
+    const std::span<const std::uint8_t> mask =
+        view.mask ? std::span(*view.mask) : std::span<const std::uint8_t>();
     for (std::size_t p = 0; p < mask.size(); ++p)
       if (mask[p] == 0)
         for (int c = 0; c < 3; ++c) rgb[3 * p + c] = real.rgb[3 * p + c];

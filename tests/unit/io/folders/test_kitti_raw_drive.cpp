@@ -30,7 +30,8 @@ TEST(KittiWallClock, ParsesToTheNanosecondAsUtc) {
   EXPECT_EQ(ParseKittiWallClock("2011-09-26 13:08:24"), Stamp{1317042504000000000});
   EXPECT_EQ(ParseKittiWallClock("1970-01-01 00:00:00.000000001"), Stamp{1});
   for (const char* bad : {"", "2011-02-30 00:00:00", "2011-09-26 24:00:00", "2011-09-26T13:08:24",
-                          "2011-09-26 13:08:24.1234567890", "2011-09-26 13:08:2x", "13:08:24.9"})
+                          "2011-09-26 13:08:24.1234567890", "2011-09-26 13:08:2x", "13:08:24.9",
+                          "2398-01-01 12:00:00", "1969-12-31 23:59:59"})  // int64 ns ends in 2262
     EXPECT_FALSE(ParseKittiWallClock(bad)) << bad;
 }
 
