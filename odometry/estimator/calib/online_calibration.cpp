@@ -1,0 +1,156 @@
+#include "odometry/estimator/calib/online_calibration.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "odometry/estimator/calib/calibration_consensus.h"
+
+namespace uf::estimator {
+namespace {
+
+constexpr double kDegree = 3.14159265358979323846 / 180.0;
+
+std::string Text(const char* format, double a, double b) {
+  char buffer[160];
+  std::snprintf(buffer, sizeof buffer, format, a, b);
+  return buffer;
+}
+
+}  // namespace
+
+std::optional<Eigen::Vector3d> MeanGyroRate(std::span<const RateSample> gyro, double a, double b) {
+  if (gyro.empty() || !(b > a) || a < gyro.front().t || b > gyro.back().t) return std::nullopt;
+  auto it =
+      std::upper_bound(gyro.begin(), gyro.end(), a, [](double t, const RateSample& s) { return t < s.t; });
+  std::size_t k = static_cast<std::size_t>(std::max<std::ptrdiff_t>(it - gyro.begin() - 1, 0));
+  SO3 R;
+  double t = a;
+  while (t < b && k < gyro.size()) {
+    const double end = k + 1 < gyro.size() ? std::min(b, gyro[k + 1].t) : b;
+    if (end > t) R = R * SO3::Exp(gyro[k].omega * (end - t));
+    t = end;
+    ++k;
+  }
+  return (R.Log() / (b - a)).eval();
+}
+
+OnlineCalibration::OnlineCalibration(const OnlineCalibrationOptions& options) : options_(options) {}
+
+double OnlineCalibration::Seconds(Stamp stamp) {
+  if (!origin_) origin_ = stamp;
+  return ToSeconds(stamp - *origin_);
+}
+
+void OnlineCalibration::AddImu(const ImuSample& sample) {
+  const double t = Seconds(sample.stamp);
+  if (!gyro_.empty() && t <= gyro_.back().t) return;  // keep the track increasing
+  gyro_.push_back({t, sample.gyro});
+  // Keep the window plus the search range behind the newest sample.
+  const double keep = options_.window_s + 2 * options_.time.max_shift_s + 1.0;
+  while (!gyro_.empty() && gyro_.front().t < t - keep) gyro_.pop_front();
+}
+
+void OnlineCalibration::AddLidarOrientation(Stamp stamp, const SO3& R_world_lidar) {
+  const double t = Seconds(stamp);
+  if (!lidar_t_.empty() && t <= lidar_t_.back()) return;
+  lidar_t_.push_back(t);
+  lidar_R_.push_back(R_world_lidar);
+  while (!lidar_t_.empty() && lidar_t_.front() < t - options_.window_s) {
+    lidar_t_.pop_front();
+    lidar_R_.pop_front();
+  }
+  if (time_locked_ && rotation_locked_) return;
+  if (last_solve_t_ && t - *last_solve_t_ < options_.solve_every_s) return;
+  if (t - lidar_t_.front() < options_.time.min_overlap_s + 2 * options_.time.max_shift_s) return;
+  last_solve_t_ = t;
+  Solve(stamp);
+}
+
+std::optional<double> OnlineCalibration::time_offset_s() const {
+  if (time_locked_) return time_locked_;
+  if (!time_candidates_.empty()) return time_candidates_.back();
+  return std::nullopt;
+}
+
+std::optional<SO3> OnlineCalibration::R_imu_lidar() const {
+  if (rotation_locked_) return rotation_locked_;
+  if (!rotation_candidates_.empty()) return rotation_candidates_.back();
+  return std::nullopt;
+}
+
+void OnlineCalibration::Solve(Stamp stamp) {
+  const std::vector<double> t(lidar_t_.begin(), lidar_t_.end());
+  const std::vector<SO3> R(lidar_R_.begin(), lidar_R_.end());
+  if (!time_locked_) SolveTimeOffset(stamp, IntervalRates(t, R));
+  if (!rotation_locked_) {
+    if (const std::optional<double> offset = time_offset_s()) SolveRotation(stamp, *offset);
+  }
+}
+
+void OnlineCalibration::SolveTimeOffset(Stamp stamp, const std::vector<RateSample>& lidar) {
+  const std::vector<RateSample> gyro(gyro_.begin(), gyro_.end());
+  const TimeOffsetEstimate e = SearchTimeOffset(gyro, lidar, options_.time);
+  CalibrationSolve solve{.stamp = stamp,
+                         .worker = CalibrationWorker::kTimeOffset,
+                         .accepted = e.rejected.empty(),
+                         .reason = e.rejected,
+                         .time_offset_s = -e.shift_s,
+                         .R_imu_lidar = e.fit.R_imu_lidar,
+                         .quality = e.correlation,
+                         .rms_rad_s = e.fit.rms_residual};
+  if (solve.accepted) {
+    time_candidates_.push_back(solve.time_offset_s);
+    time_locked_ = OffsetConsensus(time_candidates_, options_.consensus_count, options_.time_tolerance_s);
+    solve.locked = time_locked_.has_value();
+  }
+  solves_.push_back(std::move(solve));
+}
+
+void OnlineCalibration::SolveRotation(Stamp stamp, double time_offset_s) {
+  // LiDAR time t is IMU time t + offset.
+  const std::vector<RateSample> gyro(gyro_.begin(), gyro_.end());
+  std::vector<RatePair> pairs;
+  for (std::size_t i = 0, j = 1; j < lidar_t_.size(); ++i) {
+    j = std::max(j, i + 1);
+    while (j + 1 < lidar_t_.size() && lidar_t_[j] - lidar_t_[i] < options_.rotation_pair_span_s) ++j;
+    const double a = lidar_t_[i], b = lidar_t_[j];
+    if (b - a < options_.rotation_pair_span_s) break;
+    if (const std::optional<Eigen::Vector3d> imu = MeanGyroRate(gyro, a + time_offset_s, b + time_offset_s))
+      pairs.push_back({(lidar_R_[i].inverse() * lidar_R_[j]).Log() / (b - a), *imu});
+  }
+  CalibrationSolve solve;
+  solve.stamp = stamp;
+  solve.worker = CalibrationWorker::kRotation;
+  solve.time_offset_s = time_offset_s;
+  const RotationExcitation excitation = MeasureRotationExcitation(pairs);
+  solve.quality = excitation.ratio;
+  if (static_cast<int>(pairs.size()) < options_.min_rotation_pairs) {
+    solve.reason =
+        Text("%.0f rotation pairs with IMU data < %.0f", pairs.size(), options_.min_rotation_pairs);
+  } else if (excitation.rate_spread_rad_s < options_.min_rate_spread_rad_s) {
+    solve.reason = Text("too little rotation: the rate varies by %.3f rad/s < %.3f",
+                        excitation.rate_spread_rad_s, options_.min_rate_spread_rad_s);
+  } else if (excitation.ratio < options_.min_excitation_ratio) {
+    solve.reason = Text("rotation about too few axes: lambda_min / lambda_max %.3f < %.3f", excitation.ratio,
+                        options_.min_excitation_ratio);
+  } else {
+    const RotationFit fit = FitRotationRobust(pairs, options_.rotation_huber_rad_s);
+    solve.R_imu_lidar = fit.R_imu_lidar;
+    solve.rms_rad_s = fit.rms_residual;
+    if (fit.rms_residual > options_.max_rotation_rms_rad_s)
+      solve.reason = Text("residual %.3f rad/s > %.3f", fit.rms_residual, options_.max_rotation_rms_rad_s);
+    else if (fit.inlier_ratio < options_.min_inlier_ratio)
+      solve.reason = Text("inliers %.2f < %.2f", fit.inlier_ratio, options_.min_inlier_ratio);
+  }
+  solve.accepted = solve.reason.empty();
+  if (solve.accepted) {
+    rotation_candidates_.push_back(solve.R_imu_lidar);
+    rotation_locked_ = RotationConsensus(rotation_candidates_, options_.consensus_count,
+                                         options_.rotation_tolerance_deg * kDegree);
+    solve.locked = rotation_locked_.has_value();
+  }
+  solves_.push_back(std::move(solve));
+}
+
+}  // namespace uf::estimator

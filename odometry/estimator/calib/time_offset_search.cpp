@@ -1,0 +1,141 @@
+#include "odometry/estimator/calib/time_offset_search.h"
+
+#include <cmath>
+#include <cstdio>
+#include <optional>
+#include <vector>
+
+namespace uf::estimator {
+namespace {
+
+std::string Text(const char* format, double a, double b) {
+  char buffer[160];
+  std::snprintf(buffer, sizeof buffer, format, a, b);
+  return buffer;
+}
+
+// Pearson correlation of x and y (0 when either is constant).
+double Correlation(const std::vector<double>& x, const std::vector<double>& y) {
+  const double n = static_cast<double>(x.size());
+  double mx = 0, my = 0;
+  for (std::size_t k = 0; k < x.size(); ++k) mx += x[k], my += y[k];
+  mx /= n, my /= n;
+  double sxy = 0, sxx = 0, syy = 0;
+  for (std::size_t k = 0; k < x.size(); ++k) {
+    sxy += (x[k] - mx) * (y[k] - my);
+    sxx += (x[k] - mx) * (x[k] - mx);
+    syy += (y[k] - my) * (y[k] - my);
+  }
+  return sxx > 0 && syy > 0 ? sxy / std::sqrt(sxx * syy) : 0.0;
+}
+
+double Huber(double r, double k) { return r <= k ? 0.5 * r * r : k * (r - 0.5 * k); }
+
+// The vertex offset of the parabola through (-1, a), (0, b), (1, c), in steps, clamped to [-1, 1].
+double ParabolaVertex(double a, double b, double c) {
+  const double curvature = a - 2 * b + c;
+  if (curvature == 0) return 0.0;
+  return std::clamp(0.5 * (a - c) / curvature, -1.0, 1.0);
+}
+
+struct Matching {
+  std::span<const RateSample> imu;  // box-filtered, only the samples every shift can match
+  std::span<const RateSample> lidar;
+};
+
+double NormCorrelation(const Matching& m, double shift) {
+  std::vector<double> x, y;
+  x.reserve(m.imu.size()), y.reserve(m.imu.size());
+  for (const RateSample& s : m.imu) {
+    const std::optional<Eigen::Vector3d> w = InterpolateRate(m.lidar, s.t + shift);
+    if (!w) continue;
+    x.push_back(s.omega.norm());
+    y.push_back(w->norm());
+  }
+  return x.size() >= 3 ? Correlation(x, y) : 0.0;
+}
+
+// J(shift) with R and b fitted at the shift; `fit` receives them.
+double RobustCost(const Matching& m, double shift, double huber, RotationFit* fit) {
+  std::vector<RatePair> pairs;
+  pairs.reserve(m.imu.size());
+  for (const RateSample& s : m.imu)
+    if (const std::optional<Eigen::Vector3d> w = InterpolateRate(m.lidar, s.t + shift))
+      pairs.push_back({*w, s.omega});
+  if (pairs.size() < 3) return std::numeric_limits<double>::infinity();
+  const RotationFit f = FitRotationRobust(pairs, huber);
+  double cost = 0;
+  for (const RatePair& p : pairs)
+    cost += Huber((f.R_imu_lidar * p.lidar + f.gyro_bias - p.imu).norm(), huber);
+  if (fit) *fit = f;
+  return cost / static_cast<double>(pairs.size());
+}
+
+}  // namespace
+
+TimeOffsetEstimate SearchTimeOffset(std::span<const RateSample> gyro, std::span<const RateSample> lidar,
+                                    const TimeOffsetSearchOptions& o) {
+  TimeOffsetEstimate e;
+  if (lidar.size() < 4 || gyro.size() < 4) {
+    e.rejected = "too few samples";
+    return e;
+  }
+  const std::vector<RateSample> smoothed = BoxSmoothed(gyro, MedianSpacing(lidar));
+  // The IMU samples that every shift in the range can match.
+  const double from = lidar.front().t + o.max_shift_s, to = lidar.back().t - o.max_shift_s;
+  std::size_t first = 0, last = 0;
+  while (first < smoothed.size() && smoothed[first].t < from) ++first;
+  last = first;
+  while (last < smoothed.size() && smoothed[last].t <= to) ++last;
+  const Matching m{std::span(smoothed).subspan(first, last - first), lidar};
+  e.overlap_s = m.imu.size() >= 2 ? m.imu.back().t - m.imu.front().t : 0.0;
+  if (e.overlap_s < o.min_overlap_s) {
+    e.rejected = Text("overlap %.1f s < %.1f s", e.overlap_s, o.min_overlap_s);
+    return e;
+  }
+  double mean = 0, square = 0;
+  for (const RateSample& s : m.imu) mean += s.omega.norm(), square += s.omega.squaredNorm();
+  mean /= static_cast<double>(m.imu.size());
+  e.rate_std_rad_s = std::sqrt(std::max(0.0, square / static_cast<double>(m.imu.size()) - mean * mean));
+
+  // Coarse: the correlation peak on the grid, then a parabola through it.
+  const int steps = static_cast<int>(std::floor(o.max_shift_s / o.coarse_step_s));
+  std::vector<double> r(2 * steps + 1);
+  int best = 0;
+  for (int i = -steps; i <= steps; ++i) {
+    r[i + steps] = NormCorrelation(m, i * o.coarse_step_s);
+    if (r[i + steps] > r[best + steps]) best = i;
+  }
+  double coarse = best * o.coarse_step_s;
+  if (best > -steps && best < steps)
+    coarse += o.coarse_step_s * ParabolaVertex(r[best + steps - 1], r[best + steps], r[best + steps + 1]);
+  e.correlation = r[best + steps];
+
+  // Fine: the robust cost's minimum around the coarse shift, then a parabola through it.
+  const int fine = static_cast<int>(std::ceil(2 * o.coarse_step_s / o.fine_step_s));
+  std::vector<double> cost(2 * fine + 1);
+  int argmin = 0;
+  for (int i = -fine; i <= fine; ++i) {
+    cost[i + fine] = RobustCost(m, coarse + i * o.fine_step_s, o.huber_rad_s, nullptr);
+    if (cost[i + fine] < cost[argmin + fine]) argmin = i;
+  }
+  e.shift_s = coarse + argmin * o.fine_step_s;
+  if (argmin > -fine && argmin < fine)
+    e.shift_s +=
+        o.fine_step_s * ParabolaVertex(cost[argmin + fine - 1], cost[argmin + fine], cost[argmin + fine + 1]);
+  e.cost = RobustCost(m, e.shift_s, o.huber_rad_s, &e.fit);
+  e.cost_at_zero = RobustCost(m, 0.0, o.huber_rad_s, nullptr);
+
+  if (e.rate_std_rad_s < o.min_rate_std_rad_s)
+    e.rejected = Text("too little rotation: |w_I| varies by %.3f rad/s < %.3f", e.rate_std_rad_s,
+                      o.min_rate_std_rad_s);
+  else if (e.correlation < o.min_correlation)
+    e.rejected = Text("correlation %.2f < %.2f", e.correlation, o.min_correlation);
+  else if (std::abs(e.shift_s) > o.max_shift_s - o.coarse_step_s)
+    e.rejected = Text("shift %.3f s at the end of the search range +-%.3f s", e.shift_s, o.max_shift_s);
+  else if (e.cost > e.cost_at_zero)
+    e.rejected = Text("cost %.3g above the zero shift's %.3g", e.cost, e.cost_at_zero);
+  return e;
+}
+
+}  // namespace uf::estimator
