@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
+#include "viewer/app/cli/calibrate_command.h"
 #include "viewer/app/cli/colorize_command.h"
 #include "viewer/app/cli/eval_command.h"
 #include "viewer/app/cli/exit_codes.h"
@@ -18,6 +19,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string("ultrafusion ") + UF_VERSION);
   app.require_subcommand(1);
 
+  auto calibrate = uf::app::AddCalibrateCommand(app);
   auto colorize = uf::app::AddColorizeCommand(app);
   auto eval = uf::app::AddEvalCommand(app);
   auto exporter = uf::app::AddExportCommand(app);
@@ -33,6 +35,7 @@ int main(int argc, char** argv) {
     const int code = app.exit(e);  // prints help, version or the usage error
     return code == 0 ? uf::app::kExitOk : uf::app::kExitUsage;
   }
+  if (app.got_subcommand(calibrate.command)) return calibrate.run();
   if (app.got_subcommand(colorize.command)) return colorize.run();
   if (app.got_subcommand(eval.command)) return eval.run();
   if (app.got_subcommand(exporter.command)) return exporter.run();

@@ -46,8 +46,9 @@ void OnlineCalibration::AddImu(const ImuSample& sample) {
   const double t = Seconds(sample.stamp);
   if (!gyro_.empty() && t <= gyro_.back().t) return;  // keep the track increasing
   gyro_.push_back({t, sample.gyro});
-  // Keep the window plus the search range behind the newest sample.
-  const double keep = options_.window_s + 2 * options_.time.max_shift_s + 1.0;
+  // Keep the longer window plus the search range behind the newest sample.
+  const double keep =
+      std::max(options_.window_s, options_.rotation_window_s) + 2 * options_.time.max_shift_s + 1.0;
   while (!gyro_.empty() && gyro_.front().t < t - keep) gyro_.pop_front();
 }
 
@@ -56,7 +57,8 @@ void OnlineCalibration::AddLidarOrientation(Stamp stamp, const SO3& R_world_lida
   if (!lidar_t_.empty() && t <= lidar_t_.back()) return;
   lidar_t_.push_back(t);
   lidar_R_.push_back(R_world_lidar);
-  while (!lidar_t_.empty() && lidar_t_.front() < t - options_.window_s) {
+  while (!lidar_t_.empty() &&
+         lidar_t_.front() < t - std::max(options_.window_s, options_.rotation_window_s)) {
     lidar_t_.pop_front();
     lidar_R_.pop_front();
   }
@@ -79,9 +81,16 @@ std::optional<SO3> OnlineCalibration::R_imu_lidar() const {
   return std::nullopt;
 }
 
+std::size_t OnlineCalibration::FirstPoseWithin(double window_s) const {
+  std::size_t first = 0;
+  while (first + 1 < lidar_t_.size() && lidar_t_[first] < lidar_t_.back() - window_s) ++first;
+  return first;
+}
+
 void OnlineCalibration::Solve(Stamp stamp) {
-  const std::vector<double> t(lidar_t_.begin(), lidar_t_.end());
-  const std::vector<SO3> R(lidar_R_.begin(), lidar_R_.end());
+  const std::size_t first = FirstPoseWithin(options_.window_s);
+  const std::vector<double> t(lidar_t_.begin() + first, lidar_t_.end());
+  const std::vector<SO3> R(lidar_R_.begin() + first, lidar_R_.end());
   if (!time_locked_) SolveTimeOffset(stamp, IntervalRates(t, R));
   if (!rotation_locked_) {
     if (const std::optional<double> offset = time_offset_s()) SolveRotation(stamp, *offset);
@@ -110,8 +119,10 @@ void OnlineCalibration::SolveTimeOffset(Stamp stamp, const std::vector<RateSampl
 void OnlineCalibration::SolveRotation(Stamp stamp, double time_offset_s) {
   // LiDAR time t is IMU time t + offset.
   const std::vector<RateSample> gyro(gyro_.begin(), gyro_.end());
+  const std::size_t first = FirstPoseWithin(options_.rotation_window_s);
+  const double span = lidar_t_.back() - lidar_t_[first];
   std::vector<RatePair> pairs;
-  for (std::size_t i = 0, j = 1; j < lidar_t_.size(); ++i) {
+  for (std::size_t i = first, j = first + 1; j < lidar_t_.size(); ++i) {
     j = std::max(j, i + 1);
     while (j + 1 < lidar_t_.size() && lidar_t_[j] - lidar_t_[i] < options_.rotation_pair_span_s) ++j;
     const double a = lidar_t_[i], b = lidar_t_[j];
@@ -125,7 +136,9 @@ void OnlineCalibration::SolveRotation(Stamp stamp, double time_offset_s) {
   solve.time_offset_s = time_offset_s;
   const RotationExcitation excitation = MeasureRotationExcitation(pairs);
   solve.quality = excitation.ratio;
-  if (static_cast<int>(pairs.size()) < options_.min_rotation_pairs) {
+  if (span < options_.min_rotation_span_s) {
+    solve.reason = Text("%.1f s of LiDAR poses < %.1f s", span, options_.min_rotation_span_s);
+  } else if (static_cast<int>(pairs.size()) < options_.min_rotation_pairs) {
     solve.reason =
         Text("%.0f rotation pairs with IMU data < %.0f", pairs.size(), options_.min_rotation_pairs);
   } else if (excitation.rate_spread_rad_s < options_.min_rate_spread_rad_s) {

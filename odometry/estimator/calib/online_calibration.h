@@ -1,10 +1,13 @@
 // Online LiDAR-IMU calibration: the two workers of the method (docs/METHOD.md, "Online spatiotemporal
 // calibration"; paper Sec. III-E) fed with the IMU and the LiDAR odometry's orientations in time order.
 //
-// Every solve_every_s of LiDAR time, on the last window_s of both streams:
-//   time offset  (until locked) SearchTimeOffset on the gyro and the LiDAR's interval rates; an accepted
-//                candidate joins the history, and the offset locks by OffsetConsensus.
-//   rotation     (until locked, once a time offset has been accepted) pairs of mean rates over the
+// Every solve_every_s of LiDAR time:
+//   time offset  (until locked) SearchTimeOffset on the gyro and the LiDAR's interval rates of the last
+//                window_s; an accepted candidate joins the history, and the offset locks by OffsetConsensus.
+//   rotation     (until locked, once a time offset has been accepted) on the last rotation_window_s, once
+//                they span min_rotation_span_s (three rotational degrees of freedom from small, noisy
+//                rotations need more data than one offset; with 0.1 deg of pose noise 12 s gave candidates
+//                0.3-0.7 deg off that still agreed with each other): pairs of mean rates over the
 //                interval from each LiDAR pose i to the pose j about rotation_pair_span_s later:
 //                w_L = Log(R_i^T R_j) / dt against the gyro integrated over the same interval moved onto
 //                the IMU clock (R_I = prod Exp(w dt), w_I = Log(R_I) / dt). Log(R_IL A R_IL^T) = R_IL Log(A)
@@ -33,6 +36,8 @@ struct OnlineCalibrationOptions {
   double window_s = 12.0;      // of both streams, per solve
   double solve_every_s = 2.0;  // LiDAR time between solves
   TimeOffsetSearchOptions time;
+  double rotation_window_s = 40.0;       // of both streams, per rotation solve
+  double min_rotation_span_s = 20.0;     // LiDAR time the rotation pairs must span
   double rotation_pair_span_s = 0.5;     // of the rotation pairs (at least one LiDAR interval)
   int min_rotation_pairs = 40;           // pairs in the window
   double min_excitation_ratio = 0.05;    // lambda_min / lambda_max of the rate axes' scatter
@@ -82,6 +87,8 @@ class OnlineCalibration {
   void SolveTimeOffset(Stamp stamp, const std::vector<RateSample>& lidar);
   void SolveRotation(Stamp stamp, double time_offset_s);
   double Seconds(Stamp stamp);
+  // The first held LiDAR pose within window_s of the newest.
+  std::size_t FirstPoseWithin(double window_s) const;
 
   OnlineCalibrationOptions options_;
   std::optional<Stamp> origin_;

@@ -1,0 +1,199 @@
+#include "viewer/pipeline/calibrate/calibrate_job.h"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "odometry/eval/plots.h"
+#include "odometry/io/calibration_file.h"
+#include "odometry/io/dataset_sensors.h"
+#include "odometry/io/for_each_measurement.h"
+#include "odometry/io/measurement_stream.h"
+#include "viewer/pipeline/point_time_selection.h"
+#include "viewer/pipeline/run/run_estimator.h"
+#include "viewer/pipeline/run_files.h"
+
+namespace uf::pipeline {
+namespace {
+
+namespace fs = std::filesystem;
+using estimator::CalibrationSolve;
+using estimator::CalibrationWorker;
+
+constexpr double kDegree = 3.14159265358979323846 / 180.0;
+
+// "a LiDAR stream" / "an IMU stream" is what calibrate needs; names the streams the dataset has.
+Status MissingSensor(const fs::path& dataset, const DatasetDescription& d, const char* what) {
+  std::string has;
+  for (const StreamInfo& s : d.streams)
+    has += (has.empty() ? "" : ", ") + s.name + " (" + std::string(SensorKindName(s.kind)) + ")";
+  return Status::Error(dataset.string() + ": calibrate needs " + what + "; the dataset has " +
+                       (has.empty() ? "no streams" : has));
+}
+
+// The keyframes that left the LiDAR-only window, fed to the workers as LiDAR orientations.
+void FeedFinished(RunEstimator& odometry, estimator::OnlineCalibration& calibration, CalibrateResult& r) {
+  for (const Keyframe& k : odometry.TakeFinished()) {
+    calibration.AddLidarOrientation(k.stamp, k.T_world_body.so3());
+    ++r.poses;
+  }
+  odometry.TakeStepTimes();
+  odometry.TakeEvents();
+}
+
+std::string Number(double value, int digits) {
+  char buffer[64];
+  std::snprintf(buffer, sizeof buffer, "%.*f", digits, value);
+  return buffer;
+}
+
+std::string SolvesCsv(const CalibrateResult& r) {
+  std::ostringstream csv;
+  csv << "stamp_ns,worker,accepted,time_offset_s,rotation_x_rad,rotation_y_rad,rotation_z_rad,quality,"
+         "residual_rad_s,locked,reason\n";
+  for (const CalibrationSolve& s : r.solves) {
+    const Eigen::Vector3d phi = s.R_imu_lidar.Log();
+    csv << s.stamp << ',' << (s.worker == CalibrationWorker::kTimeOffset ? "time_offset" : "rotation") << ','
+        << (s.accepted ? 1 : 0) << ',' << Number(s.time_offset_s, 6) << ',' << Number(phi.x(), 6) << ','
+        << Number(phi.y(), 6) << ',' << Number(phi.z(), 6) << ',' << Number(s.quality, 4) << ','
+        << Number(s.rms_rad_s, 5) << ',' << (s.locked ? 1 : 0) << ",\"" << s.reason << "\"\n";
+  }
+  return csv.str();
+}
+
+// The accepted estimates of one worker over time (seconds from the first solve): the time offset in ms,
+// the rotation as its angle from the given extrinsic's rotation in degrees.
+// Returns whether it wrote one (none without accepted estimates).
+Expected<bool> WriteWorkerPlot(const fs::path& png, const CalibrateResult& r, CalibrationWorker worker) {
+  std::vector<double> seconds, values;
+  for (const CalibrationSolve& s : r.solves) {
+    if (s.worker != worker || !s.accepted) continue;
+    seconds.push_back(ToSeconds(s.stamp - r.solves.front().stamp));
+    if (worker == CalibrationWorker::kTimeOffset)
+      values.push_back(1e3 * s.time_offset_s);
+    else
+      values.push_back(
+          ((r.T_imu_lidar_given ? r.T_imu_lidar_given->so3() : SO3()).inverse() * s.R_imu_lidar).angle() /
+          kDegree);
+  }
+  if (values.empty()) return false;
+  const bool time = worker == CalibrationWorker::kTimeOffset;
+  if (Status s = WriteErrorPlot(
+          png.string(), seconds, values, ComputeStats(values),
+          time ? "LiDAR-IMU time offset, accepted candidates" : "LiDAR-IMU rotation, accepted candidates",
+          "time from the first solve [s]",
+          time ? "time offset to add to the LiDAR stamps [ms]" : "angle from the given rotation [deg]");
+      !s.ok())
+    return s;
+  return true;
+}
+
+}  // namespace
+
+double CalibrateResult::LidarTimeOffset() const {
+  return ToSeconds(lidar_offset_read - imu_offset_read) + time_offset_s.value_or(0.0);
+}
+
+std::optional<SE3> CalibrateResult::TImuLidar() const {
+  if (!T_imu_lidar_given) {
+    if (!R_imu_lidar) return std::nullopt;
+    return SE3(*R_imu_lidar, Eigen::Vector3d::Zero());
+  }
+  return SE3(R_imu_lidar.value_or(T_imu_lidar_given->so3()), T_imu_lidar_given->translation());
+}
+
+Expected<CalibrateResult> RunCalibrate(const CalibrateRequest& request, const CalibrateProgress& progress) {
+  app::DatasetConfig config = request.dataset_config;
+  Expected<std::optional<PointTimeSelection>> times =
+      SelectPointTimes(request.dataset, config, request.lo_config);
+  if (!times) return times.status();
+  if (*times && (*times)->convention) config.reader.point_time_convention = (*times)->convention;
+  Expected<std::unique_ptr<DatasetReader>> reader = OpenDataset(request.dataset, config.reader);
+  if (!reader) return reader.status();
+  Expected<MeasurementStream> stream = MeasurementStream::Create(**reader, config.stream);
+  if (!stream) return stream.status();
+  const DatasetDescription& description = stream->description();
+  const DatasetSensors sensors = FindSensors(description);
+  if (sensors.lidar < 0) return MissingSensor(request.dataset, description, "a LiDAR stream");
+  if (sensors.imu < 0) return MissingSensor(request.dataset, description, "an IMU stream");
+
+  CalibrateResult r;
+  r.lidar_stream = description.streams[sensors.lidar].name;
+  r.imu_stream = description.streams[sensors.imu].name;
+  r.T_imu_lidar_given = sensors.T_imu_lidar;
+  r.lidar_offset_read = stream->time_offset(sensors.lidar);
+  r.imu_offset_read = stream->time_offset(sensors.imu);
+  Expected<std::unique_ptr<RunEstimator>> odometry =
+      CreateRunEstimator(EstimatorMode{.core = OdometryMode::kLo}, request.lo_config, {});
+  if (!odometry) return odometry.status();
+  estimator::OnlineCalibration calibration(request.options);
+  const Status read = ForEachMeasurement(*stream, [&](Measurement& m) {
+    if (const auto* scan = std::get_if<LidarScan>(&m.data); scan && m.stream == sensors.lidar) {
+      if (Status s = (*odometry)->AddScan(*scan); !s.ok()) return s;
+      ++r.scans;
+      FeedFinished(**odometry, calibration, r);
+      if (progress) progress(r.scans);
+    } else if (const auto* sample = std::get_if<ImuSample>(&m.data); sample && m.stream == sensors.imu) {
+      calibration.AddImu(*sample);
+      ++r.imu_samples;
+    }
+    return Status();
+  });
+  if (!read.ok()) return read;
+  (*odometry)->Finish();
+  FeedFinished(**odometry, calibration, r);
+
+  r.time_offset_s = calibration.time_offset_s();
+  r.time_offset_locked = calibration.time_offset_locked();
+  r.R_imu_lidar = calibration.R_imu_lidar();
+  r.rotation_locked = calibration.rotation_locked();
+  r.solves = calibration.solves();
+  for (const ReadWarning& w : (*reader)->warnings())
+    r.warnings.push_back(w.stream + ": " + w.what + " (" + std::to_string(w.count) + ")");
+  for (const std::string& w : (*odometry)->warnings()) r.warnings.push_back(w);
+  return r;
+}
+
+Expected<std::vector<std::string>> WriteCalibrateOutputs(const fs::path& out, const CalibrateResult& r) {
+  std::error_code error;
+  fs::create_directories(out / "plots", error);
+  if (error) return Status::Error((out / "plots").string() + ": cannot create: " + error.message());
+  std::vector<std::string> written;
+  if (const std::optional<SE3> T = r.TImuLidar()) {
+    Calibration calibration;
+    calibration.sensors.push_back({.name = r.imu_stream,
+                                   .kind = SensorKind::kImu,
+                                   .T_body_sensor = SE3(),
+                                   .time_offset = 0,
+                                   .camera_model = nullptr});
+    calibration.sensors.push_back({.name = r.lidar_stream,
+                                   .kind = SensorKind::kLidar,
+                                   .T_body_sensor = *T,
+                                   .time_offset = FromSeconds(r.LidarTimeOffset()),
+                                   .camera_model = nullptr});
+    const std::string header = std::string("Estimated by ultrafusion calibrate. time offset: ") +
+                               (r.time_offset_locked ? "locked"
+                                : r.time_offset_s    ? "not locked (latest accepted candidate)"
+                                                     : "no estimate (the offset read with)") +
+                               "; rotation: " +
+                               (r.rotation_locked ? "locked"
+                                : r.R_imu_lidar   ? "not locked (latest accepted candidate)"
+                                                  : "no estimate (the given rotation)") +
+                               "; translation: the given one.";
+    if (Status s = WriteCalibrationFile(out / "calibration_estimated.yaml", calibration, header); !s.ok())
+      return s;
+    written.push_back("calibration_estimated.yaml");
+  }
+  if (Status s = WriteTextFileAtomically(out / "calibration_solves.csv", SolvesCsv(r)); !s.ok()) return s;
+  written.push_back("calibration_solves.csv");
+  for (const auto& [worker, name] :
+       {std::pair{CalibrationWorker::kTimeOffset, "plots/calibration_time_offset.png"},
+        std::pair{CalibrationWorker::kRotation, "plots/calibration_rotation.png"}}) {
+    Expected<bool> plotted = WriteWorkerPlot(out / name, r, worker);
+    if (!plotted) return plotted.status();
+    if (*plotted) written.push_back(name);
+  }
+  return written;
+}
+
+}  // namespace uf::pipeline
