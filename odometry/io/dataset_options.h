@@ -53,6 +53,9 @@ struct DatasetOptions {
   // the head faced forward (the camera trigger), half-way through the sweep, so the scan starts half a
   // sweep earlier; folders converted from other sources may stamp the sweep start.
   ScanStampPosition folder_scan_stamp = ScanStampPosition::kSweepMiddle;
+  // A calibration file (calibration_file.h) whose sensors replace the extrinsics and time offsets of the
+  // streams of the same name (recalibrated_reader.h); empty: the data's own calibration.
+  std::string calibration_file;
 };
 
 }  // namespace uf

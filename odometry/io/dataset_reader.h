@@ -48,6 +48,9 @@ struct StreamInfo {
   std::string imu_accel_unit;
   // Calibration that came with the data (EuRoC sensor.yaml, the project's dataset.yaml), if any.
   std::optional<SE3> T_body_sensor;
+  // Added to the stream's stamps by MeasurementStream (beside dataset.time_offsets_s), ns: set from
+  // DatasetOptions::calibration_file (recalibrated_reader.h), 0 otherwise.
+  Stamp time_offset = 0;
   std::shared_ptr<const CameraModel> camera_model;  // camera streams: intrinsics and distortion
   double nominal_rate_hz = 0;                       // from the calibration file, 0 when unknown
   std::string note;  // what a user should know about the stream's data (`info` prints it), e.g. its limits

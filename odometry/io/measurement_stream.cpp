@@ -30,6 +30,8 @@ Expected<MeasurementStream> MeasurementStream::Create(DatasetReader& reader,
                            reader.description().path.string() + " (streams: " + names + ")");
     }
   }
+  // The calibration file's offsets (StreamInfo::time_offset) add to the configured ones.
+  for (std::size_t i = 0; i < streams.size(); ++i) offsets[i] += streams[i].time_offset;
   return MeasurementStream(reader, std::move(options), std::move(offsets));
 }
 

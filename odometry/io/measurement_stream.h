@@ -47,7 +47,8 @@ class MeasurementStream {
   bool finished() const { return finished_; }
   const DatasetDescription& description() const { return reader_->description(); }
   const std::vector<StreamDropCounts>& drop_counts() const { return drops_; }
-  // The offset added to the stamps of stream `stream` (MeasurementStreamOptions::time_offsets resolved), ns.
+  // The offset added to the stamps of stream `stream` (MeasurementStreamOptions::time_offsets resolved, plus
+  // the stream's StreamInfo::time_offset), ns.
   Stamp time_offset(int stream) const { return offsets_[stream]; }
   // The reader's warnings plus one per stream and kind of drop, with counts.
   std::vector<ReadWarning> warnings() const;

@@ -3,6 +3,7 @@
 
 #include "odometry/io/dataset_reader.h"
 #include "odometry/io/folders/folder_readers.h"
+#include "odometry/io/recalibrated_reader.h"
 #include "odometry/io/rosbag/rosbag_reader.h"
 
 namespace uf {
@@ -39,7 +40,9 @@ Expected<DatasetFormat> DetectFormat(const fs::path& path) {
 
 }  // namespace
 
-Expected<std::unique_ptr<DatasetReader>> OpenDataset(const fs::path& path, const DatasetOptions& options) {
+namespace {
+
+Expected<std::unique_ptr<DatasetReader>> OpenFormat(const fs::path& path, const DatasetOptions& options) {
   DatasetFormat format = options.format;
   if (format == DatasetFormat::kAuto) {
     Expected<DatasetFormat> detected = DetectFormat(path);
@@ -61,6 +64,14 @@ Expected<std::unique_ptr<DatasetReader>> OpenDataset(const fs::path& path, const
       break;
   }
   return Status::Error(path.string() + ": no reader for the dataset format");
+}
+
+}  // namespace
+
+Expected<std::unique_ptr<DatasetReader>> OpenDataset(const fs::path& path, const DatasetOptions& options) {
+  Expected<std::unique_ptr<DatasetReader>> reader = OpenFormat(path, options);
+  if (!reader || options.calibration_file.empty()) return reader;
+  return WithCalibrationFile(std::move(*reader), options.calibration_file);
 }
 
 }  // namespace uf

@@ -109,6 +109,7 @@ inline DatasetConfig NonDefaultDataset() {
   c.reader.point_time_convention = AzimuthConvention{AzimuthSweep::kCounterClockwise, SweepStart::kAhead};
   c.reader.lidar_sweep_period_s = 0.05;
   c.reader.folder_scan_stamp = ScanStampPosition::kSweepStart;
+  c.reader.calibration_file = "rig/calibration_estimated.yaml";
   c.stream.time_offsets = {{"lidar", -12'000'000}, {"/fix", 200'000'001}};
   c.stream.reorder_window = 2'500'000'000;
   return c;

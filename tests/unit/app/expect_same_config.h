@@ -159,6 +159,7 @@ inline void ExpectSameDataset(const DatasetConfig& a, const DatasetConfig& b) {
   EXPECT_FIELD(reader.point_time_convention);
   EXPECT_FIELD(reader.lidar_sweep_period_s);
   EXPECT_FIELD(reader.folder_scan_stamp);
+  EXPECT_FIELD(reader.calibration_file);
   EXPECT_FIELD(stream.time_offsets);
   EXPECT_FIELD(stream.reorder_window);
 }

@@ -187,6 +187,10 @@ Schema<DatasetConfig> MakeDatasetSchema() {
              NamedCodec<ScanStampPosition>(ParseStampPosition, StampPositionName), "",
              "KITTI-style folders: times.txt stamps the sweep's middle (KITTI) or its start: sweep_middle | "
              "sweep_start");
+  reader.Key("calibration_file", &DatasetOptions::calibration_file, "",
+             "a calibration file (the format of calibration_estimated.yaml of `calibrate` and of the "
+             "simulator's calibration.yaml) whose sensors replace the T_body_sensor and add their "
+             "time_offset_s to the streams of the same name; empty: the data's own calibration");
   Schema<MeasurementStreamOptions> stream;
   stream.Key(
       "time_offsets_s", &MeasurementStreamOptions::time_offsets, TimeOffsetsCodec(), "s",
