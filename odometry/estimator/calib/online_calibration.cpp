@@ -43,6 +43,7 @@ double OnlineCalibration::Seconds(Stamp stamp) {
 }
 
 void OnlineCalibration::AddImu(const ImuSample& sample) {
+  if (!sample.gyro.allFinite()) return;
   const double t = Seconds(sample.stamp);
   if (!gyro_.empty() && t <= gyro_.back().t) return;  // keep the track increasing
   gyro_.push_back({t, sample.gyro});
@@ -53,6 +54,7 @@ void OnlineCalibration::AddImu(const ImuSample& sample) {
 }
 
 void OnlineCalibration::AddLidarOrientation(Stamp stamp, const SO3& R_world_lidar) {
+  if (!R_world_lidar.matrix().allFinite()) return;
   const double t = Seconds(stamp);
   if (!lidar_t_.empty() && t <= lidar_t_.back()) return;
   lidar_t_.push_back(t);

@@ -69,6 +69,7 @@ class OnlineCalibration {
  public:
   explicit OnlineCalibration(const OnlineCalibrationOptions& options = {});
 
+  // Samples and orientations that are not finite, or not after the previous one, are left out.
   void AddImu(const ImuSample& sample);
   // One orientation of the LiDAR odometry (LiDAR frame in its world) at the LiDAR's stamp, in time order;
   // solves when due.

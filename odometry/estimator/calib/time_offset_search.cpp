@@ -1,8 +1,11 @@
 #include "odometry/estimator/calib/time_offset_search.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <optional>
+#include <string>
 #include <vector>
 
 namespace uf::estimator {
@@ -126,7 +129,9 @@ TimeOffsetEstimate SearchTimeOffset(std::span<const RateSample> gyro, std::span<
   e.cost = RobustCost(m, e.shift_s, o.huber_rad_s, &e.fit);
   e.cost_at_zero = RobustCost(m, 0.0, o.huber_rad_s, nullptr);
 
-  if (e.rate_std_rad_s < o.min_rate_std_rad_s)
+  if (!std::isfinite(e.shift_s) || !std::isfinite(e.cost) || !std::isfinite(e.correlation))
+    e.rejected = "not finite";
+  else if (e.rate_std_rad_s < o.min_rate_std_rad_s)
     e.rejected = Text("too little rotation: |w_I| varies by %.3f rad/s < %.3f", e.rate_std_rad_s,
                       o.min_rate_std_rad_s);
   else if (e.correlation < o.min_correlation)

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 #include <vector>
 
@@ -209,7 +210,11 @@ OnlineCalibration Feed(const Streams& s, const OnlineCalibrationOptions& options
 TEST(OnlineCalibration, LocksTheOffsetAndTheRotationOfAMultiAxisMotion) {
   Rig rig;
   rig.lidar_delay_s = 0.12;
-  const Streams s = Simulate(rig, 30.0, 11);
+  Streams s = Simulate(rig, 30.0, 11);
+  // Bad samples are left out: a NaN gyro, a repeated stamp, a NaN orientation.
+  s.imu[500].gyro.x() = std::numeric_limits<double>::quiet_NaN();
+  s.imu[900].stamp = s.imu[899].stamp;
+  s.R_world_lidar[50] = SO3(Eigen::Matrix3d::Constant(std::numeric_limits<double>::quiet_NaN()));
   const OnlineCalibration c = Feed(s);
   ASSERT_TRUE(c.time_offset_locked());
   ASSERT_TRUE(c.rotation_locked());
