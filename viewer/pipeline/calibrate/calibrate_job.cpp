@@ -171,15 +171,17 @@ Expected<std::vector<std::string>> WriteCalibrateOutputs(const fs::path& out, co
                                    .T_body_sensor = *T,
                                    .time_offset = FromSeconds(r.LidarTimeOffset()),
                                    .camera_model = nullptr});
-    const std::string header = std::string("Estimated by ultrafusion calibrate. time offset: ") +
-                               (r.time_offset_locked ? "locked"
-                                : r.time_offset_s    ? "not locked (latest accepted candidate)"
-                                                     : "no estimate (the offset read with)") +
-                               "; rotation: " +
-                               (r.rotation_locked ? "locked"
-                                : r.R_imu_lidar   ? "not locked (latest accepted candidate)"
-                                                  : "no estimate (the given rotation)") +
-                               "; translation: the given one.";
+    const std::string header =
+        std::string("Estimated by ultrafusion calibrate. time offset: ") +
+        (r.time_offset_locked ? "locked"
+         : r.time_offset_s    ? "not locked (latest accepted candidate)"
+                              : "no estimate (the offset read with)") +
+        "; rotation: " +
+        (r.rotation_locked ? "locked"
+         : r.R_imu_lidar   ? "not locked (latest accepted candidate)"
+                           : "no estimate (the given rotation)") +
+        (r.T_imu_lidar_given ? "; translation: the given one."
+                             : "; translation: 0, the dataset gives no extrinsic and it is not estimated.");
     if (Status s = WriteCalibrationFile(out / "calibration_estimated.yaml", calibration, header); !s.ok())
       return s;
     written.push_back("calibration_estimated.yaml");

@@ -3,8 +3,10 @@
 // (the LiDAR's own motion, free of the IMU and of the extrinsic under test), and the outputs:
 //   calibration_estimated.yaml   the calibration file format (odometry/io/calibration_file.h), body = the
 //   IMU:
-//                                the IMU at identity, the LiDAR at (R_IL estimated or given, t_IL given) with
-//                                its time offset (the one the stream was read with + the estimated one)
+//                                the IMU at identity, the LiDAR at (R_IL estimated or given, t_IL given, or
+//                                0 when the dataset has no extrinsic) with its time offset (the one the
+//                                stream was read with + the estimated one); not written when there is
+//                                neither an extrinsic nor an estimated rotation
 //   calibration_solves.csv       every solve of both workers: stamp, worker, accepted, offset, rotation,
 //                                quality, residual, locked, reason
 //   plots/calibration_time_offset.png, plots/calibration_rotation.png   the accepted estimates over time
