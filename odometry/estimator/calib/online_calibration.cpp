@@ -47,10 +47,13 @@ void OnlineCalibration::AddImu(const ImuSample& sample) {
   const double t = Seconds(sample.stamp);
   if (!gyro_.empty() && t <= gyro_.back().t) return;  // keep the track increasing
   gyro_.push_back({t, sample.gyro});
-  // Keep the longer window plus the search range behind the newest sample.
-  const double keep =
-      std::max(options_.window_s, options_.rotation_window_s) + 2 * options_.time.max_shift_s + 1.0;
-  while (!gyro_.empty() && gyro_.front().t < t - keep) gyro_.pop_front();
+  // The LiDAR poses trim the gyro (they may come later than the IMU: an odometry releases a pose when it
+  // leaves its window, the last ones at the end of the data); this bound only holds memory when they stop.
+  while (!gyro_.empty() && gyro_.front().t < t - kMaxImuLead_s - GyroKept()) gyro_.pop_front();
+}
+
+double OnlineCalibration::GyroKept() const {
+  return std::max(options_.window_s, options_.rotation_window_s) + 2 * options_.time.max_shift_s + 1.0;
 }
 
 void OnlineCalibration::AddLidarOrientation(Stamp stamp, const SO3& R_world_lidar) {
@@ -64,6 +67,8 @@ void OnlineCalibration::AddLidarOrientation(Stamp stamp, const SO3& R_world_lida
     lidar_t_.pop_front();
     lidar_R_.pop_front();
   }
+  // Keep the longer window plus the search range behind the newest pose.
+  while (!gyro_.empty() && gyro_.front().t < t - GyroKept()) gyro_.pop_front();
   if (time_locked_ && rotation_locked_) return;
   if (last_solve_t_ && t - *last_solve_t_ < options_.solve_every_s) return;
   if (t - lidar_t_.front() < options_.time.min_overlap_s + 2 * options_.time.max_shift_s) return;

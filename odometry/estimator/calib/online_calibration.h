@@ -88,6 +88,9 @@ class OnlineCalibration {
   void SolveTimeOffset(Stamp stamp, const std::vector<RateSample>& lidar);
   void SolveRotation(Stamp stamp, double time_offset_s);
   double Seconds(Stamp stamp);
+  // Seconds of gyro kept behind the newest LiDAR pose; and how far the gyro may run ahead of the poses.
+  double GyroKept() const;
+  static constexpr double kMaxImuLead_s = 120.0;
   // The first held LiDAR pose within window_s of the newest.
   std::size_t FirstPoseWithin(double window_s) const;
 

@@ -234,6 +234,23 @@ TEST(OnlineCalibration, LocksTheOffsetAndTheRotationOfAMultiAxisMotion) {
   }
 }
 
+// An odometry may release its poses long after the IMU samples of their time (at the end of the data, the
+// last window's): the gyro they need is still there. Here the IMU runs 60 s past the LiDAR and comes first.
+TEST(OnlineCalibration, PosesThatComeAfterTheImuStillFindTheirGyro) {
+  Rig rig;
+  rig.lidar_delay_s = -0.07;
+  Streams s = Simulate(rig, 90.0, 4);
+  s.lidar_stamps.resize(301);  // the first 30 s
+  s.R_world_lidar.resize(301);
+  OnlineCalibration c;
+  for (const ImuSample& sample : s.imu) c.AddImu(sample);
+  for (std::size_t l = 0; l < s.lidar_stamps.size(); ++l)
+    c.AddLidarOrientation(s.lidar_stamps[l], s.R_world_lidar[l]);
+  ASSERT_TRUE(c.time_offset_locked());
+  EXPECT_NEAR(*c.time_offset_s(), 0.07, 0.002);
+  EXPECT_TRUE(c.rotation_locked());
+}
+
 TEST(OnlineCalibration, RefusesToLockTheRotationOnASingleAxis) {
   Rig rig;
   rig.yaw_only = true;

@@ -39,11 +39,17 @@ std::string State(bool locked, bool estimated) {
   return locked ? "locked" : estimated ? "not locked, latest accepted candidate" : "no estimate";
 }
 
-void PrintResult(const pipeline::CalibrateResult& r) {
+void PrintResult(const pipeline::CalibrateResult& r, const estimator::OnlineCalibrationOptions& options) {
   using estimator::CalibrationWorker;
   std::printf("calibrate: %s (LiDAR) against %s (IMU): %lld scans, %lld poses, %lld IMU samples\n",
               r.lidar_stream.c_str(), r.imu_stream.c_str(), static_cast<long long>(r.scans),
               static_cast<long long>(r.poses), static_cast<long long>(r.imu_samples));
+  if (r.solves.empty())
+    std::printf(
+        "  no solve: the odometry's poses span %.1f s, the first solve needs %.1f s (%.1f s of overlap "
+        "plus twice --max-offset)\n",
+        ToSeconds(r.last_pose - r.first_pose), options.time.min_overlap_s + 2 * options.time.max_shift_s,
+        options.time.min_overlap_s);
   const int time_ok = CountSolves(r, CalibrationWorker::kTimeOffset, true);
   const int time_refused = CountSolves(r, CalibrationWorker::kTimeOffset, false);
   std::printf("  time offset: %s (%d solves accepted, %d refused)\n",
@@ -94,7 +100,7 @@ int RunCalibrateCommand(const CalibrateArguments& a) {
       request, [&](std::int64_t scans) { progress.Update("odometry", scans, 0, "scans"); });
   progress.EndLine();
   if (!result) return ReportError(result.status());
-  PrintResult(*result);
+  PrintResult(*result, request.options);
   if (!a.out.empty()) {
     Expected<std::vector<std::string>> written = pipeline::WriteCalibrateOutputs(a.out, *result);
     if (!written) return ReportError(written.status());

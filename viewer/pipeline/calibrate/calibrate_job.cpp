@@ -35,7 +35,8 @@ Status MissingSensor(const fs::path& dataset, const DatasetDescription& d, const
 void FeedFinished(RunEstimator& odometry, estimator::OnlineCalibration& calibration, CalibrateResult& r) {
   for (const Keyframe& k : odometry.TakeFinished()) {
     calibration.AddLidarOrientation(k.stamp, k.T_world_body.so3());
-    ++r.poses;
+    if (r.poses++ == 0) r.first_pose = k.stamp;
+    r.last_pose = k.stamp;
   }
   odometry.TakeStepTimes();
   odometry.TakeEvents();

@@ -42,6 +42,7 @@ struct CalibrateResult {
   bool rotation_locked = false;
   std::vector<estimator::CalibrationSolve> solves;
   std::int64_t scans = 0, poses = 0, imu_samples = 0;
+  Stamp first_pose = 0, last_pose = 0;  // the odometry's first and last pose stamps
   std::vector<std::string> warnings;  // the reader's and the odometry's
 
   // The LiDAR's offset to write (read + estimated; read alone without an estimate), s.
