@@ -158,6 +158,10 @@ void OnlineCalibration::SolveRotation(Stamp stamp, double time_offset_s) {
     const RotationFit fit = FitRotationRobust(pairs, options_.rotation_huber_rad_s);
     solve.R_imu_lidar = fit.R_imu_lidar;
     solve.rms_rad_s = fit.rms_residual;
+    // Pairs start at every pose and span rotation_pair_span_s: that many intervals share each stretch.
+    const double overlap =
+        options_.rotation_pair_span_s / (span / static_cast<double>(lidar_t_.size() - first - 1));
+    solve.sigma_deg = RotationSigma(pairs, fit, overlap) / kDegree;
     if (fit.rms_residual > options_.max_rotation_rms_rad_s)
       solve.reason = Text("residual %.3f rad/s > %.3f", fit.rms_residual, options_.max_rotation_rms_rad_s);
     else if (fit.inlier_ratio < options_.min_inlier_ratio)
@@ -166,8 +170,11 @@ void OnlineCalibration::SolveRotation(Stamp stamp, double time_offset_s) {
   solve.accepted = solve.reason.empty();
   if (solve.accepted) {
     rotation_candidates_.push_back(solve.R_imu_lidar);
-    rotation_locked_ = RotationConsensus(rotation_candidates_, options_.consensus_count,
-                                         options_.rotation_tolerance_deg * kDegree);
+    // Agreeing candidates from overlapping windows share most of their data: the lock also asks that the
+    // latest be certain enough on its own.
+    if (solve.sigma_deg <= options_.max_lock_sigma_deg)
+      rotation_locked_ = RotationConsensus(rotation_candidates_, options_.consensus_count,
+                                           options_.rotation_tolerance_deg * kDegree);
     solve.locked = rotation_locked_.has_value();
   }
   solves_.push_back(std::move(solve));

@@ -4,6 +4,7 @@
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 namespace uf::estimator {
@@ -94,6 +95,21 @@ RotationFit FitRotationRobust(std::span<const RatePair> pairs, double min_huber_
   ScoreFit(pairs, huber_rad_s, fit);
   fit.huber_rad_s = huber_rad_s;
   return fit;
+}
+
+double RotationSigma(std::span<const RatePair> pairs, const RotationFit& fit, double overlap) {
+  const Means m = WeightedMeans(pairs);
+  Eigen::Matrix3d information = Eigen::Matrix3d::Zero();
+  for (const RatePair& p : pairs) {
+    if (!(p.weight > 0)) continue;
+    const Eigen::Matrix3d J = Hat(fit.R_imu_lidar * (p.lidar - m.lidar));
+    information += p.weight * J.transpose() * J;
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(information);
+  const double smallest = eig.eigenvalues()[0];
+  if (!(smallest > 0)) return std::numeric_limits<double>::infinity();
+  const double variance = fit.rms_residual * fit.rms_residual / 3.0;
+  return std::sqrt(variance * std::max(1.0, overlap) / smallest);
 }
 
 RotationExcitation MeasureRotationExcitation(std::span<const RatePair> pairs) {

@@ -43,6 +43,13 @@ RotationFit FitRotation(std::span<const RatePair> pairs);
 // reweightings.
 RotationFit FitRotationRobust(std::span<const RatePair> pairs, double min_huber_rad_s, int iterations = 5);
 
+// The largest standard deviation (rad) of the fitted rotation over its three axes: with the perturbation
+// R <- Exp(d) R, the residual's Jacobian for pair k is -[R (a_k - a_bar)]x, so
+//   Cov(d) = sigma^2 (sum_k w_k [R a'_k]x^T [R a'_k]x)^-1 * overlap,   sigma^2 = rms_residual^2 / 3
+// (the residual's variance per axis); `overlap` (>= 1) is how many pairs share each stretch of data (pairs
+// over sliding spans are not independent). Infinite when the information matrix is singular.
+double RotationSigma(std::span<const RatePair> pairs, const RotationFit& fit, double overlap);
+
 struct RotationExcitation {
   Eigen::Vector3d eigenvalues = Eigen::Vector3d::Zero();  // of M, ascending, normalised to sum 1
   double ratio = 0.0;                                     // lambda_min / lambda_max

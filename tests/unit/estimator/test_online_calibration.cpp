@@ -175,6 +175,39 @@ TEST(RotationAlignment, ProcrustesRecoversARotationAndBiasDespiteOutliers) {
   EXPECT_GT(MeasureRotationExcitation(pairs).ratio, 0.5);
 }
 
+// RotationSigma against Monte Carlo: the spread of the fitted rotation over many noisy draws of independent
+// pairs matches the predicted standard deviation.
+TEST(RotationAlignment, SigmaPredictsTheSpreadOfTheFit) {
+  std::mt19937 random(9);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  const SO3 R = SO3::Exp(Eigen::Vector3d(0.2, 0.1, -0.3));
+  std::vector<Eigen::Vector3d> a;
+  for (int k = 0; k < 200; ++k) a.push_back(0.3 * Draw(random, normal));
+  double squared_error = 0, predicted = 0;
+  const int trials = 300;
+  for (int trial = 0; trial < trials; ++trial) {
+    std::vector<RatePair> pairs;
+    for (const Eigen::Vector3d& ak : a) pairs.push_back({ak, R * ak + 0.02 * Draw(random, normal)});
+    const RotationFit fit = FitRotation(pairs);
+    // The largest axis's variance: with isotropic a the three are equal, so the mean squared angle over
+    // the three axes is 3 sigma^2.
+    squared_error += (R.inverse() * fit.R_imu_lidar).Log().squaredNorm() / 3.0;
+    predicted += RotationSigma(pairs, fit, 1.0) / trials;
+  }
+  const double measured = std::sqrt(squared_error / trials);
+  EXPECT_NEAR(predicted / measured, 1.0, 0.15) << predicted << " vs " << measured;
+  // Overlap scales it by its square root; rates about one axis leave it infinite.
+  std::vector<RatePair> pairs;
+  for (const Eigen::Vector3d& ak : a) pairs.push_back({ak, R * ak});
+  pairs[0].imu += Eigen::Vector3d(0.01, 0, 0);
+  const RotationFit fit = FitRotation(pairs);
+  EXPECT_NEAR(RotationSigma(pairs, fit, 4.0), 2.0 * RotationSigma(pairs, fit, 1.0), 1e-12);
+  std::vector<RatePair> single;
+  for (int k = 0; k < 50; ++k)
+    single.push_back({Eigen::Vector3d(0, 0, 0.01 * k), Eigen::Vector3d(0.001 * (k % 3), 0, 0.01 * k)});
+  EXPECT_TRUE(std::isinf(RotationSigma(single, FitRotation(single), 1.0)));
+}
+
 TEST(CalibrationConsensus, LocksOnAgreementOnly) {
   const std::vector<double> scattered{0.100, 0.104, 0.098, 0.1011};
   EXPECT_FALSE(OffsetConsensus(scattered, 4, 0.002));

@@ -75,6 +75,13 @@ void PrintResult(const pipeline::CalibrateResult& r, const estimator::OnlineCali
     }
     std::printf("\n");
   }
+  if (!r.rotation_locked && r.R_imu_lidar) {
+    double sigma = 0;
+    for (const estimator::CalibrationSolve& s : r.solves)
+      if (s.worker == CalibrationWorker::kRotation && s.accepted) sigma = s.sigma_deg;
+    std::printf("    latest candidate: standard deviation %.3f deg (locks at <= %.3f with %d agreeing)\n",
+                sigma, options.max_lock_sigma_deg, options.consensus_count);
+  }
   if (!r.rotation_locked && rot_refused > 0)
     std::printf("    last refusal: %s\n", LastRefusal(r, CalibrationWorker::kRotation).c_str());
   if (!r.warnings.empty())

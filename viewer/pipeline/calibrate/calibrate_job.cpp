@@ -51,13 +51,14 @@ std::string Number(double value, int digits) {
 std::string SolvesCsv(const CalibrateResult& r) {
   std::ostringstream csv;
   csv << "stamp_ns,worker,accepted,time_offset_s,rotation_x_rad,rotation_y_rad,rotation_z_rad,quality,"
-         "residual_rad_s,locked,reason\n";
+         "residual_rad_s,sigma_deg,locked,reason\n";
   for (const CalibrationSolve& s : r.solves) {
     const Eigen::Vector3d phi = s.R_imu_lidar.Log();
     csv << s.stamp << ',' << (s.worker == CalibrationWorker::kTimeOffset ? "time_offset" : "rotation") << ','
         << (s.accepted ? 1 : 0) << ',' << Number(s.time_offset_s, 6) << ',' << Number(phi.x(), 6) << ','
         << Number(phi.y(), 6) << ',' << Number(phi.z(), 6) << ',' << Number(s.quality, 4) << ','
-        << Number(s.rms_rad_s, 5) << ',' << (s.locked ? 1 : 0) << ",\"" << s.reason << "\"\n";
+        << Number(s.rms_rad_s, 5) << ',' << Number(s.sigma_deg, 4) << ',' << (s.locked ? 1 : 0) << ",\""
+        << s.reason << "\"\n";
   }
   return csv.str();
 }
