@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 
 #include "odometry/io/calibration_file.h"
 #include "tests/support/cli_runner.h"
@@ -55,6 +56,29 @@ TEST(CliCalibrate, EstimatesTheInjectedOffsetAndRotation) {
   const std::string csv = testing::ReadText(out + "/calibration_solves.csv");
   EXPECT_NE(csv.find(",time_offset,1,"), std::string::npos);
   EXPECT_NE(csv.find(",rotation,1,"), std::string::npos);
+
+  // The estimate applied to a LIO run (dataset.calibration_file, given relative to the working directory,
+  // recorded absolute in config.yaml) against the given calibration.
+  const std::string config = dir.File("estimated.yaml");
+  const std::string relative = fs::relative(out + "/calibration_estimated.yaml").string();
+  std::ofstream(config) << ("dataset:\n  derive_point_times_from_azimuth: false\n  calibration_file: " +
+                            relative + "\nlo:\n  input_voxel_m: 0.5\n");
+  auto ate = [](const std::string& output) {
+    const std::size_t at = output.find("ATE (SE3-aligned RMSE): ");
+    return at == std::string::npos ? -1.0 : std::stod(output.substr(at + 24));
+  };
+  const auto estimated_run =
+      Ultrafusion("run " + seq + " --mode lio --no-map --config " + config + " --out " + dir.File("run_est"));
+  ASSERT_EQ(estimated_run.code, 0) << estimated_run.output;
+  EXPECT_NE(testing::ReadText(dir.File("run_est/config.yaml"))
+                .find("calibration_file: \"" + fs::absolute(relative).string() + "\""),
+            std::string::npos);
+  const auto given_run = Ultrafusion("run " + seq + " --mode lio --no-map --config " + UF_SOURCE_DIR +
+                                     "/configs/run-sim.yaml --out " + dir.File("run_given"));
+  ASSERT_EQ(given_run.code, 0) << given_run.output;
+  EXPECT_GT(ate(estimated_run.output), 0.0) << estimated_run.output;
+  EXPECT_LT(ate(estimated_run.output), 0.5 * ate(given_run.output))
+      << estimated_run.output << given_run.output;
 }
 
 TEST(CliCalibrate, BadInputIsAClearError) {

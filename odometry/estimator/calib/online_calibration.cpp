@@ -117,7 +117,9 @@ void OnlineCalibration::SolveTimeOffset(Stamp stamp, const std::vector<RateSampl
                          .rms_rad_s = e.fit.rms_residual};
   if (solve.accepted) {
     time_candidates_.push_back(solve.time_offset_s);
-    time_locked_ = OffsetConsensus(time_candidates_, options_.consensus_count, options_.time_tolerance_s);
+    // As for the rotation: agreeing windows may share a bias; the lock also asks for a sharp match.
+    if (solve.quality >= options_.min_lock_correlation)
+      time_locked_ = OffsetConsensus(time_candidates_, options_.consensus_count, options_.time_tolerance_s);
     solve.locked = time_locked_.has_value();
   }
   solves_.push_back(std::move(solve));

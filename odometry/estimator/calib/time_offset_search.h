@@ -30,7 +30,7 @@ struct TimeOffsetSearchOptions {
   double fine_step_s = 0.0002;       // grid of the robust cost
   double min_overlap_s = 5.0;        // IMU time every shift can match
   double min_correlation = 0.6;      // of the rate norms at the peak
-  double min_rate_std_rad_s = 0.05;  // excitation: standard deviation of |w_I| over the overlap
+  double min_rate_std_rad_s = 0.02;  // excitation: standard deviation of |w_I| over the overlap
   double huber_rad_s = 0.05;         // Huber threshold of the vector residual
 };
 

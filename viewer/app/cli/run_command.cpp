@@ -42,6 +42,9 @@ Expected<RunRequest> MakeRequest(const RunArguments& a) {
   Expected<ConfigFile> loaded = LoadConfigFile(a.config);
   if (!loaded) return loaded.status();
   r.dataset_config = loaded->dataset, r.lo_config = loaded->odometry, r.wio_config = loaded->wio;
+  // config.yaml records it absolute, so that `splat RUN_DIR` and `run --from` find it from anywhere.
+  std::string& calibration = r.dataset_config.reader.calibration_file;
+  if (!calibration.empty()) calibration = fs::absolute(calibration).string();
   r.splat_config = loaded->splat;
   return r;
 }

@@ -190,7 +190,8 @@ Schema<DatasetConfig> MakeDatasetSchema() {
   reader.Key("calibration_file", &DatasetOptions::calibration_file, "",
              "a calibration file (the format of calibration_estimated.yaml of `calibrate` and of the "
              "simulator's calibration.yaml) whose sensors replace the T_body_sensor and add their "
-             "time_offset_s to the streams of the same name; empty: the data's own calibration");
+             "time_offset_s to the streams of the same name (a relative path is relative to the working "
+             "directory; run records it absolute in config.yaml); empty: the data's own calibration");
   Schema<MeasurementStreamOptions> stream;
   stream.Key(
       "time_offsets_s", &MeasurementStreamOptions::time_offsets, TimeOffsetsCodec(), "s",
