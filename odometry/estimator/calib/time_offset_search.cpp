@@ -101,32 +101,37 @@ TimeOffsetEstimate SearchTimeOffset(std::span<const RateSample> gyro, std::span<
   mean /= static_cast<double>(m.imu.size());
   e.rate_std_rad_s = std::sqrt(std::max(0.0, square / static_cast<double>(m.imu.size()) - mean * mean));
 
-  // Coarse: the correlation peak on the grid, then a parabola through it.
+  // Coarse: the robust cost's minimum on the grid, on every k-th IMU sample (about 4 per LiDAR interval),
+  // then a parabola through it. The rate norms' correlation peak, the paper's coarse step, moves by tens of
+  // ms when a few LiDAR poses are wrong (a failed registration puts a spike into two interval rates); the
+  // Huber cost does not.
+  const std::size_t stride = std::max<std::size_t>(
+      1, static_cast<std::size_t>(MedianSpacing(lidar) / 4.0 / std::max(MedianSpacing(m.imu), 1e-9)));
+  std::vector<RateSample> sparse;
+  for (std::size_t k = 0; k < m.imu.size(); k += stride) sparse.push_back(m.imu[k]);
+  const Matching coarse_matching{sparse, lidar};
   const int steps = static_cast<int>(std::floor(o.max_shift_s / o.coarse_step_s));
-  std::vector<double> r(2 * steps + 1);
-  int best = 0;
-  for (int i = -steps; i <= steps; ++i) {
-    r[i + steps] = NormCorrelation(m, i * o.coarse_step_s);
-    if (r[i + steps] > r[best + steps]) best = i;
-  }
+  std::vector<double> grid(2 * steps + 1);
+  for (int i = -steps; i <= steps; ++i)
+    grid[i + steps] = RobustCost(coarse_matching, i * o.coarse_step_s, o.huber_rad_s, nullptr);
+  const int best = static_cast<int>(std::min_element(grid.begin(), grid.end()) - grid.begin()) - steps;
   double coarse = best * o.coarse_step_s;
   if (best > -steps && best < steps)
-    coarse += o.coarse_step_s * ParabolaVertex(r[best + steps - 1], r[best + steps], r[best + steps + 1]);
-  e.correlation = r[best + steps];
+    coarse +=
+        o.coarse_step_s * ParabolaVertex(grid[best + steps - 1], grid[best + steps], grid[best + steps + 1]);
 
   // Fine: the robust cost's minimum around the coarse shift, then a parabola through it.
   const int fine = static_cast<int>(std::ceil(2 * o.coarse_step_s / o.fine_step_s));
   std::vector<double> cost(2 * fine + 1);
-  int argmin = 0;
-  for (int i = -fine; i <= fine; ++i) {
+  for (int i = -fine; i <= fine; ++i)
     cost[i + fine] = RobustCost(m, coarse + i * o.fine_step_s, o.huber_rad_s, nullptr);
-    if (cost[i + fine] < cost[argmin + fine]) argmin = i;
-  }
+  const int argmin = static_cast<int>(std::min_element(cost.begin(), cost.end()) - cost.begin()) - fine;
   e.shift_s = coarse + argmin * o.fine_step_s;
   if (argmin > -fine && argmin < fine)
     e.shift_s +=
         o.fine_step_s * ParabolaVertex(cost[argmin + fine - 1], cost[argmin + fine], cost[argmin + fine + 1]);
   e.cost = RobustCost(m, e.shift_s, o.huber_rad_s, &e.fit);
+  e.correlation = NormCorrelation(m, e.shift_s);
   e.cost_at_zero = RobustCost(m, 0.0, o.huber_rad_s, nullptr);
 
   if (!std::isfinite(e.shift_s) || !std::isfinite(e.cost) || !std::isfinite(e.correlation))

@@ -284,6 +284,48 @@ TEST(OnlineCalibration, PosesThatComeAfterTheImuStillFindTheirGyro) {
   EXPECT_TRUE(c.rotation_locked());
 }
 
+// Bad input: an offset beyond the search range is refused with the reason, never locked; orientations of
+// failed registrations (every 10th pose turned by a random 3-10 deg) are outliers the robust fit and its
+// checks keep out of the estimate.
+TEST(OnlineCalibration, RefusesAnOffsetBeyondTheRangeAndResistsFailedRegistrations) {
+  Rig far;
+  far.lidar_delay_s = 0.8;  // the search covers +-0.5 s
+  const OnlineCalibration beyond = Feed(Simulate(far, 30.0, 6));
+  EXPECT_FALSE(beyond.time_offset_locked());
+  EXPECT_FALSE(beyond.R_imu_lidar());
+  int refused = 0;
+  for (const CalibrationSolve& solve : beyond.solves()) {
+    EXPECT_FALSE(solve.accepted) << solve.time_offset_s;  // any candidate in +-0.5 s would be wrong
+    refused += !solve.reason.empty();
+  }
+  EXPECT_GT(refused, 5);
+
+  Rig rig;
+  rig.lidar_delay_s = 0.04;
+  Streams s = Simulate(rig, 30.0, 8);
+  std::mt19937 random(2);
+  std::uniform_real_distribution<double> angle(3.0 * kDeg, 10.0 * kDeg);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  for (std::size_t l = 5; l < s.R_world_lidar.size(); l += 10)
+    s.R_world_lidar[l] = s.R_world_lidar[l] * SO3::Exp(Draw(random, normal).normalized() * angle(random));
+  const OnlineCalibration c = Feed(s);
+  for (const CalibrationSolve& solve : c.solves()) {
+    if (solve.accepted && solve.worker == CalibrationWorker::kTimeOffset) {
+      EXPECT_NEAR(solve.time_offset_s, -0.04, 0.005);
+    }
+  }
+  ASSERT_TRUE(c.time_offset_s());
+  // The rotation worker either keeps the bad pairs out of an accurate estimate or says why it refuses.
+  for (const CalibrationSolve& solve : c.solves()) {
+    if (solve.worker != CalibrationWorker::kRotation) continue;
+    if (solve.accepted) {
+      EXPECT_LT((rig.R_imu_lidar.inverse() * solve.R_imu_lidar).angle(), 0.3 * kDeg);
+    } else {
+      EXPECT_FALSE(solve.reason.empty());
+    }
+  }
+}
+
 TEST(OnlineCalibration, RefusesToLockTheRotationOnASingleAxis) {
   Rig rig;
   rig.yaw_only = true;
