@@ -9,9 +9,11 @@
 #include <limits>
 #include <string>
 #include <thread>
+#include <tuple>
 #include <vector>
 
 #include "odometry/eval/plots.h"
+#include "odometry/eval/series_plot.h"
 #include "tests/support/temp_dir.h"
 
 // Under AddressSanitizer (UF_SANITIZE) LeakSanitizer reports fontconfig's process-wide caches, which PLplot's
@@ -238,6 +240,29 @@ TEST_F(PlotsTest, UnwritableFolderIsAnError) {
   EXPECT_FALSE(taken.ok());
   EXPECT_TRUE(fs::is_directory(Path("taken.png")));
   ExpectFolderHolds({"taken.png"});
+}
+
+TEST_F(PlotsTest, SeriesPlotShowsItsDataOrRefusesBadInput) {
+  const SpiralCase c = Spiral(40);
+  ASSERT_TRUE(WriteSeriesPlot(Path("series.png"), c.seconds, c.error, "candidates",
+                              SeriesLevel{0.5, "locked"}, "Series", "t [s]", "v")
+                  .ok());
+  ASSERT_TRUE(WriteSeriesPlot(Path("one.png"), {3.0}, {1.0}, "one", std::nullopt, "One", "t", "v").ok());
+  ExpectPng(Path("series.png"), 1280, 960);
+  ExpectPng(Path("one.png"), 1280, 960);
+  EXPECT_GT(fs::file_size(Path("series.png")), 4 * kBlankPageBytes);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (const auto& [seconds, values, level] :
+       {std::tuple<std::vector<double>, std::vector<double>, double>{{}, {}, 0.0},
+        {{1.0, 2.0}, {1.0}, 0.0},
+        {{1.0, 2.0}, {1.0, nan}, 0.0},
+        {{1.0, 2.0}, {1.0, 2.0}, nan}}) {
+    const Status bad =
+        WriteSeriesPlot(Path("bad.png"), seconds, values, "s", SeriesLevel{level, "l"}, "t", "x", "y");
+    EXPECT_FALSE(bad.ok());
+    EXPECT_NE(bad.message().find("bad.png"), std::string::npos) << bad.message();
+  }
+  ExpectFolderHolds({"series.png", "one.png"});
 }
 
 TEST_F(PlotsTest, ThreadsCanPlotAtTheSameTime) {

@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <sstream>
 
-#include "odometry/eval/plots.h"
+#include "odometry/eval/series_plot.h"
 #include "odometry/io/calibration_file.h"
 #include "odometry/io/dataset_sensors.h"
 #include "odometry/io/for_each_measurement.h"
@@ -63,28 +63,29 @@ std::string SolvesCsv(const CalibrateResult& r) {
   return csv.str();
 }
 
-// The accepted estimates of one worker over time (seconds from the first solve): the time offset in ms,
-// the rotation as its angle from the given extrinsic's rotation in degrees.
-// Returns whether it wrote one (none without accepted estimates).
+// The accepted candidates of one worker over time (from the first LiDAR pose), with the locked value:
+// the time offset in ms, the rotation as its angle from the given extrinsic's rotation in degrees.
+// Returns whether it wrote one (none without accepted candidates).
 Expected<bool> WriteWorkerPlot(const fs::path& png, const CalibrateResult& r, CalibrationWorker worker) {
+  const bool time = worker == CalibrationWorker::kTimeOffset;
+  const SO3 given = r.T_imu_lidar_given ? r.T_imu_lidar_given->so3() : SO3();
+  auto value = [&](double offset_s, const SO3& R) {
+    return time ? 1e3 * offset_s : (given.inverse() * R).angle() / kDegree;
+  };
   std::vector<double> seconds, values;
   for (const CalibrationSolve& s : r.solves) {
     if (s.worker != worker || !s.accepted) continue;
-    seconds.push_back(ToSeconds(s.stamp - r.solves.front().stamp));
-    if (worker == CalibrationWorker::kTimeOffset)
-      values.push_back(1e3 * s.time_offset_s);
-    else
-      values.push_back(
-          ((r.T_imu_lidar_given ? r.T_imu_lidar_given->so3() : SO3()).inverse() * s.R_imu_lidar).angle() /
-          kDegree);
+    seconds.push_back(ToSeconds(s.stamp - r.first_pose));
+    values.push_back(value(s.time_offset_s, s.R_imu_lidar));
   }
   if (values.empty()) return false;
-  const bool time = worker == CalibrationWorker::kTimeOffset;
-  if (Status s = WriteErrorPlot(
-          png.string(), seconds, values, ComputeStats(values),
-          time ? "LiDAR-IMU time offset, accepted candidates" : "LiDAR-IMU rotation, accepted candidates",
-          "time from the first solve [s]",
-          time ? "time offset to add to the LiDAR stamps [ms]" : "angle from the given rotation [deg]");
+  std::optional<SeriesLevel> locked;
+  if (time && r.time_offset_locked) locked = SeriesLevel{value(*r.time_offset_s, SO3()), "locked"};
+  if (!time && r.rotation_locked) locked = SeriesLevel{value(0, *r.R_imu_lidar), "locked"};
+  if (Status s = WriteSeriesPlot(
+          png.string(), seconds, values, "accepted candidates", locked,
+          time ? "LiDAR-IMU time offset" : "LiDAR-IMU rotation", "time from the first LiDAR pose [s]",
+          time ? "offset added to the LiDAR stamps [ms]" : "angle from the given rotation [deg]");
       !s.ok())
     return s;
   return true;

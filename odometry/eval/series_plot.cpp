@@ -1,0 +1,120 @@
+#include "odometry/eval/series_plot.h"
+
+#include <plplot.h>
+
+#include <algorithm>
+
+#include "odometry/eval/plot_draw.h"
+#include "odometry/eval/plot_input.h"
+#include "odometry/eval/plot_layout.h"
+#include "odometry/eval/plot_png.h"
+#include "odometry/eval/plot_style.h"
+
+namespace uf::plot {
+namespace {
+
+constexpr PLFLT kLegendSample = 0.06;  // length of a legend's line sample, of the viewport width
+constexpr PLFLT kLegendRowFraction = 0.065;
+constexpr PLFLT kViewportBottom = 0.11, kViewportTop = 0.91;
+
+// Everything the drawing needs, prepared before PLplot is touched (see DrawFunction).
+struct SeriesScene {
+  std::vector<PLFLT> t, v;
+  bool has_level = false;
+  double level = 0;
+  Box window{};
+  std::string title, x_label, y_label, series_label, level_label;
+};
+
+SeriesScene MakeSeriesScene(const std::vector<double>& seconds, const std::vector<double>& values,
+                            const std::string& series_label, const std::optional<SeriesLevel>& level,
+                            const std::string& title, const std::string& x_label,
+                            const std::string& y_label) {
+  SeriesScene scene;
+  scene.t = seconds;
+  scene.v = values;
+  const auto [t_lo, t_hi] = std::minmax_element(scene.t.begin(), scene.t.end());
+  auto [v_lo, v_hi] = std::minmax_element(values.begin(), values.end());
+  double x0 = *t_lo, x1 = *t_hi, y0 = *v_lo, y1 = *v_hi;
+  if (level) {
+    scene.has_level = true;
+    scene.level = level->value;
+    y0 = std::min(y0, level->value);
+    y1 = std::max(y1, level->value);
+    scene.level_label = PlplotText(level->label, kMaxTextChars);
+  }
+  WidenIfFlat(x0, x1);
+  WidenIfFlat(y0, y1);
+  const double margin = 0.05 * (y1 - y0);
+  y0 -= margin;
+  y1 += margin;
+  y1 = y0 + (y1 - y0) / (1.0 - 2 * kLegendRowFraction);  // room above the data for the legend
+  scene.window = {x0, x1, y0, y1};
+  scene.title = PlplotText(title, kMaxTextChars);
+  scene.x_label = PlplotText(x_label, kMaxTextChars);
+  scene.y_label = PlplotText(y_label, kMaxTextChars);
+  scene.series_label = PlplotText(series_label, kMaxTextChars);
+  return scene;
+}
+
+void DrawSeriesPlot(const void* data) {
+  const SeriesScene& s = *static_cast<const SeriesScene*>(data);
+  const PLFLT char_px = CharHeightPx();
+  const PLFLT y_label_displacement = YLabelDisplacement(TickLabelCharacters(s.window.y0, s.window.y1));
+  const Box viewport{(y_label_displacement + kLeftOfYLabel) * char_px / kWidthPx, 0.96, kViewportBottom,
+                     kViewportTop};
+  const PLFLT x_tick = XTickSpacing(viewport, s.window, char_px);
+  DrawGrid(viewport, s.window, x_tick);
+  if (s.has_level) {
+    plcol0(kMean);
+    pllsty(5);
+    plwidth(2.2);
+    pljoin(s.window.x0, s.level, s.window.x1, s.level);
+    pllsty(1);
+  }
+  plcol0(kSeries);
+  plwidth(2.0);
+  if (s.t.size() > 1) plline(static_cast<PLINT>(s.t.size()), s.t.data(), s.v.data());
+  for (std::size_t i = 0; i < s.t.size(); ++i) DrawDot(s.t[i], s.v[i], viewport, s.window, 4.0);
+  DrawAxes(viewport, x_tick, y_label_displacement, s.x_label.c_str(), s.y_label.c_str(), s.title.c_str());
+
+  const int entries = s.has_level ? 2 : 1;
+  const PLINT opts[2] = {PL_LEGEND_LINE, PL_LEGEND_LINE};
+  const char* text[2] = {s.series_label.c_str(), s.level_label.c_str()};
+  const PLINT text_colours[2] = {kInk, kInk};
+  const PLINT line_colours[2] = {kSeries, kMean};
+  const PLINT line_styles[2] = {1, 5};
+  const PLFLT line_widths[2] = {2.0, 2.2};
+  const PLFLT text_scale =
+      LegendTextScale(text, entries, entries, kLegendSample, (viewport.x1 - viewport.x0) * kWidthPx, 0.9);
+  PLFLT legend_width = 0, legend_height = 0;
+  pllegend(&legend_width, &legend_height, PL_LEGEND_BACKGROUND | PL_LEGEND_BOUNDING_BOX | PL_LEGEND_ROW_MAJOR,
+           PL_POSITION_TOP | PL_POSITION_RIGHT | PL_POSITION_INSIDE | PL_POSITION_VIEWPORT, 0.015, 0.015,
+           kLegendSample, kBackground, kGrid, 1, 1, entries, entries, opts, 0.8, text_scale, 2.0, 0.0,
+           text_colours, text, nullptr, nullptr, nullptr, nullptr, line_colours, line_styles, line_widths,
+           nullptr, nullptr, nullptr, nullptr);
+}
+
+}  // namespace
+}  // namespace uf::plot
+
+namespace uf {
+
+Status WriteSeriesPlot(const std::string& png_path, const std::vector<double>& seconds,
+                       const std::vector<double>& values, const std::string& series_label,
+                       const std::optional<SeriesLevel>& level, const std::string& title,
+                       const std::string& x_label, const std::string& y_label) {
+  if (values.empty()) return Status::Error("plot " + png_path + ": the series is empty");
+  if (seconds.size() != values.size())
+    return Status::Error("plot " + png_path + ": " + std::to_string(seconds.size()) + " stamps for " +
+                         std::to_string(values.size()) + " values");
+  if (Status s = plot::CheckPlottable(png_path, "seconds", seconds, plot::kMaxSeconds); !s.ok()) return s;
+  if (Status s = plot::CheckPlottable(png_path, "values", values, plot::kMaxValue); !s.ok()) return s;
+  if (level)
+    if (Status s = plot::CheckPlottable(png_path, "level", level->value, plot::kMaxValue); !s.ok()) return s;
+  const plot::SeriesScene scene =
+      plot::MakeSeriesScene(seconds, values, series_label, level, title, x_label, y_label);
+  return plot::WritePng(png_path, plot::DrawSeriesPlot, &scene);
+}
+
+}  // namespace uf
