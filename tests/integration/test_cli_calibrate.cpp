@@ -79,6 +79,24 @@ TEST(CliCalibrate, EstimatesTheInjectedOffsetAndRotation) {
   EXPECT_GT(ate(estimated_run.output), 0.0) << estimated_run.output;
   EXPECT_LT(ate(estimated_run.output), 0.5 * ate(given_run.output))
       << estimated_run.output << given_run.output;
+
+  // Online (run --calibrate-online): the offset locks within 5 ms and is applied; the rotation is only
+  // estimated, so the run lands between the given and the two-pass one.
+  const auto online_run =
+      Ultrafusion("run " + seq + " --mode lio --no-map --calibrate-online --config " + UF_SOURCE_DIR +
+                  "/configs/run-sim.yaml --out " + dir.File("run_online"));
+  ASSERT_EQ(online_run.code, 0) << online_run.output;
+  EXPECT_NE(online_run.output.find("locked and applied"), std::string::npos) << online_run.output;
+  const std::string report = testing::ReadText(dir.File("run_online/report.md"));
+  EXPECT_NE(report.find("## Online calibration"), std::string::npos);
+  Expected<Calibration> online = ReadCalibrationFile(dir.File("run_online/calibration_estimated.yaml"));
+  ASSERT_TRUE(online);
+  EXPECT_NEAR(ToSeconds(Lidar(*online).time_offset), ToSeconds(Lidar(*truth).time_offset), 0.005);
+  EXPECT_LT(ate(online_run.output), ate(given_run.output)) << online_run.output << given_run.output;
+  // Only a LIO run from the start calibrates online.
+  const auto lo = Ultrafusion("run " + seq + " --mode lo --calibrate-online --out " + dir.File("run_lo"));
+  EXPECT_EQ(lo.code, 2) << lo.output;
+  EXPECT_NE(lo.output.find("--calibrate-online: needs a LIO run"), std::string::npos) << lo.output;
 }
 
 TEST(CliCalibrate, BadInputIsAClearError) {

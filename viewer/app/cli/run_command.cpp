@@ -20,7 +20,7 @@ struct RunArguments {
   std::string dataset, out, config, mode = "auto", output_frame;  // output_frame "": the mode's body
   std::string from;    // "map" / "splat": re-run from that stage on the outputs of an earlier run in --out
   std::string device;  // the splat stage's Vulkan device ("": the default)
-  bool no_map = false, no_splat = false, no_mesh = false;
+  bool no_map = false, no_splat = false, no_mesh = false, calibrate_online = false;
   double map_voxel_m = 0.05;
 };
 
@@ -38,6 +38,7 @@ Expected<RunRequest> MakeRequest(const RunArguments& a) {
   r.no_map = a.no_map, r.no_splat = a.no_splat, r.no_mesh = a.no_mesh;
   r.map_voxel_m = a.map_voxel_m;
   r.splat_device = a.device;
+  r.calibrate_online = a.calibrate_online;
   if (a.config.empty()) return r;
   Expected<ConfigFile> loaded = LoadConfigFile(a.config);
   if (!loaded) return loaded.status();
@@ -59,6 +60,20 @@ void PrintSummary(const fs::path& out, const pipeline::RunSummary& s) {
                 o.timing.p95, static_cast<long long>(o.reader_warnings.size() + o.odometry_warnings.size()));
   std::printf("%s", pipeline::FormatStageTable(s.stages).c_str());
   if (!o.initialization.empty()) std::printf("  initialized: %s\n", o.initialization.c_str());
+  if (o.online_calibration && o.calibration_estimates) {
+    const pipeline::CalibrateResult& c = *o.calibration_estimates;
+    if (o.online_calibration->offset_applied_from)
+      std::printf(
+          "  online calibration: time offset %+.4f s locked and applied (%lld re-stamped scans left out)",
+          o.online_calibration->offset_applied_s,
+          static_cast<long long>(o.online_calibration->scans_left_out));
+    else
+      std::printf("  online calibration: no time offset locked (the given one kept)");
+    std::printf("; rotation %s (not applied; see calibration_estimated.yaml)\n", c.rotation_locked ? "locked"
+                                                                                 : c.R_imu_lidar
+                                                                                     ? "estimated, not locked"
+                                                                                     : "not estimated");
+  }
   if (s.accuracy.evaluated) std::printf("  ATE (SE3-aligned RMSE): %.4f m\n", s.accuracy.ape_rmse_m);
   if (const auto& track = s.accuracy.gnss_track)
     std::printf("  against the GNSS track (%d fixes, %s): horizontal RMSE %.3f m, vertical %.3f m\n",
@@ -130,6 +145,11 @@ Subcommand AddRunCommand(CLI::App& app) {
       ->capture_default_str();
   run->add_flag("--no-mesh", a->no_mesh, "No surface mesh in map.glb (points only; faster on big maps)");
   run->add_flag("--no-splat", a->no_splat, "No splats: no splats.ply, splats.glb, metrics.json, views/");
+  run->add_flag(
+      "--calibrate-online", a->calibrate_online,
+      "LIO: estimate the LiDAR-IMU time offset and rotation while running (a LiDAR-only branch feeds "
+      "the calibration workers until they lock); the locked offset re-stamps the later scans, the "
+      "rotation is written to calibration_estimated.yaml (not applied in this run)");
   run->add_option("--device", a->device,
                   "Vulkan device of the splat and views stages: index or part of its name (default: a GPU if "
                   "any, else lavapipe on the CPU); checked before the odometry runs");

@@ -53,6 +53,39 @@ SplatSummary Summarize(const pipeline::SplatJobResult& result) {
 
 // The tracking section: how many scans were rejected, registered from a fallback guess, or restarted the
 // local map, and each event with its stamp (the first kMaxListed).
+// run --calibrate-online: the estimates, what the run applied, the files.
+std::string FormatOnlineCalibration(const pipeline::OnlineCalibrationSummary& applied,
+                                    const pipeline::CalibrateResult& r) {
+  std::string md = "\n## Online calibration (--calibrate-online)\n\n";
+  md += "A LiDAR-only branch fed the calibration workers with " + std::to_string(applied.branch_scans) +
+        " scans (docs/METHOD.md, \"Online spatiotemporal calibration\").\n\n";
+  if (r.time_offset_s)
+    md += "- time offset: " + std::string(r.time_offset_locked ? "locked" : "not locked") + ", " +
+          FormatValue("%+.4f", *r.time_offset_s) + " s on top of the offset read (" +
+          FormatValue("%+.4f", ToSeconds(r.lidar_offset_read - r.imu_offset_read)) + " s)\n";
+  else
+    md += "- time offset: no estimate\n";
+  if (applied.offset_applied_from)
+    md += "- applied: " + FormatValue("%+.4f", applied.offset_applied_s) + " s added to the scans from " +
+          FormatSeconds(*applied.offset_applied_from) + " on and to the poses before (" +
+          std::to_string(applied.scans_left_out) +
+          " re-stamped scans left out: they came before the previous scan)\n";
+  else
+    md += "- applied: nothing (the offset never locked); the run kept the given offset\n";
+  if (r.R_imu_lidar) {
+    const double angle =
+        r.T_imu_lidar_given ? (r.T_imu_lidar_given->so3().inverse() * *r.R_imu_lidar).angle() : 0.0;
+    md += "- rotation: " + std::string(r.rotation_locked ? "locked" : "not locked") + ", " +
+          FormatValue("%.3f", angle * 180.0 / 3.14159265358979323846) +
+          " deg from the given one; not applied in this run: rerun with dataset.calibration_file = "
+          "calibration_estimated.yaml\n";
+  } else {
+    md += "- rotation: no estimate\n";
+  }
+  md += "\nEvery solve: `calibration_solves.csv`; the estimates: `calibration_estimated.yaml`.\n";
+  return md;
+}
+
 std::string FormatTracking(const std::vector<estimator::TrackEvent>& events, std::int64_t scans) {
   constexpr std::size_t kMaxListed = 100;
   using Kind = estimator::TrackEvent::Kind;
@@ -117,6 +150,8 @@ std::string FormatRunReport(const pipeline::RunSummary& r) {
   }
   md += "| wall time [s] | " + FormatValue("%.2f", r.wall_seconds) + " |\n";
   if (o.step == "scan") md += FormatTracking(o.track_events, o.scans);
+  if (o.online_calibration && o.calibration_estimates)
+    md += FormatOnlineCalibration(*o.online_calibration, *o.calibration_estimates);
   md += "\n## Timing per " + o.step + " (" + (o.step == "scan" ? "AddScan" : "the node's solve") +
         " + TakeFinished, wall time)\n\n";
   md += "| mean [ms] | median [ms] | p95 [ms] | max [ms] |\n|---|---|---|---|\n";

@@ -167,6 +167,27 @@ void ConfigureEstimator(RunPlan& plan) {
   if (mode.gnss) plan.lo_config.T_body_gnss = T_imu_gnss;
 }
 
+// run --calibrate-online: the calibration branch beside a LIO window (calibration_branch.h).
+Status PlanOnlineCalibration(RunPlan& plan) {
+  const RunRequest& r = plan.request;
+  if (!r.calibrate_online) return {};
+  if (plan.frames.mode != OdometryMode::kLio || r.from != RunFrom::kStart)
+    return Status::Error("--calibrate-online: needs a LIO run from the start (mode " + ModeName(plan.mode) +
+                         (r.from != RunFrom::kStart ? ", --from" : "") + ")");
+  CalibrateResult base;
+  const DatasetDescription& description = plan.stream->description();
+  base.lidar_stream = description.streams[plan.sensors.lidar].name;
+  base.imu_stream = description.streams[plan.sensors.imu].name;
+  base.T_imu_lidar_given = plan.sensors.T_imu_lidar;
+  base.lidar_offset_read = plan.stream->time_offset(plan.sensors.lidar);
+  base.imu_offset_read = plan.stream->time_offset(plan.sensors.imu);
+  Expected<std::unique_ptr<CalibrationBranch>> branch =
+      CalibrationBranch::Create(r.lo_config, std::move(base));
+  if (!branch) return branch.status();
+  plan.calibration = std::move(*branch);
+  return {};
+}
+
 }  // namespace
 
 Expected<RunPlan> PlanRun(RunRequest request, PlanErrorKind& kind) {
@@ -215,6 +236,7 @@ Expected<RunPlan> PlanRun(RunRequest request, PlanErrorKind& kind) {
       CreateRunEstimator(plan.mode, plan.lo_config, plan.wio_config);
   if (!odometry) return odometry.status();
   plan.odometry = std::move(*odometry);
+  if (Status s = PlanOnlineCalibration(plan); !s.ok()) return s;
   if (!r.no_map && r.from != RunFrom::kSplat && mode->core != OdometryMode::kWio) {
     mapping::KeyframeMapperOptions options;
     options.map.voxel_size_m = r.map_voxel_m;

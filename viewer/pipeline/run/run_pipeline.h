@@ -26,6 +26,7 @@
 #include "odometry/io/measurement_stream.h"
 #include "viewer/app/config/dataset_config.h"
 #include "viewer/app/config/splat_config.h"
+#include "viewer/pipeline/calibrate/calibration_branch.h"
 #include "viewer/pipeline/progress_line.h"
 #include "viewer/pipeline/run/run_estimator.h"
 #include "viewer/pipeline/run/run_frames.h"
@@ -44,6 +45,7 @@ struct RunRequest {
   bool no_map = false, no_splat = false, no_mesh = false;
   double map_voxel_m = 0.05;
   std::string splat_device;  // --device: the splat and views stages' Vulkan device ("": the default)
+  bool calibrate_online = false;  // --calibrate-online (LIO): the calibration branch (calibration_branch.h)
   // The sections of --config (the defaults without one).
   app::DatasetConfig dataset_config;
   estimator::LidarOdometryConfig lo_config;
@@ -57,6 +59,7 @@ struct RunPlan {
   std::unique_ptr<DatasetReader> reader;
   std::unique_ptr<MeasurementStream> stream;
   std::unique_ptr<RunEstimator> odometry;
+  std::unique_ptr<CalibrationBranch> calibration;   // --calibrate-online
   std::unique_ptr<mapping::KeyframeMapper> mapper;  // none with --no-map, --from splat or in WIO
   DatasetSensors sensors;
   EstimatorMode mode;

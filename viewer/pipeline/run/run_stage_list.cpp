@@ -106,6 +106,7 @@ std::vector<Stage> RunStageList(RunPlan& plan, const fs::path& out, StageOutputs
                                 .sensors = plan.sensors,
                                 .frames = plan.frames,
                                 .gnss_factors = plan.mode.gnss,
+                                .calibration = plan.calibration.get(),
                                 .paced_messages = o.dataset ? o.dataset->paced_messages : 0,
                                 .out = out};
     if (Status s = Keep(o.odometry, RunOdometryStage(in, c)); !s.ok()) return s;

@@ -132,11 +132,15 @@ Expected<OdometryStageOutput> RunOdometryStage(const OdometryStageInput& in, Sta
   const Status read = ForEachMeasurement(*in.stream, [&](Measurement& m) {
     if (m.stream == paced_stream) ++paced;
     Status status;
-    if (const auto* scan = std::get_if<LidarScan>(&m.data);
-        scan && m.stream == sensors.lidar && lidar_window) {
-      status = odometry.AddScan(*scan);
+    if (auto* scan = std::get_if<LidarScan>(&m.data); scan && m.stream == sensors.lidar && lidar_window) {
       ++scans;
+      if (in.calibration) {
+        if (Status s = in.calibration->AddScan(*scan); !s.ok()) return s;
+        if (!in.calibration->Restamp(*scan)) return Status();  // re-stamped behind the previous scan
+      }
+      status = odometry.AddScan(*scan);
     } else if (const auto* sample = std::get_if<ImuSample>(&m.data); sample && m.stream == sensors.imu) {
+      if (in.calibration) in.calibration->AddImu(*sample);
       status = odometry.AddImu(*sample);
     } else if (const auto* wheel = std::get_if<WheelSample>(&m.data); wheel && m.stream == sensors.wheel) {
       status = odometry.AddWheel(*wheel);
@@ -157,6 +161,15 @@ Expected<OdometryStageOutput> RunOdometryStage(const OdometryStageInput& in, Sta
   });
   if (!read.ok()) return read;
   odometry.Finish();
+  if (in.calibration) {
+    in.calibration->Finish();
+    out.summary.online_calibration = in.calibration->summary();
+    RestampEarlierPoses(out.estimated, in.calibration->summary());
+    out.summary.calibration_estimates = in.calibration->result();
+    Expected<std::vector<std::string>> written = WriteCalibrateOutputs(in.out, in.calibration->result());
+    if (!written) return written.status();
+    for (const std::string& file : *written) context.AddOutput(file);
+  }
   if (Status s = CollectFinished(in, out, collected, keyframes); !s.ok()) return s;
 
   OdometrySummary& summary = out.summary;

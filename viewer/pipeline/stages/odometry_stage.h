@@ -17,6 +17,7 @@
 #include "mapping/keyframe_mapper.h"
 #include "odometry/io/dataset_sensors.h"
 #include "odometry/io/measurement_stream.h"
+#include "viewer/pipeline/calibrate/calibration_branch.h"
 #include "viewer/pipeline/run/run_estimator.h"
 #include "viewer/pipeline/run/run_frames.h"
 #include "viewer/pipeline/run_files.h"
@@ -31,6 +32,8 @@ struct OdometryStageInput {
   DatasetSensors sensors;
   RunFrames frames;
   bool gnss_factors = false;  // the fixes go to the estimator (a G mode)
+  // run --calibrate-online: the calibration branch that re-stamps the scans once the offset locks
+  CalibrationBranch* calibration = nullptr;
   // The total of the stream that paces the odometry (PacedStream) for the progress line; 0: unknown.
   std::int64_t paced_messages = 0;
   std::filesystem::path out;
@@ -48,6 +51,9 @@ struct OdometrySummary {
   std::vector<estimator::TrackEvent> track_events;  // rejections, fallback guesses, restarts
   estimator::SensorFactorStats sensor_factors;      // wheel (and GNSS) factors added and skipped
   std::string timing_plot;                          // "plots/timing_per_scan.png" once written
+  // run --calibrate-online: what the calibration workers found and what the run applied of it
+  std::optional<OnlineCalibrationSummary> online_calibration;
+  std::optional<CalibrateResult> calibration_estimates;
 };
 
 // The stream whose messages pace the odometry, for the progress line: the LiDAR's, or the IMU's in WIO.

@@ -1,0 +1,82 @@
+#include "viewer/pipeline/calibrate/calibration_branch.h"
+
+namespace uf::pipeline {
+
+Expected<std::unique_ptr<CalibrationBranch>> CalibrationBranch::Create(
+    const estimator::LidarOdometryConfig& lo, CalibrateResult result,
+    const estimator::OnlineCalibrationOptions& options) {
+  Expected<std::unique_ptr<RunEstimator>> odometry =
+      CreateRunEstimator(EstimatorMode{.core = OdometryMode::kLo}, lo, {});
+  if (!odometry) return odometry.status();
+  return std::unique_ptr<CalibrationBranch>(
+      new CalibrationBranch(std::move(*odometry), std::move(result), options));
+}
+
+CalibrationBranch::CalibrationBranch(std::unique_ptr<RunEstimator> odometry, CalibrateResult result,
+                                     const estimator::OnlineCalibrationOptions& options)
+    : odometry_(std::move(odometry)), calibration_(options), result_(std::move(result)) {}
+
+void CalibrationBranch::AddImu(const ImuSample& sample) {
+  ++result_.imu_samples;
+  if (odometry_) calibration_.AddImu(sample);
+}
+
+Status CalibrationBranch::AddScan(const LidarScan& scan) {
+  if (!odometry_) return {};
+  ++result_.scans;
+  ++summary_.branch_scans;
+  if (Status s = odometry_->AddScan(scan); !s.ok()) return s;
+  TakePoses();
+  if (calibration_.time_offset_locked() && calibration_.rotation_locked()) Finish();  // nothing left to learn
+  return {};
+}
+
+bool CalibrationBranch::Restamp(LidarScan& scan) {
+  if (calibration_.time_offset_locked()) {
+    const Stamp offset = FromSeconds(*calibration_.time_offset_s());
+    scan.stamp += offset;
+    scan.end += offset;
+  }
+  if (last_restamped_ && scan.stamp <= *last_restamped_) {
+    ++summary_.scans_left_out;
+    return false;
+  }
+  if (calibration_.time_offset_locked() && !summary_.offset_applied_from) {
+    summary_.offset_applied_from = scan.stamp;
+    summary_.offset_applied_s = *calibration_.time_offset_s();
+  }
+  last_restamped_ = scan.stamp;
+  return true;
+}
+
+void CalibrationBranch::Finish() {
+  if (!odometry_) return;
+  odometry_->Finish();
+  TakePoses();
+  for (const std::string& w : odometry_->warnings()) result_.warnings.push_back("calibration branch: " + w);
+  odometry_.reset();
+}
+
+void CalibrationBranch::TakePoses() {
+  for (const Keyframe& k : odometry_->TakeFinished()) {
+    calibration_.AddLidarOrientation(k.stamp, k.T_world_body.so3());
+    if (result_.poses++ == 0) result_.first_pose = k.stamp;
+    result_.last_pose = k.stamp;
+  }
+  odometry_->TakeStepTimes();
+  odometry_->TakeEvents();
+  result_.time_offset_s = calibration_.time_offset_s();
+  result_.time_offset_locked = calibration_.time_offset_locked();
+  result_.R_imu_lidar = calibration_.R_imu_lidar();
+  result_.rotation_locked = calibration_.rotation_locked();
+  result_.solves = calibration_.solves();
+}
+
+void RestampEarlierPoses(Trajectory& trajectory, const OnlineCalibrationSummary& summary) {
+  if (!summary.offset_applied_from) return;
+  const Stamp offset = FromSeconds(summary.offset_applied_s);
+  for (Stamp& stamp : trajectory.stamps)
+    if (stamp < *summary.offset_applied_from) stamp += offset;
+}
+
+}  // namespace uf::pipeline

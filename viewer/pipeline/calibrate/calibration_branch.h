@@ -1,0 +1,69 @@
+// Online LiDAR-IMU calibration inside a LIO run (`run --calibrate-online`; docs/METHOD.md, "Online
+// spatiotemporal calibration"): a LiDAR-only odometry branch beside the run's window, isolated from it as
+// the paper's calibration branch is, feeds the calibration workers (online_calibration.h) with the LiDAR's
+// own motion and the IMU's gyro. Once the time offset locks, every later scan reaches the run's window
+// re-stamped by it (stamp and end + offset); a re-stamped scan that would not come after the last one the
+// window got is left out and counted. The poses of the scans before the lock, which carry the LiDAR's clock,
+// are re-stamped by the same offset when the trajectory is written (RestampEarlierPoses). The branch stops
+// once both workers have locked. The rotation is estimated and written (calibration_estimated.yaml), not
+// applied inside the run: that needs the window's states moved to the new extrinsic, which is not
+// implemented.
+#pragma once
+
+#include <memory>
+#include <optional>
+
+#include "odometry/estimator/calib/online_calibration.h"
+#include "odometry/estimator/config/lidar_odometry_config.h"
+#include "viewer/pipeline/calibrate/calibrate_job.h"
+#include "viewer/pipeline/run/run_estimator.h"
+
+namespace uf::pipeline {
+
+// What the branch did to the run.
+struct OnlineCalibrationSummary {
+  std::optional<Stamp> offset_applied_from;  // the first re-stamped scan's stamp (after re-stamping)
+  double offset_applied_s = 0.0;             // added to the LiDAR stamps from then on
+  std::int64_t scans_left_out = 0;           // re-stamped scans that did not come after the previous one
+  std::int64_t branch_scans = 0;             // scans the branch's odometry processed
+};
+
+class CalibrationBranch {
+ public:
+  // `result` names the streams, the given extrinsic and the offsets read (CalibrateResult's fields before
+  // the estimates). Errors: the odometry configuration's.
+  static Expected<std::unique_ptr<CalibrationBranch>> Create(
+      const estimator::LidarOdometryConfig& lo, CalibrateResult result,
+      const estimator::OnlineCalibrationOptions& options = {});
+
+  void AddImu(const ImuSample& sample);
+  // Feeds the scan, as read, to the branch (until both workers have locked).
+  Status AddScan(const LidarScan& scan);
+  // Applies the locked offset to `scan` (nothing before it locks). False when the re-stamped scan does not
+  // come after the last scan re-stamped: the run's window is not to get it.
+  bool Restamp(LidarScan& scan);
+  // End of data: the branch's last poses go to the workers.
+  void Finish();
+
+  // The estimates as `calibrate` reports and writes them (WriteCalibrateOutputs).
+  const CalibrateResult& result() const { return result_; }
+  const OnlineCalibrationSummary& summary() const { return summary_; }
+
+ private:
+  CalibrationBranch(std::unique_ptr<RunEstimator> odometry, CalibrateResult result,
+                    const estimator::OnlineCalibrationOptions& options);
+  void TakePoses();
+
+  std::unique_ptr<RunEstimator> odometry_;
+  estimator::OnlineCalibration calibration_;
+  CalibrateResult result_;
+  OnlineCalibrationSummary summary_;
+  std::optional<Stamp> last_restamped_;
+};
+
+// The poses before `summary.offset_applied_from` (the scans the window got before the offset locked) moved
+// onto the IMU clock by the applied offset; the trajectory stays in increasing order (Restamp made every
+// later scan come after them). Unchanged when no offset was applied.
+void RestampEarlierPoses(Trajectory& trajectory, const OnlineCalibrationSummary& summary);
+
+}  // namespace uf::pipeline
