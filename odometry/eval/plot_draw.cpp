@@ -67,6 +67,16 @@ void DrawGrid(const Box& viewport, const Box& window, PLFLT x_tick) {
 }
 
 // The axis labels may be as long as their edge of the viewport, the title as wide as the viewport.
+TimePlotFrame BeginTimePlot(const Box& window, PLFLT bottom, PLFLT top) {
+  const PLFLT char_px = CharHeightPx();
+  TimePlotFrame frame;
+  frame.y_label_displacement = YLabelDisplacement(TickLabelCharacters(window.y0, window.y1));
+  frame.viewport = {(frame.y_label_displacement + kLeftOfYLabel) * char_px / kWidthPx, 0.96, bottom, top};
+  frame.x_tick = XTickSpacing(frame.viewport, window, char_px);
+  DrawGrid(frame.viewport, window, frame.x_tick);
+  return frame;
+}
+
 void DrawAxes(const Box& viewport, PLFLT x_tick, PLFLT y_label_displacement, const char* x_label,
               const char* y_label, const char* title) {
   plcol0(kInk);

@@ -35,6 +35,15 @@ void DrawDot(PLFLT x, PLFLT y, const Box& viewport, const Box& window, PLFLT rad
 // with vertical lines every `x_tick` and PLplot's own horizontal spacing.
 void DrawGrid(const Box& viewport, const Box& window, PLFLT x_tick);
 
+// The frame of a plot over time: a viewport from `bottom` to `top` (normalized page coordinates) whose left
+// margin fits the y tick labels of `window` and the y label, its x tick spacing and the y label's
+// displacement. BeginTimePlot sets it up and draws the grid (DrawGrid).
+struct TimePlotFrame {
+  Box viewport;
+  PLFLT x_tick, y_label_displacement;
+};
+TimePlotFrame BeginTimePlot(const Box& window, PLFLT bottom, PLFLT top);
+
 // Draws the frame with ticks and tick labels, the axis labels (the y label `y_label_displacement` character
 // heights left of the axis) and the title, over what DrawGrid set up.
 void DrawAxes(const Box& viewport, PLFLT x_tick, PLFLT y_label_displacement, const char* x_label,

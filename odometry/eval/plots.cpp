@@ -216,12 +216,9 @@ void DrawErrorPlot(const void* data) {
   const ErrorScene& s = *static_cast<const ErrorScene*>(data);
 
   // Layout: the y tick labels set the left margin.
-  const PLFLT char_px = CharHeightPx();
-  const PLFLT y_label_displacement = YLabelDisplacement(TickLabelCharacters(s.window.y0, s.window.y1));
-  const Box viewport{(y_label_displacement + kLeftOfYLabel) * char_px / kWidthPx, 0.96, kViewportBottom,
-                     kViewportTop};
-  const PLFLT x_tick = XTickSpacing(viewport, s.window, char_px);
-  DrawGrid(viewport, s.window, x_tick);
+  const TimePlotFrame frame = BeginTimePlot(s.window, kViewportBottom, kViewportTop);
+  const Box& viewport = frame.viewport;
+  const PLFLT x_tick = frame.x_tick, y_label_displacement = frame.y_label_displacement;
 
   // +-std band around the mean across the whole time axis, the statistics as lines, the series on top.
   const PLFLT band_x[4] = {s.window.x0, s.window.x1, s.window.x1, s.window.x0};

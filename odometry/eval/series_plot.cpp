@@ -59,12 +59,10 @@ SeriesScene MakeSeriesScene(const std::vector<double>& seconds, const std::vecto
 
 void DrawSeriesPlot(const void* data) {
   const SeriesScene& s = *static_cast<const SeriesScene*>(data);
-  const PLFLT char_px = CharHeightPx();
-  const PLFLT y_label_displacement = YLabelDisplacement(TickLabelCharacters(s.window.y0, s.window.y1));
-  const Box viewport{(y_label_displacement + kLeftOfYLabel) * char_px / kWidthPx, 0.96, kViewportBottom,
-                     kViewportTop};
-  const PLFLT x_tick = XTickSpacing(viewport, s.window, char_px);
-  DrawGrid(viewport, s.window, x_tick);
+  // Layout: the y tick labels set the left margin.
+  const TimePlotFrame frame = BeginTimePlot(s.window, kViewportBottom, kViewportTop);
+  const Box& viewport = frame.viewport;
+  const PLFLT x_tick = frame.x_tick, y_label_displacement = frame.y_label_displacement;
   if (s.has_level) {
     plcol0(kMean);
     pllsty(5);
