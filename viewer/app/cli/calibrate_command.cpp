@@ -79,8 +79,10 @@ void PrintResult(const pipeline::CalibrateResult& r, const estimator::OnlineCali
     double sigma = 0;
     for (const estimator::CalibrationSolve& s : r.solves)
       if (s.worker == CalibrationWorker::kRotation && s.accepted) sigma = s.sigma_deg;
-    std::printf("    latest candidate: standard deviation %.3f deg (locks at <= %.3f with %d agreeing)\n",
-                sigma, options.max_lock_sigma_deg, options.consensus_count);
+    std::printf("    latest candidate: standard deviation %.3f deg (locks at <= %.3f with %d agreeing); %s\n",
+                sigma, options.max_lock_sigma_deg, options.consensus_count,
+                r.UsesEstimatedRotation() ? "written, as the given rotation is more than 3 sigma from it"
+                                          : "the given rotation is written, within 3 sigma of it");
   }
   if (!r.rotation_locked && rot_refused > 0)
     std::printf("    last refusal: %s\n", LastRefusal(r, CalibrationWorker::kRotation).c_str());

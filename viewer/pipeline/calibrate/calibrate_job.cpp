@@ -97,12 +97,22 @@ double CalibrateResult::LidarTimeOffset() const {
   return ToSeconds(lidar_offset_read - imu_offset_read) + time_offset_s.value_or(0.0);
 }
 
+bool CalibrateResult::UsesEstimatedRotation() const {
+  if (!R_imu_lidar) return false;
+  if (rotation_locked || !T_imu_lidar_given) return true;
+  double sigma_deg = 0;
+  for (const CalibrationSolve& s : solves)
+    if (s.worker == CalibrationWorker::kRotation && s.accepted) sigma_deg = s.sigma_deg;
+  return (T_imu_lidar_given->so3().inverse() * *R_imu_lidar).angle() / kDegree > 3.0 * sigma_deg;
+}
+
 std::optional<SE3> CalibrateResult::TImuLidar() const {
   if (!T_imu_lidar_given) {
     if (!R_imu_lidar) return std::nullopt;
     return SE3(*R_imu_lidar, Eigen::Vector3d::Zero());
   }
-  return SE3(R_imu_lidar.value_or(T_imu_lidar_given->so3()), T_imu_lidar_given->translation());
+  return SE3(UsesEstimatedRotation() ? *R_imu_lidar : T_imu_lidar_given->so3(),
+             T_imu_lidar_given->translation());
 }
 
 Expected<CalibrateResult> RunCalibrate(const CalibrateRequest& request, const CalibrateProgress& progress) {
@@ -181,8 +191,11 @@ Expected<std::vector<std::string>> WriteCalibrateOutputs(const fs::path& out, co
                               : "no estimate (the offset read with)") +
         "; rotation: " +
         (r.rotation_locked ? "locked"
-         : r.R_imu_lidar   ? "not locked (latest accepted candidate)"
-                           : "no estimate (the given rotation)") +
+         : r.UsesEstimatedRotation()
+             ? "not locked, the latest accepted candidate (the given one is more than 3 "
+               "sigma from it)"
+         : r.R_imu_lidar ? "the given one (not locked, and the latest candidate is within 3 sigma of it)"
+                         : "no estimate (the given rotation)") +
         (r.T_imu_lidar_given ? "; translation: the given one."
                              : "; translation: 0, the dataset gives no extrinsic and it is not estimated.");
     if (Status s = WriteCalibrationFile(out / "calibration_estimated.yaml", calibration, header); !s.ok())

@@ -47,7 +47,13 @@ struct CalibrateResult {
 
   // The LiDAR's offset to write (read + estimated; read alone without an estimate), s.
   double LidarTimeOffset() const;
-  // T_imu_lidar to write: the estimated rotation (else the given one) with the given translation.
+  // Whether the estimated rotation replaces the given one: when it locked; when it did not, only when the
+  // given one lies more than 3 standard deviations (the latest accepted candidate's RotationSigma) from it,
+  // i.e. the data contradict the given rotation (an uncertain candidate near a good given rotation would
+  // only add its own error: simulated urban, seed 2, 0.43 deg off with a 0.6 deg sigma doubled the LIO's
+  // ATE). Always without a given extrinsic.
+  bool UsesEstimatedRotation() const;
+  // T_imu_lidar to write: the rotation UsesEstimatedRotation picks, with the given translation.
   std::optional<SE3> TImuLidar() const;
 };
 
