@@ -5,9 +5,11 @@
 # 32-beam LiDAR + IMU, no camera, wheel or GNSS. Per case and seed:
 #   calibrate   `ultrafusion calibrate` on the sequence: the estimated offset's error (ms) and the estimated
 #               rotation's angle from the truth (deg), against the simulator's calibration_true.yaml;
-#   ATE         `run --mode lio` with the given calibration (no calibration: the ablation), with the estimated
-#               one (dataset.calibration_file = calibration_estimated.yaml: two passes, calibrate then run),
-#               and with the true one (the reference), against the simulator's ground truth.
+#   ATE         `run --mode lio` with the given calibration (no calibration: the ablation), with
+#               `--calibrate-online` (the workers beside the run: the offset applied once it locks, the
+#               rotation not), with the estimated one (dataset.calibration_file = calibration_estimated.yaml:
+#               two passes, calibrate then run), and with the true one (the reference), against the
+#               simulator's ground truth.
 # Writes a markdown table to stdout and suite.md / suite.json into --out (default: a temporary folder).
 #   usage: bench/bench_miscalibration.sh [--duration S] [--seeds "1 2 3"] [--offsets "-0.3 ... 0.3"]
 #                                        [--rotations "0 1 ... 10"] [--out DIR]
@@ -48,12 +50,12 @@ compare() {
     printf "%.2f %.3f\n", 1000 * ($1 - $18), atan2(sqrt(1 - c * c), c) * 180 / 3.14159265358979 }'
 }
 ate() { sed -n 's/.*ATE (SE3-aligned RMSE): \([0-9.]*\) m.*/\1/p' "$1" | head -1; }
-run_lio() {  # dataset, calibration file ("" = the given one), out
+run_lio() {  # dataset, calibration file ("" = the given one), out, more run options
   local cfg="$3.yaml"
   cp "$config" "$cfg"
   [[ -z "$2" ]] || sed -i "s|^  derive_point_times_from_azimuth: false|&\n  calibration_file: $2|" "$cfg"
   rm -rf "$3"
-  "$bin" run "$1" --config "$cfg" --mode lio --no-map --out "$3" >"$3.log" 2>&1 || true
+  "$bin" run "$1" --config "$cfg" --mode lio --no-map ${4:-} --out "$3" >"$3.log" 2>&1 || true
   ate "$3.log"
 }
 
@@ -62,8 +64,8 @@ json="$work/suite.json"
 echo "[" >"$json"
 first=1
 {
-  echo "| case | seed | locked | offset error ms | rotation error deg | ATE given m | ATE estimated m | ATE true m |"
-  echo "|---|---|---|---|---|---|---|---|"
+  echo "| case | seed | locked | offset error ms | rotation error deg | ATE given m | ATE online m | ATE estimated m | ATE true m |"
+  echo "|---|---|---|---|---|---|---|---|---|"
 } | tee "$work/suite.md"
 one_case() {  # name, seed, sim arguments
   local name="$1" seed="$2" data="$work/$1-s$2"
@@ -71,21 +73,22 @@ one_case() {  # name, seed, sim arguments
   "$bin" sim --seed "$seed" --duration "$duration" --no-camera --no-gnss --no-wheel $3 --out "$data" \
     >"$data.sim.log" 2>&1 || { echo "$name $seed: sim failed, see $data.sim.log"; return; }
   "$bin" calibrate "$data" --out "$data-cal" >"$data-cal.log" 2>&1 || true
-  local locked errors given estimated truth
+  local locked errors given online estimated truth
   locked=$(grep -c ": locked" "$data-cal.log" || true)
   errors="- -"
   [[ -f "$data-cal/calibration_estimated.yaml" ]] &&
     errors=$(compare "$data-cal/calibration_estimated.yaml" "$data/calibration_true.yaml")
   given=$(run_lio "$data" "" "$data-given")
+  online=$(run_lio "$data" "" "$data-online" --calibrate-online)
   estimated=$( [[ -f "$data-cal/calibration_estimated.yaml" ]] && run_lio "$data" "$data-cal/calibration_estimated.yaml" "$data-est" || echo -)
   truth=$(run_lio "$data" "$data/calibration_true.yaml" "$data-true")
   read -r offset_ms rotation_deg <<<"$errors"
-  echo "| $name | $seed | $locked/2 | $offset_ms | $rotation_deg | ${given:--} | ${estimated:--} | ${truth:--} |" |
+  echo "| $name | $seed | $locked/2 | $offset_ms | $rotation_deg | ${given:--} | ${online:--} | ${estimated:--} | ${truth:--} |" |
     tee -a "$work/suite.md"
   ((first)) || echo "," >>"$json"
   first=0
-  printf '{"case": "%s", "seed": %s, "locked": %s, "offset_error_ms": "%s", "rotation_error_deg": "%s", "ate_given_m": "%s", "ate_estimated_m": "%s", "ate_true_m": "%s"}' \
-    "$name" "$seed" "$locked" "$offset_ms" "$rotation_deg" "${given:--}" "${estimated:--}" "${truth:--}" >>"$json"
+  printf '{"case": "%s", "seed": %s, "locked": %s, "offset_error_ms": "%s", "rotation_error_deg": "%s", "ate_given_m": "%s", "ate_online_m": "%s", "ate_estimated_m": "%s", "ate_true_m": "%s"}' \
+    "$name" "$seed" "$locked" "$offset_ms" "$rotation_deg" "${given:--}" "${online:--}" "${estimated:--}" "${truth:--}" >>"$json"
 }
 for seed in $seeds; do
   for offset in $offsets; do one_case "wild-offset${offset}s" "$seed" "--scene wild --lidar-stamp-delay $offset"; done
