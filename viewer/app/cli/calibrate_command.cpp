@@ -27,14 +27,6 @@ int CountSolves(const pipeline::CalibrateResult& r, estimator::CalibrationWorker
   return n;
 }
 
-// The last reason a worker gave for refusing a solve ("" when it never refused).
-std::string LastRefusal(const pipeline::CalibrateResult& r, estimator::CalibrationWorker worker) {
-  std::string reason;
-  for (const estimator::CalibrationSolve& s : r.solves)
-    if (s.worker == worker && !s.accepted) reason = s.reason;
-  return reason;
-}
-
 std::string State(bool locked, bool estimated) {
   return locked ? "locked" : estimated ? "not locked, latest accepted candidate" : "no estimate";
 }
@@ -58,7 +50,7 @@ void PrintResult(const pipeline::CalibrateResult& r, const estimator::OnlineCali
     std::printf("    LiDAR stamps + %.4f s = IMU time (read with %+.4f s; estimated %+.4f s on top)\n",
                 r.LidarTimeOffset(), ToSeconds(r.lidar_offset_read - r.imu_offset_read), *r.time_offset_s);
   if (!r.time_offset_locked && time_refused > 0)
-    std::printf("    last refusal: %s\n", LastRefusal(r, CalibrationWorker::kTimeOffset).c_str());
+    std::printf("    last refusal: %s\n", r.LastRefusal(CalibrationWorker::kTimeOffset).c_str());
   const int rot_ok = CountSolves(r, CalibrationWorker::kRotation, true);
   const int rot_refused = CountSolves(r, CalibrationWorker::kRotation, false);
   std::printf("  rotation: %s (%d solves accepted, %d refused)\n",
@@ -76,16 +68,14 @@ void PrintResult(const pipeline::CalibrateResult& r, const estimator::OnlineCali
     std::printf("\n");
   }
   if (!r.rotation_locked && r.R_imu_lidar) {
-    double sigma = 0;
-    for (const estimator::CalibrationSolve& s : r.solves)
-      if (s.worker == CalibrationWorker::kRotation && s.accepted) sigma = s.sigma_deg;
+    const double sigma = r.LatestRotationSigmaDeg();
     std::printf("    latest candidate: standard deviation %.3f deg (locks at <= %.3f with %d agreeing); %s\n",
                 sigma, options.max_lock_sigma_deg, options.consensus_count,
                 r.UsesEstimatedRotation() ? "written, as the given rotation is more than 3 sigma from it"
                                           : "the given rotation is written, within 3 sigma of it");
   }
   if (!r.rotation_locked && rot_refused > 0)
-    std::printf("    last refusal: %s\n", LastRefusal(r, CalibrationWorker::kRotation).c_str());
+    std::printf("    last refusal: %s\n", r.LastRefusal(CalibrationWorker::kRotation).c_str());
   if (!r.warnings.empty())
     std::printf("  %zu warnings, the first: %s\n", r.warnings.size(), r.warnings[0].c_str());
 }

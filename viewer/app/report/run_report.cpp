@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <sstream>
+#include <tuple>
 
 #include "odometry/io/warning_log.h"
 #include "viewer/app/report/info_report.h"
@@ -76,11 +77,21 @@ std::string FormatOnlineCalibration(const pipeline::OnlineCalibrationSummary& ap
     const double angle =
         r.T_imu_lidar_given ? (r.T_imu_lidar_given->so3().inverse() * *r.R_imu_lidar).angle() : 0.0;
     md += "- rotation: " + std::string(r.rotation_locked ? "locked" : "not locked") + ", " +
-          FormatValue("%.3f", angle * 180.0 / 3.14159265358979323846) +
-          " deg from the given one; not applied in this run: rerun with dataset.calibration_file = "
+          FormatValue("%.3f", angle * 180.0 / 3.14159265358979323846) + " deg from the given one" +
+          (r.rotation_locked
+               ? std::string()
+               : ", standard deviation " + FormatValue("%.3f", r.LatestRotationSigmaDeg()) + " deg (" +
+                     (r.UsesEstimatedRotation() ? "written" : "the given one written") + ")") +
+          "; not applied in this run: rerun with dataset.calibration_file = "
           "calibration_estimated.yaml\n";
   } else {
     md += "- rotation: no estimate\n";
+  }
+  for (const auto& [worker, name, locked] :
+       {std::tuple{estimator::CalibrationWorker::kTimeOffset, "time offset", r.time_offset_locked},
+        std::tuple{estimator::CalibrationWorker::kRotation, "rotation", r.rotation_locked}}) {
+    const std::string reason = r.LastRefusal(worker);
+    if (!locked && !reason.empty()) md += std::string("- ") + name + ", last refused solve: " + reason + "\n";
   }
   md += "\nEvery solve: `calibration_solves.csv`; the estimates: `calibration_estimated.yaml`.\n";
   return md;

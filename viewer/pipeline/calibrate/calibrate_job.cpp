@@ -100,10 +100,22 @@ double CalibrateResult::LidarTimeOffset() const {
 bool CalibrateResult::UsesEstimatedRotation() const {
   if (!R_imu_lidar) return false;
   if (rotation_locked || !T_imu_lidar_given) return true;
+  return (T_imu_lidar_given->so3().inverse() * *R_imu_lidar).angle() / kDegree >
+         3.0 * LatestRotationSigmaDeg();
+}
+
+double CalibrateResult::LatestRotationSigmaDeg() const {
   double sigma_deg = 0;
   for (const CalibrationSolve& s : solves)
     if (s.worker == CalibrationWorker::kRotation && s.accepted) sigma_deg = s.sigma_deg;
-  return (T_imu_lidar_given->so3().inverse() * *R_imu_lidar).angle() / kDegree > 3.0 * sigma_deg;
+  return sigma_deg;
+}
+
+std::string CalibrateResult::LastRefusal(CalibrationWorker worker) const {
+  std::string reason;
+  for (const CalibrationSolve& s : solves)
+    if (s.worker == worker && !s.accepted) reason = s.reason;
+  return reason;
 }
 
 std::optional<SE3> CalibrateResult::TImuLidar() const {

@@ -55,6 +55,10 @@ struct CalibrateResult {
   bool UsesEstimatedRotation() const;
   // T_imu_lidar to write: the rotation UsesEstimatedRotation picks, with the given translation.
   std::optional<SE3> TImuLidar() const;
+  // The latest accepted rotation candidate's standard deviation (RotationSigma), deg; 0 without one.
+  double LatestRotationSigmaDeg() const;
+  // The reason of the worker's last refused solve ("" when it never refused).
+  std::string LastRefusal(estimator::CalibrationWorker worker) const;
 };
 
 // Progress: the scans read so far.
