@@ -98,6 +98,9 @@ class DatasetReader {
   virtual const std::vector<ReadWarning>& warnings() const = 0;
 };
 
+// The names of the description's streams, ", "-separated, for error messages.
+std::string StreamNames(const DatasetDescription& description);
+
 // Detects the format from the path (unless options.format says it) and opens the dataset:
 //   *.bag file                          -> ROS1 bag
 //   folder with velodyne/ or lidar/ + times.txt -> KITTI-style folder

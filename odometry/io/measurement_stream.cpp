@@ -24,10 +24,9 @@ Expected<MeasurementStream> MeasurementStream::Create(DatasetReader& reader,
       matched = true;
     }
     if (!matched) {
-      std::string names;
-      for (const StreamInfo& s : streams) names += (names.empty() ? "" : ", ") + s.name;
       return Status::Error("time offset for '" + key + "': no stream or sensor kind of that name in " +
-                           reader.description().path.string() + " (streams: " + names + ")");
+                           reader.description().path.string() +
+                           " (streams: " + StreamNames(reader.description()) + ")");
     }
   }
   // The calibration file's offsets (StreamInfo::time_offset) add to the configured ones.

@@ -68,6 +68,12 @@ Expected<std::unique_ptr<DatasetReader>> OpenFormat(const fs::path& path, const 
 
 }  // namespace
 
+std::string StreamNames(const DatasetDescription& description) {
+  std::string names;
+  for (const StreamInfo& s : description.streams) names += (names.empty() ? "" : ", ") + s.name;
+  return names;
+}
+
 Expected<std::unique_ptr<DatasetReader>> OpenDataset(const fs::path& path, const DatasetOptions& options) {
   Expected<std::unique_ptr<DatasetReader>> reader = OpenFormat(path, options);
   if (!reader || options.calibration_file.empty()) return reader;

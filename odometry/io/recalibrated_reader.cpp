@@ -36,16 +36,14 @@ Expected<std::unique_ptr<DatasetReader>> WithCalibrationFile(std::unique_ptr<Dat
                                                              const std::filesystem::path& calibration_file) {
   Expected<Calibration> calibration = ReadCalibrationFile(calibration_file);
   if (!calibration) return calibration.status();
-  const std::vector<StreamInfo>& streams = reader->description().streams;
+  const DatasetDescription& description = reader->description();
   for (const SensorCalibration& sensor : calibration->sensors) {
     const StreamInfo* match = nullptr;
-    for (const StreamInfo& stream : streams)
+    for (const StreamInfo& stream : description.streams)
       if (stream.name == sensor.name) match = &stream;
-    std::string names;
-    for (const StreamInfo& stream : streams) names += (names.empty() ? "" : ", ") + stream.name;
     if (!match)
       return Status::Error(calibration_file.string() + ": sensor '" + sensor.name + "' names no stream of " +
-                           reader->description().path.string() + " (streams: " + names + ")");
+                           description.path.string() + " (streams: " + StreamNames(description) + ")");
     if (match->kind != sensor.kind)
       return Status::Error(calibration_file.string() + ": sensor '" + sensor.name + "' is a " +
                            std::string(SensorKindName(sensor.kind)) + " in the file and a " +

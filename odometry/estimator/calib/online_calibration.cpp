@@ -2,20 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 
 #include "odometry/estimator/calib/calibration_consensus.h"
+#include "odometry/types/printf_text.h"
 
 namespace uf::estimator {
 namespace {
 
 constexpr double kDegree = 3.14159265358979323846 / 180.0;
-
-std::string Text(const char* format, double a, double b) {
-  char buffer[160];
-  std::snprintf(buffer, sizeof buffer, format, a, b);
-  return buffer;
-}
 
 }  // namespace
 
@@ -98,14 +92,15 @@ void OnlineCalibration::Solve(Stamp stamp) {
   const std::size_t first = FirstPoseWithin(options_.window_s);
   const std::vector<double> t(lidar_t_.begin() + first, lidar_t_.end());
   const std::vector<SO3> R(lidar_R_.begin() + first, lidar_R_.end());
-  if (!time_locked_) SolveTimeOffset(stamp, IntervalRates(t, R));
+  const std::vector<RateSample> gyro(gyro_.begin(), gyro_.end());
+  if (!time_locked_) SolveTimeOffset(stamp, gyro, IntervalRates(t, R));
   if (!rotation_locked_) {
-    if (const std::optional<double> offset = time_offset_s()) SolveRotation(stamp, *offset);
+    if (const std::optional<double> offset = time_offset_s()) SolveRotation(stamp, gyro, *offset);
   }
 }
 
-void OnlineCalibration::SolveTimeOffset(Stamp stamp, const std::vector<RateSample>& lidar) {
-  const std::vector<RateSample> gyro(gyro_.begin(), gyro_.end());
+void OnlineCalibration::SolveTimeOffset(Stamp stamp, const std::vector<RateSample>& gyro,
+                                        const std::vector<RateSample>& lidar) {
   const TimeOffsetEstimate e = SearchTimeOffset(gyro, lidar, options_.time);
   CalibrationSolve solve{.stamp = stamp,
                          .worker = CalibrationWorker::kTimeOffset,
@@ -125,9 +120,9 @@ void OnlineCalibration::SolveTimeOffset(Stamp stamp, const std::vector<RateSampl
   solves_.push_back(std::move(solve));
 }
 
-void OnlineCalibration::SolveRotation(Stamp stamp, double time_offset_s) {
+void OnlineCalibration::SolveRotation(Stamp stamp, const std::vector<RateSample>& gyro,
+                                      double time_offset_s) {
   // LiDAR time t is IMU time t + offset.
-  const std::vector<RateSample> gyro(gyro_.begin(), gyro_.end());
   const std::size_t first = FirstPoseWithin(options_.rotation_window_s);
   const double span = lidar_t_.back() - lidar_t_[first];
   std::vector<RatePair> pairs;
@@ -146,16 +141,16 @@ void OnlineCalibration::SolveRotation(Stamp stamp, double time_offset_s) {
   const RotationExcitation excitation = MeasureRotationExcitation(pairs);
   solve.quality = excitation.ratio;
   if (span < options_.min_rotation_span_s) {
-    solve.reason = Text("%.1f s of LiDAR poses < %.1f s", span, options_.min_rotation_span_s);
+    solve.reason = PrintfText("%.1f s of LiDAR poses < %.1f s", span, options_.min_rotation_span_s);
   } else if (static_cast<int>(pairs.size()) < options_.min_rotation_pairs) {
     solve.reason =
-        Text("%.0f rotation pairs with IMU data < %.0f", pairs.size(), options_.min_rotation_pairs);
+        PrintfText("%.0f rotation pairs with IMU data < %.0f", pairs.size(), options_.min_rotation_pairs);
   } else if (excitation.rate_spread_rad_s < options_.min_rate_spread_rad_s) {
-    solve.reason = Text("too little rotation: the rate varies by %.3f rad/s < %.3f",
-                        excitation.rate_spread_rad_s, options_.min_rate_spread_rad_s);
+    solve.reason = PrintfText("too little rotation: the rate varies by %.3f rad/s < %.3f",
+                              excitation.rate_spread_rad_s, options_.min_rate_spread_rad_s);
   } else if (excitation.ratio < options_.min_excitation_ratio) {
-    solve.reason = Text("rotation about too few axes: lambda_min / lambda_max %.3f < %.3f", excitation.ratio,
-                        options_.min_excitation_ratio);
+    solve.reason = PrintfText("rotation about too few axes: lambda_min / lambda_max %.3f < %.3f",
+                              excitation.ratio, options_.min_excitation_ratio);
   } else {
     const RotationFit fit = FitRotationRobust(pairs, options_.rotation_huber_rad_s);
     solve.R_imu_lidar = fit.R_imu_lidar;
@@ -165,9 +160,10 @@ void OnlineCalibration::SolveRotation(Stamp stamp, double time_offset_s) {
         options_.rotation_pair_span_s / (span / static_cast<double>(lidar_t_.size() - first - 1));
     solve.sigma_deg = RotationSigma(pairs, fit, overlap) / kDegree;
     if (fit.rms_residual > options_.max_rotation_rms_rad_s)
-      solve.reason = Text("residual %.3f rad/s > %.3f", fit.rms_residual, options_.max_rotation_rms_rad_s);
+      solve.reason =
+          PrintfText("residual %.3f rad/s > %.3f", fit.rms_residual, options_.max_rotation_rms_rad_s);
     else if (fit.inlier_ratio < options_.min_inlier_ratio)
-      solve.reason = Text("inliers %.2f < %.2f", fit.inlier_ratio, options_.min_inlier_ratio);
+      solve.reason = PrintfText("inliers %.2f < %.2f", fit.inlier_ratio, options_.min_inlier_ratio);
   }
   solve.accepted = solve.reason.empty();
   if (solve.accepted) {

@@ -97,8 +97,10 @@ class OnlineCalibration {
 
  private:
   void Solve(Stamp stamp);
-  void SolveTimeOffset(Stamp stamp, const std::vector<RateSample>& lidar);
-  void SolveRotation(Stamp stamp, double time_offset_s);
+  // `gyro`: the held gyro track, shared by both workers' solves.
+  void SolveTimeOffset(Stamp stamp, const std::vector<RateSample>& gyro,
+                       const std::vector<RateSample>& lidar);
+  void SolveRotation(Stamp stamp, const std::vector<RateSample>& gyro, double time_offset_s);
   double Seconds(Stamp stamp);
   // Seconds of gyro kept behind the newest LiDAR pose; and how far the gyro may run ahead of the poses.
   double GyroKept() const;

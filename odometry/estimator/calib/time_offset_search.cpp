@@ -2,20 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "odometry/types/printf_text.h"
+
 namespace uf::estimator {
 namespace {
-
-std::string Text(const char* format, double a, double b) {
-  char buffer[160];
-  std::snprintf(buffer, sizeof buffer, format, a, b);
-  return buffer;
-}
 
 // Pearson correlation of x and y (0 when either is constant).
 double Correlation(const std::vector<double>& x, const std::vector<double>& y) {
@@ -39,6 +34,19 @@ double ParabolaVertex(double a, double b, double c) {
   const double curvature = a - 2 * b + c;
   if (curvature == 0) return 0.0;
   return std::clamp(0.5 * (a - c) / curvature, -1.0, 1.0);
+}
+
+// The minimum of cost(centre + i step) over i in [-n, n], refined by a parabola through it and its
+// neighbours (not at the ends of the grid).
+template <typename Cost>
+double ArgminOnGrid(double centre, double step, int n, const Cost& cost) {
+  std::vector<double> values(2 * n + 1);
+  for (int i = -n; i <= n; ++i) values[i + n] = cost(centre + i * step);
+  const int best = static_cast<int>(std::min_element(values.begin(), values.end()) - values.begin());
+  double argmin = centre + (best - n) * step;
+  if (best > 0 && best < 2 * n)
+    argmin += step * ParabolaVertex(values[best - 1], values[best], values[best + 1]);
+  return argmin;
 }
 
 struct Matching {
@@ -93,7 +101,7 @@ TimeOffsetEstimate SearchTimeOffset(std::span<const RateSample> gyro, std::span<
   const Matching m{std::span(smoothed).subspan(first, last - first), lidar};
   e.overlap_s = m.imu.size() >= 2 ? m.imu.back().t - m.imu.front().t : 0.0;
   if (e.overlap_s < o.min_overlap_s) {
-    e.rejected = Text("overlap %.1f s < %.1f s", e.overlap_s, o.min_overlap_s);
+    e.rejected = PrintfText("overlap %.1f s < %.1f s", e.overlap_s, o.min_overlap_s);
     return e;
   }
   double mean = 0, square = 0;
@@ -111,25 +119,14 @@ TimeOffsetEstimate SearchTimeOffset(std::span<const RateSample> gyro, std::span<
   for (std::size_t k = 0; k < m.imu.size(); k += stride) sparse.push_back(m.imu[k]);
   const Matching coarse_matching{sparse, lidar};
   const int steps = static_cast<int>(std::floor(o.max_shift_s / o.coarse_step_s));
-  std::vector<double> grid(2 * steps + 1);
-  for (int i = -steps; i <= steps; ++i)
-    grid[i + steps] = RobustCost(coarse_matching, i * o.coarse_step_s, o.huber_rad_s, nullptr);
-  const int best = static_cast<int>(std::min_element(grid.begin(), grid.end()) - grid.begin()) - steps;
-  double coarse = best * o.coarse_step_s;
-  if (best > -steps && best < steps)
-    coarse +=
-        o.coarse_step_s * ParabolaVertex(grid[best + steps - 1], grid[best + steps], grid[best + steps + 1]);
+  const double coarse = ArgminOnGrid(0.0, o.coarse_step_s, steps, [&](double shift) {
+    return RobustCost(coarse_matching, shift, o.huber_rad_s, nullptr);
+  });
 
   // Fine: the robust cost's minimum around the coarse shift, then a parabola through it.
   const int fine = static_cast<int>(std::ceil(2 * o.coarse_step_s / o.fine_step_s));
-  std::vector<double> cost(2 * fine + 1);
-  for (int i = -fine; i <= fine; ++i)
-    cost[i + fine] = RobustCost(m, coarse + i * o.fine_step_s, o.huber_rad_s, nullptr);
-  const int argmin = static_cast<int>(std::min_element(cost.begin(), cost.end()) - cost.begin()) - fine;
-  e.shift_s = coarse + argmin * o.fine_step_s;
-  if (argmin > -fine && argmin < fine)
-    e.shift_s +=
-        o.fine_step_s * ParabolaVertex(cost[argmin + fine - 1], cost[argmin + fine], cost[argmin + fine + 1]);
+  e.shift_s = ArgminOnGrid(coarse, o.fine_step_s, fine,
+                           [&](double shift) { return RobustCost(m, shift, o.huber_rad_s, nullptr); });
   e.cost = RobustCost(m, e.shift_s, o.huber_rad_s, &e.fit);
   e.correlation = NormCorrelation(m, e.shift_s);
   e.cost_at_zero = RobustCost(m, 0.0, o.huber_rad_s, nullptr);
@@ -137,14 +134,14 @@ TimeOffsetEstimate SearchTimeOffset(std::span<const RateSample> gyro, std::span<
   if (!std::isfinite(e.shift_s) || !std::isfinite(e.cost) || !std::isfinite(e.correlation))
     e.rejected = "not finite";
   else if (e.rate_std_rad_s < o.min_rate_std_rad_s)
-    e.rejected = Text("too little rotation: |w_I| varies by %.3f rad/s < %.3f", e.rate_std_rad_s,
-                      o.min_rate_std_rad_s);
+    e.rejected = PrintfText("too little rotation: |w_I| varies by %.3f rad/s < %.3f", e.rate_std_rad_s,
+                            o.min_rate_std_rad_s);
   else if (e.correlation < o.min_correlation)
-    e.rejected = Text("correlation %.2f < %.2f", e.correlation, o.min_correlation);
+    e.rejected = PrintfText("correlation %.2f < %.2f", e.correlation, o.min_correlation);
   else if (std::abs(e.shift_s) > o.max_shift_s - o.coarse_step_s)
-    e.rejected = Text("shift %.3f s at the end of the search range +-%.3f s", e.shift_s, o.max_shift_s);
+    e.rejected = PrintfText("shift %.3f s at the end of the search range +-%.3f s", e.shift_s, o.max_shift_s);
   else if (e.cost > e.cost_at_zero)
-    e.rejected = Text("cost %.3g above the zero shift's %.3g", e.cost, e.cost_at_zero);
+    e.rejected = PrintfText("cost %.3g above the zero shift's %.3g", e.cost, e.cost_at_zero);
   return e;
 }
 

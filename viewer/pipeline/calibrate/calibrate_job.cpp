@@ -9,8 +9,9 @@
 #include "odometry/io/dataset_sensors.h"
 #include "odometry/io/for_each_measurement.h"
 #include "odometry/io/measurement_stream.h"
+#include "odometry/types/printf_text.h"
+#include "viewer/pipeline/calibrate/calibration_branch.h"
 #include "viewer/pipeline/point_time_selection.h"
-#include "viewer/pipeline/run/run_estimator.h"
 #include "viewer/pipeline/run_files.h"
 
 namespace uf::pipeline {
@@ -31,23 +32,6 @@ Status MissingSensor(const fs::path& dataset, const DatasetDescription& d, const
                        (has.empty() ? "no streams" : has));
 }
 
-// The keyframes that left the LiDAR-only window, fed to the workers as LiDAR orientations.
-void FeedFinished(RunEstimator& odometry, estimator::OnlineCalibration& calibration, CalibrateResult& r) {
-  for (const Keyframe& k : odometry.TakeFinished()) {
-    calibration.AddLidarOrientation(k.stamp, k.T_world_body.so3());
-    if (r.poses++ == 0) r.first_pose = k.stamp;
-    r.last_pose = k.stamp;
-  }
-  odometry.TakeStepTimes();
-  odometry.TakeEvents();
-}
-
-std::string Number(double value, int digits) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof buffer, "%.*f", digits, value);
-  return buffer;
-}
-
 std::string SolvesCsv(const CalibrateResult& r) {
   std::ostringstream csv;
   csv << "stamp_ns,worker,accepted,time_offset_s,rotation_x_rad,rotation_y_rad,rotation_z_rad,quality,"
@@ -55,10 +39,11 @@ std::string SolvesCsv(const CalibrateResult& r) {
   for (const CalibrationSolve& s : r.solves) {
     const Eigen::Vector3d phi = s.R_imu_lidar.Log();
     csv << s.stamp << ',' << (s.worker == CalibrationWorker::kTimeOffset ? "time_offset" : "rotation") << ','
-        << (s.accepted ? 1 : 0) << ',' << Number(s.time_offset_s, 6) << ',' << Number(phi.x(), 6) << ','
-        << Number(phi.y(), 6) << ',' << Number(phi.z(), 6) << ',' << Number(s.quality, 4) << ','
-        << Number(s.rms_rad_s, 5) << ',' << Number(s.sigma_deg, 4) << ',' << (s.locked ? 1 : 0) << ",\""
-        << s.reason << "\"\n";
+        << (s.accepted ? 1 : 0) << ',' << PrintfText("%.6f", s.time_offset_s) << ','
+        << PrintfText("%.6f", phi.x()) << ',' << PrintfText("%.6f", phi.y()) << ','
+        << PrintfText("%.6f", phi.z()) << ',' << PrintfText("%.4f", s.quality) << ','
+        << PrintfText("%.5f", s.rms_rad_s) << ',' << PrintfText("%.4f", s.sigma_deg) << ','
+        << (s.locked ? 1 : 0) << ",\"" << s.reason << "\"\n";
   }
   return csv.str();
 }
@@ -142,40 +127,24 @@ Expected<CalibrateResult> RunCalibrate(const CalibrateRequest& request, const Ca
   if (sensors.lidar < 0) return MissingSensor(request.dataset, description, "a LiDAR stream");
   if (sensors.imu < 0) return MissingSensor(request.dataset, description, "an IMU stream");
 
-  CalibrateResult r;
-  r.lidar_stream = description.streams[sensors.lidar].name;
-  r.imu_stream = description.streams[sensors.imu].name;
-  r.T_imu_lidar_given = sensors.T_imu_lidar;
-  r.lidar_offset_read = stream->time_offset(sensors.lidar);
-  r.imu_offset_read = stream->time_offset(sensors.imu);
-  Expected<std::unique_ptr<RunEstimator>> odometry =
-      CreateRunEstimator(EstimatorMode{.core = OdometryMode::kLo}, request.lo_config, {});
-  if (!odometry) return odometry.status();
-  estimator::OnlineCalibration calibration(request.options);
+  Expected<std::unique_ptr<CalibrationBranch>> branch =
+      CalibrationBranch::Create(request.lo_config, *stream, sensors, request.options);
+  if (!branch) return branch.status();
+  CalibrationBranch& calibration = **branch;
   const Status read = ForEachMeasurement(*stream, [&](Measurement& m) {
     if (const auto* scan = std::get_if<LidarScan>(&m.data); scan && m.stream == sensors.lidar) {
-      if (Status s = (*odometry)->AddScan(*scan); !s.ok()) return s;
-      ++r.scans;
-      FeedFinished(**odometry, calibration, r);
-      if (progress) progress(r.scans);
+      if (Status s = calibration.AddScan(*scan); !s.ok()) return s;
+      if (progress) progress(calibration.result().scans);
     } else if (const auto* sample = std::get_if<ImuSample>(&m.data); sample && m.stream == sensors.imu) {
       calibration.AddImu(*sample);
-      ++r.imu_samples;
     }
     return Status();
   });
   if (!read.ok()) return read;
-  (*odometry)->Finish();
-  FeedFinished(**odometry, calibration, r);
-
-  r.time_offset_s = calibration.time_offset_s();
-  r.time_offset_locked = calibration.time_offset_locked();
-  r.R_imu_lidar = calibration.R_imu_lidar();
-  r.rotation_locked = calibration.rotation_locked();
-  r.solves = calibration.solves();
+  calibration.Finish();
+  CalibrateResult r = calibration.result();
   for (const ReadWarning& w : (*reader)->warnings())
     r.warnings.push_back(w.stream + ": " + w.what + " (" + std::to_string(w.count) + ")");
-  for (const std::string& w : (*odometry)->warnings()) r.warnings.push_back(w);
   return r;
 }
 

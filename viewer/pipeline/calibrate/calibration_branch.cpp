@@ -3,11 +3,18 @@
 namespace uf::pipeline {
 
 Expected<std::unique_ptr<CalibrationBranch>> CalibrationBranch::Create(
-    const estimator::LidarOdometryConfig& lo, CalibrateResult result,
+    const estimator::LidarOdometryConfig& lo, const MeasurementStream& stream, const DatasetSensors& sensors,
     const estimator::OnlineCalibrationOptions& options) {
   Expected<std::unique_ptr<RunEstimator>> odometry =
       CreateRunEstimator(EstimatorMode{.core = OdometryMode::kLo}, lo, {});
   if (!odometry) return odometry.status();
+  CalibrateResult result;
+  const DatasetDescription& description = stream.description();
+  result.lidar_stream = description.streams[sensors.lidar].name;
+  result.imu_stream = description.streams[sensors.imu].name;
+  result.T_imu_lidar_given = sensors.T_imu_lidar;
+  result.lidar_offset_read = stream.time_offset(sensors.lidar);
+  result.imu_offset_read = stream.time_offset(sensors.imu);
   return std::unique_ptr<CalibrationBranch>(
       new CalibrationBranch(std::move(*odometry), std::move(result), options));
 }
@@ -22,8 +29,8 @@ void CalibrationBranch::AddImu(const ImuSample& sample) {
 }
 
 Status CalibrationBranch::AddScan(const LidarScan& scan) {
-  if (!odometry_) return {};
   ++result_.scans;
+  if (!odometry_) return {};
   ++summary_.branch_scans;
   if (Status s = odometry_->AddScan(scan); !s.ok()) return s;
   TakePoses();
@@ -53,7 +60,12 @@ void CalibrationBranch::Finish() {
   if (!odometry_) return;
   odometry_->Finish();
   TakePoses();
-  for (const std::string& w : odometry_->warnings()) result_.warnings.push_back("calibration branch: " + w);
+  result_.time_offset_s = calibration_.time_offset_s();
+  result_.time_offset_locked = calibration_.time_offset_locked();
+  result_.R_imu_lidar = calibration_.R_imu_lidar();
+  result_.rotation_locked = calibration_.rotation_locked();
+  result_.solves = calibration_.solves();
+  for (const std::string& w : odometry_->warnings()) result_.warnings.push_back(w);
   odometry_.reset();
 }
 
@@ -65,11 +77,6 @@ void CalibrationBranch::TakePoses() {
   }
   odometry_->TakeStepTimes();
   odometry_->TakeEvents();
-  result_.time_offset_s = calibration_.time_offset_s();
-  result_.time_offset_locked = calibration_.time_offset_locked();
-  result_.R_imu_lidar = calibration_.R_imu_lidar();
-  result_.rotation_locked = calibration_.rotation_locked();
-  result_.solves = calibration_.solves();
 }
 
 void RestampEarlierPoses(Trajectory& trajectory, const OnlineCalibrationSummary& summary) {

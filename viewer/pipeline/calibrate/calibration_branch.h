@@ -15,6 +15,8 @@
 
 #include "odometry/estimator/calib/online_calibration.h"
 #include "odometry/estimator/config/lidar_odometry_config.h"
+#include "odometry/io/dataset_sensors.h"
+#include "odometry/io/measurement_stream.h"
 #include "viewer/pipeline/calibrate/calibrate_job.h"
 #include "viewer/pipeline/run/run_estimator.h"
 
@@ -30,22 +32,24 @@ struct OnlineCalibrationSummary {
 
 class CalibrationBranch {
  public:
-  // `result` names the streams, the given extrinsic and the offsets read (CalibrateResult's fields before
-  // the estimates). Errors: the odometry configuration's.
+  // For the `sensors.lidar` and `sensors.imu` streams of `stream` (both present): their names, the given
+  // extrinsic and the offsets they are read with go into result(). Errors: the odometry configuration's.
   static Expected<std::unique_ptr<CalibrationBranch>> Create(
-      const estimator::LidarOdometryConfig& lo, CalibrateResult result,
-      const estimator::OnlineCalibrationOptions& options = {});
+      const estimator::LidarOdometryConfig& lo, const MeasurementStream& stream,
+      const DatasetSensors& sensors, const estimator::OnlineCalibrationOptions& options = {});
 
   void AddImu(const ImuSample& sample);
-  // Feeds the scan, as read, to the branch (until both workers have locked).
+  // Feeds the scan, as read, to the branch (until both workers have locked; counted in result() always).
   Status AddScan(const LidarScan& scan);
   // Applies the locked offset to `scan` (nothing before it locks). False when the re-stamped scan does not
   // come after the last scan re-stamped: the run's window is not to get it.
   bool Restamp(LidarScan& scan);
-  // End of data: the branch's last poses go to the workers.
+  // End of data (or both workers locked): the branch's last poses go to the workers, whose estimates then
+  // fill result(). Once done, later calls do nothing.
   void Finish();
 
-  // The estimates as `calibrate` reports and writes them (WriteCalibrateOutputs).
+  // The estimates as `calibrate` reports and writes them (WriteCalibrateOutputs): the counts as they go,
+  // the estimates from Finish on.
   const CalibrateResult& result() const { return result_; }
   const OnlineCalibrationSummary& summary() const { return summary_; }
 

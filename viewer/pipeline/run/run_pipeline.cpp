@@ -174,15 +174,8 @@ Status PlanOnlineCalibration(RunPlan& plan) {
   if (plan.frames.mode != OdometryMode::kLio || r.from != RunFrom::kStart)
     return Status::Error("--calibrate-online: needs a LIO run from the start (mode " + ModeName(plan.mode) +
                          (r.from != RunFrom::kStart ? ", --from" : "") + ")");
-  CalibrateResult base;
-  const DatasetDescription& description = plan.stream->description();
-  base.lidar_stream = description.streams[plan.sensors.lidar].name;
-  base.imu_stream = description.streams[plan.sensors.imu].name;
-  base.T_imu_lidar_given = plan.sensors.T_imu_lidar;
-  base.lidar_offset_read = plan.stream->time_offset(plan.sensors.lidar);
-  base.imu_offset_read = plan.stream->time_offset(plan.sensors.imu);
   Expected<std::unique_ptr<CalibrationBranch>> branch =
-      CalibrationBranch::Create(r.lo_config, std::move(base));
+      CalibrationBranch::Create(r.lo_config, *plan.stream, plan.sensors);
   if (!branch) return branch.status();
   plan.calibration = std::move(*branch);
   return {};

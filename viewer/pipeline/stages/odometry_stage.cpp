@@ -161,7 +161,8 @@ Expected<OdometryStageOutput> RunOdometryStage(const OdometryStageInput& in, Sta
   });
   if (!read.ok()) return read;
   odometry.Finish();
-  if (in.calibration) {
+  if (Status s = CollectFinished(in, out, collected, keyframes); !s.ok()) return s;
+  if (in.calibration) {  // after the window's last poses, which may still be from before the lock
     in.calibration->Finish();
     out.summary.online_calibration = in.calibration->summary();
     RestampEarlierPoses(out.estimated, in.calibration->summary());
@@ -170,7 +171,6 @@ Expected<OdometryStageOutput> RunOdometryStage(const OdometryStageInput& in, Sta
     if (!written) return written.status();
     for (const std::string& file : *written) context.AddOutput(file);
   }
-  if (Status s = CollectFinished(in, out, collected, keyframes); !s.ok()) return s;
 
   OdometrySummary& summary = out.summary;
   summary.step = odometry.step();
