@@ -1,18 +1,20 @@
 #!/usr/bin/env bash
 # bench_miscalibration: the miscalibration suite of the online LiDAR-IMU calibration (docs/METHOD.md,
 # "Online spatiotemporal calibration"). Simulated sequences with a LiDAR whose stamps run late
-# (`sim --lidar-stamp-delay`, wild) or whose given extrinsic is rotated (`sim --lidar-rotation-error`, urban),
-# 32-beam LiDAR + IMU, no camera, wheel or GNSS. Per case and seed:
+# (`sim --lidar-stamp-delay`, wild) or whose given extrinsic is rotated (`sim --lidar-rotation-error`, urban
+# and wild), 32-beam LiDAR + IMU, no camera, wheel or GNSS. Per case and seed:
 #   calibrate   `ultrafusion calibrate` on the sequence: the estimated offset's error (ms) and the estimated
 #               rotation's angle from the truth (deg), against the simulator's calibration_true.yaml;
 #   ATE         `run --mode lio` with the given calibration (no calibration: the ablation), with
-#               `--calibrate-online` (the workers beside the run: the offset applied once it locks, the
-#               rotation not), with the estimated one (dataset.calibration_file = calibration_estimated.yaml:
-#               two passes, calibrate then run), and with the true one (the reference), against the
-#               simulator's ground truth.
+#               `--calibrate-online` (the workers beside the run: the window waits up to 15 s for the
+#               offset, the rotation applied once it locks), the same with `--calibration-hold 0` (the
+#               offset applied from its lock on), with the estimated one (dataset.calibration_file =
+#               calibration_estimated.yaml: two passes, calibrate then run), and with the true one (the
+#               reference), against the simulator's ground truth.
 # Writes a markdown table to stdout and suite.md / suite.json into --out (default: a temporary folder).
 #   usage: bench/bench_miscalibration.sh [--duration S] [--seeds "1 2 3"] [--offsets "-0.3 ... 0.3"]
-#                                        [--rotations "0 1 ... 10"] [--out DIR]
+#                                        [--rotations "0 1 ... 10"] [--rotation-scenes "urban wild"]
+#                                        [--out DIR]
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 bin="${UF_BIN:-$root/build/bin}/ultrafusion"
@@ -20,6 +22,7 @@ duration=30
 seeds="1 2 3"
 offsets="-0.3 -0.2 -0.1 0 0.1 0.2 0.3"
 rotations="0 1 2 3 4 5 6 7 8 9 10"
+rotation_scenes="urban wild"
 out=""
 while (($#)); do
   case "$1" in
@@ -27,6 +30,7 @@ while (($#)); do
     --seeds) seeds="$2"; shift 2 ;;
     --offsets) offsets="$2"; shift 2 ;;
     --rotations) rotations="$2"; shift 2 ;;
+    --rotation-scenes) rotation_scenes="$2"; shift 2 ;;
     --out) out="$2"; shift 2 ;;
     *) echo "unknown argument $1" >&2; exit 2 ;;
   esac
@@ -64,8 +68,8 @@ json="$work/suite.json"
 echo "[" >"$json"
 first=1
 {
-  echo "| case | seed | locked | offset error ms | rotation error deg | ATE given m | ATE online m | ATE estimated m | ATE true m |"
-  echo "|---|---|---|---|---|---|---|---|---|"
+  echo "| case | seed | locked | offset error ms | rotation error deg | ATE given m | ATE online m | ATE online, hold 0 m | ATE estimated m | ATE true m |"
+  echo "|---|---|---|---|---|---|---|---|---|---|"
 } | tee "$work/suite.md"
 one_case() {  # name, seed, sim arguments
   local name="$1" seed="$2" data="$work/$1-s$2"
@@ -73,26 +77,31 @@ one_case() {  # name, seed, sim arguments
   "$bin" sim --seed "$seed" --duration "$duration" --no-camera --no-gnss --no-wheel $3 --out "$data" \
     >"$data.sim.log" 2>&1 || { echo "$name $seed: sim failed, see $data.sim.log"; return; }
   "$bin" calibrate "$data" --out "$data-cal" >"$data-cal.log" 2>&1 || true
-  local locked errors given online estimated truth
+  local locked errors given online online0 estimated truth
   locked=$(grep -c ": locked" "$data-cal.log" || true)
   errors="- -"
   [[ -f "$data-cal/calibration_estimated.yaml" ]] &&
     errors=$(compare "$data-cal/calibration_estimated.yaml" "$data/calibration_true.yaml")
   given=$(run_lio "$data" "" "$data-given")
   online=$(run_lio "$data" "" "$data-online" --calibrate-online)
+  online0=$(run_lio "$data" "" "$data-online0" "--calibrate-online --calibration-hold 0")
   estimated=$( [[ -f "$data-cal/calibration_estimated.yaml" ]] && run_lio "$data" "$data-cal/calibration_estimated.yaml" "$data-est" || echo -)
   truth=$(run_lio "$data" "$data/calibration_true.yaml" "$data-true")
   read -r offset_ms rotation_deg <<<"$errors"
-  echo "| $name | $seed | $locked/2 | $offset_ms | $rotation_deg | ${given:--} | ${online:--} | ${estimated:--} | ${truth:--} |" |
+  echo "| $name | $seed | $locked/2 | $offset_ms | $rotation_deg | ${given:--} | ${online:--} | ${online0:--} | ${estimated:--} | ${truth:--} |" |
     tee -a "$work/suite.md"
   ((first)) || echo "," >>"$json"
   first=0
-  printf '{"case": "%s", "seed": %s, "locked": %s, "offset_error_ms": "%s", "rotation_error_deg": "%s", "ate_given_m": "%s", "ate_online_m": "%s", "ate_estimated_m": "%s", "ate_true_m": "%s"}' \
-    "$name" "$seed" "$locked" "$offset_ms" "$rotation_deg" "${given:--}" "${online:--}" "${estimated:--}" "${truth:--}" >>"$json"
+  printf '{"case": "%s", "seed": %s, "locked": %s, "offset_error_ms": "%s", "rotation_error_deg": "%s", "ate_given_m": "%s", "ate_online_m": "%s", "ate_online_hold0_m": "%s", "ate_estimated_m": "%s", "ate_true_m": "%s"}' \
+    "$name" "$seed" "$locked" "$offset_ms" "$rotation_deg" "${given:--}" "${online:--}" "${online0:--}" "${estimated:--}" "${truth:--}" >>"$json"
 }
 for seed in $seeds; do
   for offset in $offsets; do one_case "wild-offset${offset}s" "$seed" "--scene wild --lidar-stamp-delay $offset"; done
-  for angle in $rotations; do one_case "urban-rot${angle}deg" "$seed" "--scene urban --lidar-rotation-error $angle"; done
+  for scene in $rotation_scenes; do
+    for angle in $rotations; do
+      one_case "$scene-rot${angle}deg" "$seed" "--scene $scene --lidar-rotation-error $angle"
+    done
+  done
 done
 echo "]" >>"$json"
 echo "wrote $work/suite.md, $work/suite.json; load average after: $(cut -d' ' -f1-3 /proc/loadavg)"

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "odometry/io/calibration_file.h"
 #include "tests/support/cli_runner.h"
@@ -80,18 +81,27 @@ TEST(CliCalibrate, EstimatesTheInjectedOffsetAndRotation) {
   EXPECT_LT(ate(estimated_run.output), 0.5 * ate(given_run.output))
       << estimated_run.output << given_run.output;
 
-  // Online (run --calibrate-online): the offset locks within 5 ms and is applied; the rotation is only
-  // estimated, so the run lands between the given and the two-pass one.
+  // Online (run --calibrate-online): the window waits for the offset (--calibration-hold, 15 s), which
+  // locks within 5 ms and is applied, and so is the rotation once it locks (run.json then records it).
   const auto online_run =
       Ultrafusion("run " + seq + " --mode lio --no-map --calibrate-online --config " + UF_SOURCE_DIR +
                   "/configs/run-sim.yaml --out " + dir.File("run_online"));
   ASSERT_EQ(online_run.code, 0) << online_run.output;
-  EXPECT_NE(online_run.output.find("locked and applied"), std::string::npos) << online_run.output;
+  EXPECT_NE(online_run.output.find("time offset +0.1"), std::string::npos) << online_run.output;
+  EXPECT_NE(online_run.output.find("the window waited 1"), std::string::npos) << online_run.output;
+  EXPECT_NE(online_run.output.find("rotation locked and applied"), std::string::npos) << online_run.output;
   const std::string report = testing::ReadText(dir.File("run_online/report.md"));
   EXPECT_NE(report.find("## Online calibration"), std::string::npos);
+  EXPECT_NE(report.find("deg of rotation from the scan at"), std::string::npos) << report;
   Expected<Calibration> online = ReadCalibrationFile(dir.File("run_online/calibration_estimated.yaml"));
   ASSERT_TRUE(online);
   EXPECT_NEAR(ToSeconds(Lidar(*online).time_offset), ToSeconds(Lidar(*truth).time_offset), 0.005);
+  // run.json's T_imu_lidar (4x4 rows) is the estimated extrinsic (IMU = the simulator's body).
+  const nlohmann::json record = nlohmann::json::parse(testing::ReadText(dir.File("run_online/run.json")));
+  const Eigen::Matrix4d T_online = Lidar(*online).T_body_sensor.matrix();
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c)
+      EXPECT_NEAR(record["frames"]["T_imu_lidar"][r][c].get<double>(), T_online(r, c), 1e-9) << r << c;
   EXPECT_LT(ate(online_run.output), ate(given_run.output)) << online_run.output << given_run.output;
   // Only a LIO run from the start calibrates online.
   const auto lo = Ultrafusion("run " + seq + " --mode lo --calibrate-online --out " + dir.File("run_lo"));

@@ -62,6 +62,7 @@
 #include "odometry/types/keyframe.h"
 #include "odometry/types/measurements.h"
 #include "odometry/types/status.h"
+#include "odometry/types/trajectory.h"
 
 namespace uf::estimator {
 
@@ -103,6 +104,14 @@ class LidarOdometry {
   std::vector<Keyframe> TakeFinished();
   // Optimises once more and releases every remaining state (end of data).
   void Finish();
+  // LIO: a new T_body_lidar (T_imu_lidar) from now on, e.g. a locked online calibration. The world LiDAR
+  // poses of the window stay where they are (every body pose moves to T_WB T_BL_old T_BL_new^-1, docs/
+  // METHOD.md "Online spatiotemporal calibration"), so does the map; gravity turns in the world by what
+  // the new rotation says the map's world is tilted; the marginalization prior is dropped. Errors: LO (no
+  // extrinsic), GNSS factors (their alignment needs the world level), a non-finite extrinsic.
+  Status SetLidarExtrinsic(const SE3& T_body_lidar);
+  // The states still in the window, oldest first: their stamps and T_world_body.
+  Trajectory WindowPoses() const;
   // The statistics of each scan processed since the last call.
   std::vector<OdometryStats> TakeProcessedStats();
   // The tracking events since the last call, in scan order.

@@ -3,8 +3,9 @@
 // (point-to-plane residuals, the constant-velocity prior in LO, IMU preintegration in LIO) and the
 // marginalization prior. The design is described in lidar_odometry.h; the methods live in lidar_odometry.cpp
 // (scan flow, restart), window_nodes.cpp (nodes, IMU, initialization), window_init.cpp (feeding the
-// initialization), window_registration.cpp (registration, acceptance, fallback guesses), window_scans.cpp
-// (association, map, coarse map, keyframes) and window_solve.cpp (solve, marginalize).
+// initialization), window_extrinsic.cpp (a new LiDAR extrinsic), window_registration.cpp (registration,
+// acceptance, fallback guesses), window_scans.cpp (association, map, coarse map, keyframes) and
+// window_solve.cpp (solve, marginalize).
 #pragma once
 
 #include <array>
@@ -129,6 +130,12 @@ struct LidarOdometry::Impl {
   ImuBuffer imu;                  // from before the oldest node on
   std::deque<LidarScan> pending;  // scans waiting for the IMU (and the wheel) to cover their end
   bool inertial = false;          // initialized: IMU factors active
+  // The IMU's orientation when the initialization aligned the world with gravity, and the LiDAR extrinsic's
+  // rotation then: where gravity lies in the world after a new extrinsic (window_extrinsic.cpp).
+  struct GravityReference {
+    SO3 R_world_imu, R_imu_lidar;
+  };
+  std::optional<GravityReference> gravity_reference;
   std::string init_summary;
   InertialInitializer initializer{config.init, config.imu, config.imu_max_gap_s};  // window_init.cpp
   // Optional factors.
@@ -158,6 +165,9 @@ struct LidarOdometry::Impl {
   InitWindow InitializationWindow() const;
   void Reset();
   void Restart();
+  // A new LiDAR extrinsic (window_extrinsic.cpp).
+  void SetLidarExtrinsic(const SE3& T_body_lidar);
+  void SetWorldGravity();
 
   // Scans (window_scans.cpp).
   SweepPoses Sweep(const ScanState& scan);

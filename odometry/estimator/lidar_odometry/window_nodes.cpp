@@ -136,6 +136,8 @@ void LidarOdometry::Impl::ApplyInertialAlignment(const InertialAlignment& alignm
   inertial = true;
   for (long id = first_node_id; id <= LastNodeId(); ++id)
     NodeAt(id).pose = PoseBlock(T_gravity_lo * NodePose(id));
+  gravity_reference = GravityReference{NodePose(LastNodeId()).so3(), config.T_body_lidar.so3()};
+  SetWorldGravity();  // along -z: the world is aligned with gravity now
   for (long id = first_node_id; id <= LastNodeId(); ++id) {
     Node& node = NodeAt(id);
     NavState state;
@@ -177,6 +179,8 @@ void LidarOdometry::Impl::Reset() {
   if (gnss) gnss->Reset();
   map.Clear();
   inertial = false;
+  gravity_reference.reset();
+  SetWorldGravity();
   last_registered.reset();
   recent_match_fractions.clear();
   consecutive_rejections = 0;

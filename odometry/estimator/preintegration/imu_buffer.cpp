@@ -11,7 +11,7 @@ bool Before(const ImuSample& s, Stamp t) { return s.stamp < t; }
 }  // namespace
 
 ImuBuffer::ImuBuffer(const ImuNoiseParams& params, double max_gap_s)
-    : params_(params), max_gap_(FromSeconds(max_gap_s)) {}
+    : params_(params), gravity_world_(0.0, 0.0, -params.gravity), max_gap_(FromSeconds(max_gap_s)) {}
 
 std::optional<std::string> ImuBuffer::Add(const ImuSample& sample) {
   if (!sample.acc.allFinite() || !sample.gyro.allFinite())
@@ -44,8 +44,10 @@ Expected<ImuPreintegration> ImuBuffer::Preintegrate(Stamp from, Stamp to, const 
   }
   auto last = std::lower_bound(first, samples_.end(), to, Before);
   if (last != samples_.end()) ++last;
-  return ImuPreintegration::Between(std::vector<ImuSample>(first, last), from, to, accel_bias, gyro_bias,
-                                    params_);
+  Expected<ImuPreintegration> pre = ImuPreintegration::Between(std::vector<ImuSample>(first, last), from, to,
+                                                               accel_bias, gyro_bias, params_);
+  if (pre) pre->SetGravityWorld(gravity_world_);
+  return pre;
 }
 
 Expected<ImuPreintegration> ImuBuffer::Preintegrate(Stamp from, Stamp to, const double* speed_bias) const {

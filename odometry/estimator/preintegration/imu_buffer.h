@@ -33,6 +33,9 @@ class ImuBuffer {
                                            const Eigen::Vector3d& gyro_bias) const;
   // The same at the biases of a speed_bias block [v, b_a, b_g] (state/nav_state.h); null: zero biases.
   Expected<ImuPreintegration> Preintegrate(Stamp from, Stamp to, const double* speed_bias) const;
+  // The world's gravity the preintegrations get (ImuPreintegration::SetGravityWorld); (0, 0, -gravity)
+  // until set.
+  void SetGravityWorld(const Eigen::Vector3d& g) { gravity_world_ = g; }
   // The samples with from <= stamp <= to.
   std::vector<ImuSample> Between(Stamp from, Stamp to) const;
   // Drops the samples no interval from `oldest` on needs (one before it is kept).
@@ -40,6 +43,7 @@ class ImuBuffer {
 
  private:
   ImuNoiseParams params_;
+  Eigen::Vector3d gravity_world_;
   Stamp max_gap_;
   std::vector<ImuSample> samples_;  // increasing stamps
 };

@@ -31,7 +31,10 @@ ImuSample SampleAt(const std::vector<ImuSample>& samples, Stamp t) {
 
 ImuPreintegration::ImuPreintegration(const Eigen::Vector3d& accel_bias, const Eigen::Vector3d& gyro_bias,
                                      const ImuNoiseParams& params)
-    : params_(params), accel_bias_(accel_bias), gyro_bias_(gyro_bias) {
+    : params_(params),
+      gravity_world_(0.0, 0.0, -params.gravity),
+      accel_bias_(accel_bias),
+      gyro_bias_(gyro_bias) {
   assert(ValidateImuNoiseParams(params).ok());
   assert(accel_bias.allFinite() && gyro_bias.allFinite());
 }

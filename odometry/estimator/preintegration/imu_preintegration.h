@@ -69,7 +69,9 @@ class ImuPreintegration {
   const Eigen::Vector3d& accel_bias() const { return accel_bias_; }  // the linearization point
   const Eigen::Vector3d& gyro_bias() const { return gyro_bias_; }
   const ImuNoiseParams& params() const { return params_; }
-  Eigen::Vector3d gravity_world() const { return Eigen::Vector3d(0.0, 0.0, -params_.gravity); }
+  // g in the world: (0, 0, -gravity) unless set (a world tilted from gravity, window_extrinsic.cpp).
+  const Eigen::Vector3d& gravity_world() const { return gravity_world_; }
+  void SetGravityWorld(const Eigen::Vector3d& g) { gravity_world_ = g; }
   int num_steps() const { return static_cast<int>(steps_.size()); }
 
   // Bias Jacobians: d[dtheta, dv, dp]/d[b_a, b_g] (9x6, rows and columns in the error-state order) and
@@ -98,6 +100,7 @@ class ImuPreintegration {
   void Propagate(const Step& step);
 
   ImuNoiseParams params_;
+  Eigen::Vector3d gravity_world_;
   Eigen::Vector3d accel_bias_, gyro_bias_;
   std::vector<Step> steps_;
   Stamp sum_dt_ = 0;

@@ -112,6 +112,25 @@ TEST(RunFrames, TheTrajectoryIsWrittenInTheRequestedFrame) {
   ExpectSame(Frames(rig, kLio, kLidar).T_estimator_body, rig.T_body_imu.inverse());
 }
 
+TEST(RunFrames, ANewLidarExtrinsicGivesTheFramesOfARigWithIt) {
+  // run --calibrate-online applied a new T_imu_lidar: the frames are those resolved from a dataset whose
+  // LiDAR sits there.
+  const Rig rig;
+  Rig moved;
+  moved.T_body_lidar = rig.T_body_lidar * Pose(0.05, -0.08, 0.1, 0.0, 0.0, 0.0);
+  moved.description.streams[1].T_body_sensor = moved.T_body_lidar;
+  const SE3 T_imu_lidar_new = moved.T_body_imu.inverse() * moved.T_body_lidar;
+  for (TrajectoryFrame frame : {kLidar, kImu}) {
+    RunFrames frames = Frames(rig, kLio, frame);
+    frames.SetImuFromLidar(T_imu_lidar_new);
+    const RunFrames expected = Frames(moved, kLio, frame);
+    ExpectSame(*frames.T_imu_lidar, *expected.T_imu_lidar);
+    ExpectSame(frames.T_output_body, expected.T_output_body);
+    ExpectSame(frames.T_estimator_body, expected.T_estimator_body);
+    ExpectSame(frames.T_map_world, expected.T_map_world);
+  }
+}
+
 TEST(RunFrames, NamesReadBackAndAMissingExtrinsicIsAnError) {
   for (OdometryMode mode : {kLo, kLio}) EXPECT_EQ(ParseOdometryMode(Name(mode)), mode);
   for (TrajectoryFrame frame : {kLidar, kImu}) EXPECT_EQ(ParseTrajectoryFrame(Name(frame)), frame);

@@ -22,6 +22,7 @@ struct RunArguments {
   std::string device;  // the splat stage's Vulkan device ("": the default)
   bool no_map = false, no_splat = false, no_mesh = false, calibrate_online = false;
   double map_voxel_m = 0.05;
+  double calibration_hold_s = 15.0;
 };
 
 // The options as the pipeline takes them, with the sections of --config.
@@ -39,6 +40,7 @@ Expected<RunRequest> MakeRequest(const RunArguments& a) {
   r.map_voxel_m = a.map_voxel_m;
   r.splat_device = a.device;
   r.calibrate_online = a.calibrate_online;
+  r.calibration_hold_s = a.calibration_hold_s;
   if (a.config.empty()) return r;
   Expected<ConfigFile> loaded = LoadConfigFile(a.config);
   if (!loaded) return loaded.status();
@@ -64,15 +66,19 @@ void PrintSummary(const fs::path& out, const pipeline::RunSummary& s) {
     const pipeline::CalibrateResult& c = *o.calibration_estimates;
     if (o.online_calibration->offset_applied_from)
       std::printf(
-          "  online calibration: time offset %+.4f s locked and applied (%lld re-stamped scans left out)",
-          o.online_calibration->offset_applied_s,
+          "  online calibration: time offset %+.4f s locked and applied (the window waited %.1f s for it, "
+          "%lld re-stamped scans left out)",
+          o.online_calibration->offset_applied_s, o.online_calibration->held_s,
           static_cast<long long>(o.online_calibration->scans_left_out));
     else
       std::printf("  online calibration: no time offset locked (the given one kept)");
-    std::printf("; rotation %s (not applied; see calibration_estimated.yaml)\n", c.rotation_locked ? "locked"
-                                                                                 : c.R_imu_lidar
-                                                                                     ? "estimated, not locked"
-                                                                                     : "not estimated");
+    if (o.online_calibration->rotation_applied_at)
+      std::printf("; rotation locked and applied (%.3f deg)\n", o.online_calibration->rotation_applied_deg);
+    else
+      std::printf("; rotation %s (the given one kept)\n", !o.online_calibration->rotation_refused.empty()
+                                                              ? "locked, not applied"
+                                                          : c.R_imu_lidar ? "estimated, not locked"
+                                                                          : "not estimated");
   }
   if (s.accuracy.evaluated) std::printf("  ATE (SE3-aligned RMSE): %.4f m\n", s.accuracy.ape_rmse_m);
   if (const auto& track = s.accuracy.gnss_track)
@@ -148,8 +154,15 @@ Subcommand AddRunCommand(CLI::App& app) {
   run->add_flag(
       "--calibrate-online", a->calibrate_online,
       "LIO: estimate the LiDAR-IMU time offset and rotation while running (a LiDAR-only branch feeds "
-      "the calibration workers until they lock); the locked offset re-stamps the later scans, the "
-      "rotation is written to calibration_estimated.yaml (not applied in this run)");
+      "the calibration workers until they lock); the window waits for the offset (--calibration-hold), "
+      "the locked offset re-stamps the scans, the locked rotation replaces the given one (LiDAR poses "
+      "kept); both are written to calibration_estimated.yaml");
+  run->add_option("--calibration-hold", a->calibration_hold_s,
+                  "With --calibrate-online: seconds of data (from the first measurement) the window waits, "
+                  "held in memory, for the time offset to lock before it starts; 0: it starts at once and "
+                  "the offset applies from the lock on")
+      ->check(CLI::Range(0.0, 600.0))
+      ->capture_default_str();
   run->add_option("--device", a->device,
                   "Vulkan device of the splat and views stages: index or part of its name (default: a GPU if "
                   "any, else lavapipe on the CPU); checked before the odometry runs");

@@ -66,13 +66,15 @@ std::string FormatOnlineCalibration(const pipeline::OnlineCalibrationSummary& ap
           FormatValue("%+.4f", ToSeconds(r.lidar_offset_read - r.imu_offset_read)) + " s)\n";
   else
     md += "- time offset: no estimate\n";
+  const std::string held =
+      "the window waited " + FormatValue("%.1f", applied.held_s) + " s of data for it (--calibration-hold)";
   if (applied.offset_applied_from)
     md += "- applied: " + FormatValue("%+.4f", applied.offset_applied_s) + " s added to the scans from " +
-          FormatSeconds(*applied.offset_applied_from) + " on and to the poses before (" +
+          FormatSeconds(*applied.offset_applied_from) + " on and to the poses before; " + held + "; " +
           std::to_string(applied.scans_left_out) +
-          " re-stamped scans left out: they came before the previous scan)\n";
+          " re-stamped scans left out (they came before the previous scan)\n";
   else
-    md += "- applied: nothing (the offset never locked); the run kept the given offset\n";
+    md += "- applied: nothing (the offset never locked; " + held + "); the run kept the given offset\n";
   if (r.R_imu_lidar) {
     const double angle =
         r.T_imu_lidar_given ? (r.T_imu_lidar_given->so3().inverse() * *r.R_imu_lidar).angle() : 0.0;
@@ -82,8 +84,14 @@ std::string FormatOnlineCalibration(const pipeline::OnlineCalibrationSummary& ap
                ? std::string()
                : ", standard deviation " + FormatValue("%.3f", r.LatestRotationSigmaDeg()) + " deg (" +
                      (r.UsesEstimatedRotation() ? "written" : "the given one written") + ")") +
-          "; not applied in this run: rerun with dataset.calibration_file = "
-          "calibration_estimated.yaml\n";
+          "\n";
+    md += applied.rotation_applied_at
+              ? "- applied: " + FormatValue("%.3f", applied.rotation_applied_deg) +
+                    " deg of rotation from the scan at " + FormatSeconds(*applied.rotation_applied_at) +
+                    " on (the window's states and the poses before moved to it, their LiDAR poses kept)\n"
+          : !applied.rotation_refused.empty()
+              ? "- applied: nothing (" + applied.rotation_refused + "); the run kept the given rotation\n"
+              : "- applied: nothing (the rotation never locked); the run kept the given rotation\n";
   } else {
     md += "- rotation: no estimate\n";
   }

@@ -128,7 +128,7 @@ Expected<CalibrateResult> RunCalibrate(const CalibrateRequest& request, const Ca
   if (sensors.imu < 0) return MissingSensor(request.dataset, description, "an IMU stream");
 
   Expected<std::unique_ptr<CalibrationBranch>> branch =
-      CalibrationBranch::Create(request.lo_config, *stream, sensors, request.options);
+      CalibrationBranch::Create(request.lo_config, *stream, sensors, /*hold_s=*/0.0, request.options);
   if (!branch) return branch.status();
   CalibrationBranch& calibration = **branch;
   const Status read = ForEachMeasurement(*stream, [&](Measurement& m) {

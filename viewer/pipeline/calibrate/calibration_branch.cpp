@@ -1,10 +1,13 @@
 #include "viewer/pipeline/calibrate/calibration_branch.h"
 
+#include <algorithm>
+#include <numbers>
+
 namespace uf::pipeline {
 
 Expected<std::unique_ptr<CalibrationBranch>> CalibrationBranch::Create(
     const estimator::LidarOdometryConfig& lo, const MeasurementStream& stream, const DatasetSensors& sensors,
-    const estimator::OnlineCalibrationOptions& options) {
+    double hold_s, const estimator::OnlineCalibrationOptions& options) {
   Expected<std::unique_ptr<RunEstimator>> odometry =
       CreateRunEstimator(EstimatorMode{.core = OdometryMode::kLo}, lo, {});
   if (!odometry) return odometry.status();
@@ -16,12 +19,23 @@ Expected<std::unique_ptr<CalibrationBranch>> CalibrationBranch::Create(
   result.lidar_offset_read = stream.time_offset(sensors.lidar);
   result.imu_offset_read = stream.time_offset(sensors.imu);
   return std::unique_ptr<CalibrationBranch>(
-      new CalibrationBranch(std::move(*odometry), std::move(result), options));
+      new CalibrationBranch(std::move(*odometry), std::move(result), hold_s, options));
 }
 
 CalibrationBranch::CalibrationBranch(std::unique_ptr<RunEstimator> odometry, CalibrateResult result,
-                                     const estimator::OnlineCalibrationOptions& options)
-    : odometry_(std::move(odometry)), calibration_(options), result_(std::move(result)) {}
+                                     double hold_s, const estimator::OnlineCalibrationOptions& options)
+    : odometry_(std::move(odometry)),
+      calibration_(options),
+      result_(std::move(result)),
+      hold_(FromSeconds(hold_s)) {}
+
+bool CalibrationBranch::Holds(Stamp stamp) {
+  if (!holding_) return false;
+  if (!hold_from_) hold_from_ = stamp;
+  holding_ = !calibration_.time_offset_locked() && stamp - *hold_from_ < hold_;
+  summary_.held_s = std::max(summary_.held_s, ToSeconds(stamp - *hold_from_));
+  return holding_;
+}
 
 void CalibrationBranch::AddImu(const ImuSample& sample) {
   ++result_.imu_samples;
@@ -54,6 +68,23 @@ bool CalibrationBranch::Restamp(LidarScan& scan) {
   }
   last_restamped_ = scan.stamp;
   return true;
+}
+
+std::optional<SE3> CalibrationBranch::ExtrinsicToApply() const {
+  if (!calibration_.rotation_locked() || applied_) return std::nullopt;
+  return SE3(*calibration_.R_imu_lidar(), result_.T_imu_lidar_given.value_or(SE3()).translation());
+}
+
+void CalibrationBranch::Applied(Stamp stamp, const Status& status) {
+  applied_ = true;
+  if (!status.ok()) {
+    summary_.rotation_refused = status.message();
+    return;
+  }
+  summary_.rotation_applied_at = stamp;
+  const SO3 given = result_.T_imu_lidar_given.value_or(SE3()).so3();
+  summary_.rotation_applied_deg =
+      (given.inverse() * *calibration_.R_imu_lidar()).angle() * 180.0 / std::numbers::pi;
 }
 
 void CalibrationBranch::Finish() {

@@ -35,6 +35,12 @@ class WindowEstimator final : public RunEstimator {
     else
       return {};
   }
+  Status SetLidarExtrinsic(const SE3& T_body_lidar) override {
+    if constexpr (requires(Odometry & o) { o.SetLidarExtrinsic(T_body_lidar); })
+      return odometry_.SetLidarExtrinsic(T_body_lidar);
+    else
+      return Status::Error("SetLidarExtrinsic: the " + step_ + " window reads no LiDAR");
+  }
   void Finish() override { odometry_.Finish(); }
 
   const std::vector<std::string>& warnings() const override { return odometry_.warnings(); }

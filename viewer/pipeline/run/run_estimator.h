@@ -43,6 +43,9 @@ class RunEstimator {
   virtual std::vector<StepTime> TakeStepTimes() = 0;
   // The LiDAR window's tracking events since the last call (none in the wheel-inertial window).
   virtual std::vector<estimator::TrackEvent> TakeEvents() = 0;
+  // A new LiDAR extrinsic from now on, the window's LiDAR poses unchanged (LidarOdometry::SetLidarExtrinsic).
+  // Errors: the window has no LiDAR extrinsic (LO, WIO).
+  virtual Status SetLidarExtrinsic(const SE3& T_body_lidar) = 0;
   // End of data: every remaining state is released.
   virtual void Finish() = 0;
 

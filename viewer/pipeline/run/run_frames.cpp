@@ -82,6 +82,13 @@ Trajectory RunFrames::OutputTrajectory(const Trajectory& estimated) const {
                                                    : ToLidarFrame(estimated, *T_imu_lidar);
 }
 
+void RunFrames::SetImuFromLidar(const SE3& T) {
+  T_imu_lidar = T;
+  // F = LiDAR, E = IMU: T_F_B = T_lidar_imu T_E_B.
+  if (trajectory_frame == TrajectoryFrame::kLidar && mode == OdometryMode::kLio)
+    T_output_body = T.inverse() * T_estimator_body;
+}
+
 Expected<RunFrames> ResolveRunFrames(const DatasetDescription& description, OdometryMode mode,
                                      TrajectoryFrame trajectory_frame, MapSource map_from) {
   const DatasetSensors sensors = FindSensors(description);

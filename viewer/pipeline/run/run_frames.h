@@ -56,6 +56,9 @@ struct RunFrames {
   // trajectory in the IMU frame is ToImuFrame'd (world moved to the first IMU pose), an LIO one in the LiDAR
   // frame ToLidarFrame'd (same world).
   Trajectory OutputTrajectory(const Trajectory& estimated) const;
+  // LIO: the LiDAR's extrinsic replaced by `T` (run --calibrate-online applied a locked rotation); the
+  // output frame follows when it is the LiDAR.
+  void SetImuFromLidar(const SE3& T);
 };
 
 // Resolves every transform from the dataset's calibration for a run in `mode` writing `trajectory_frame`.

@@ -175,7 +175,7 @@ Status PlanOnlineCalibration(RunPlan& plan) {
     return Status::Error("--calibrate-online: needs a LIO run from the start (mode " + ModeName(plan.mode) +
                          (r.from != RunFrom::kStart ? ", --from" : "") + ")");
   Expected<std::unique_ptr<CalibrationBranch>> branch =
-      CalibrationBranch::Create(r.lo_config, *plan.stream, plan.sensors);
+      CalibrationBranch::Create(r.lo_config, *plan.stream, plan.sensors, r.calibration_hold_s);
   if (!branch) return branch.status();
   plan.calibration = std::move(*branch);
   return {};

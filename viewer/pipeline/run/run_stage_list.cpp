@@ -110,8 +110,10 @@ std::vector<Stage> RunStageList(RunPlan& plan, const fs::path& out, StageOutputs
                                 .paced_messages = o.dataset ? o.dataset->paced_messages : 0,
                                 .out = out};
     if (Status s = Keep(o.odometry, RunOdometryStage(in, c)); !s.ok()) return s;
-    if (!o.odometry->georef) return Status();
-    // trajectory.tum is in ENU: run.json gets the map's new T_M_W, which the splat stage reads.
+    const std::optional<OnlineCalibrationSummary>& calibration = o.odometry->summary.online_calibration;
+    if (!o.odometry->georef && !(calibration && calibration->rotation_applied_at)) return Status();
+    // trajectory.tum is in ENU: run.json gets the map's new T_M_W, which the splat stage reads; or the
+    // run applied a new LiDAR extrinsic.
     plan.frames = o.odometry->frames;
     return WriteRunRecord(out, {fs::absolute(r.dataset).string(), plan.frames});
   };

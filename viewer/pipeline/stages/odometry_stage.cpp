@@ -1,5 +1,7 @@
 #include "viewer/pipeline/stages/odometry_stage.h"
 
+#include <deque>
+
 #include "odometry/io/for_each_measurement.h"
 #include "odometry/io/geo_trajectory_file.h"
 
@@ -46,6 +48,22 @@ Status CollectFinished(const OdometryStageInput& in, OdometryStageOutput& out, C
   return {};
 }
 
+// run --calibrate-online, once the rotation has locked: the window moves to the new extrinsic keeping its
+// LiDAR poses (RunEstimator::SetLidarExtrinsic), and so do the poses that had left it, T_world_E * delta with
+// delta = T_E_lidar_old T_E_lidar_new^-1; the frames take the new extrinsic (written to run.json). A window
+// that refuses it (GNSS factors) runs on with the given one; the report says why.
+void ApplyLockedExtrinsic(CalibrationBranch& calibration, Stamp stamp, RunEstimator& odometry,
+                          OdometryStageOutput& out) {
+  const std::optional<SE3> T_imu_lidar = calibration.ExtrinsicToApply();
+  if (!T_imu_lidar) return;
+  const Status status = odometry.SetLidarExtrinsic(*T_imu_lidar);
+  calibration.Applied(stamp, status);
+  if (!status.ok()) return;
+  const SE3 delta = out.frames.T_estimator_lidar() * T_imu_lidar->inverse();
+  for (SE3& pose : out.estimated.poses) pose = pose * delta;
+  out.frames.SetImuFromLidar(*T_imu_lidar);
+}
+
 // T_enu_world applied to every pose: T_enu_F = T_enu_world T_world_F.
 Trajectory InEnu(Trajectory trajectory, const SE3& T_enu_world) {
   for (SE3& pose : trajectory.poses) pose = T_enu_world * pose;
@@ -89,9 +107,9 @@ Status WriteOdometryFiles(const OdometryStageInput& in, const OdometryStageOutpu
                           const Collected& collected, OdometrySummary& summary, StageContext& context) {
   const std::int64_t warnings =
       static_cast<std::int64_t>(summary.reader_warnings.size() + summary.odometry_warnings.size());
-  Trajectory written = in.frames.OutputTrajectory(out.estimated);
+  Trajectory written = out.frames.OutputTrajectory(out.estimated);
   if (out.georef) {
-    written = in.frames.mode == OdometryMode::kWio
+    written = out.frames.mode == OdometryMode::kWio
                   ? InEnuPerPose(std::move(written), collected.T_enu_world_at_pose, out.georef->T_enu_world)
                   : InEnu(std::move(written), out.georef->T_enu_world);
     if (Status s = WriteGeoTrajectory(in.out, written, *out.georef, context); !s.ok()) return s;
@@ -122,6 +140,7 @@ int PacedStream(const DatasetSensors& sensors, OdometryMode mode) {
 
 Expected<OdometryStageOutput> RunOdometryStage(const OdometryStageInput& in, StageContext& context) {
   OdometryStageOutput out;
+  out.frames = in.frames;
   Collected collected;
   std::int64_t scans = 0, keyframes = 0, paced = 0;
   const DatasetSensors& sensors = in.sensors;
@@ -129,18 +148,18 @@ Expected<OdometryStageOutput> RunOdometryStage(const OdometryStageInput& in, Sta
   const int paced_stream = PacedStream(sensors, in.frames.mode);
   const bool lidar_window = in.frames.mode != OdometryMode::kWio;  // WIO reads no scan
   context.SetUnit(paced_stream == sensors.lidar ? "scans" : "IMU samples");
-  const Status read = ForEachMeasurement(*in.stream, [&](Measurement& m) {
+  // One measurement to the estimator (or the mapper): as read, or when the calibration's hold ends.
+  auto feed = [&](Measurement& m) {
     if (m.stream == paced_stream) ++paced;
     Status status;
     if (auto* scan = std::get_if<LidarScan>(&m.data); scan && m.stream == sensors.lidar && lidar_window) {
       ++scans;
       if (in.calibration) {
-        if (Status s = in.calibration->AddScan(*scan); !s.ok()) return s;
+        ApplyLockedExtrinsic(*in.calibration, scan->stamp, odometry, out);
         if (!in.calibration->Restamp(*scan)) return Status();  // re-stamped behind the previous scan
       }
       status = odometry.AddScan(*scan);
     } else if (const auto* sample = std::get_if<ImuSample>(&m.data); sample && m.stream == sensors.imu) {
-      if (in.calibration) in.calibration->AddImu(*sample);
       status = odometry.AddImu(*sample);
     } else if (const auto* wheel = std::get_if<WheelSample>(&m.data); wheel && m.stream == sensors.wheel) {
       status = odometry.AddWheel(*wheel);
@@ -158,8 +177,31 @@ Expected<OdometryStageOutput> RunOdometryStage(const OdometryStageInput& in, Sta
     if (status.ok()) status = CollectFinished(in, out, collected, keyframes);
     if (status.ok()) context.Progress(paced, in.paced_messages);
     return status;
+  };
+  // run --calibrate-online: the branch sees every scan and IMU sample as read; the rest waits while the
+  // branch holds the run for the time offset (CalibrationBranch::Holds).
+  std::deque<Measurement> held;
+  auto release = [&] {
+    for (; !held.empty(); held.pop_front())
+      if (Status s = feed(held.front()); !s.ok()) return s;
+    return Status();
+  };
+  const Status read = ForEachMeasurement(*in.stream, [&](Measurement& m) {
+    if (!in.calibration) return feed(m);
+    if (const auto* scan = std::get_if<LidarScan>(&m.data); scan && m.stream == sensors.lidar) {
+      if (Status s = in.calibration->AddScan(*scan); !s.ok()) return s;
+    } else if (const auto* sample = std::get_if<ImuSample>(&m.data); sample && m.stream == sensors.imu) {
+      in.calibration->AddImu(*sample);
+    }
+    if (in.calibration->Holds(StampOf(m.data))) {
+      held.push_back(std::move(m));
+      return Status();
+    }
+    if (Status s = release(); !s.ok()) return s;
+    return feed(m);
   });
   if (!read.ok()) return read;
+  if (Status s = release(); !s.ok()) return s;
   odometry.Finish();
   if (Status s = CollectFinished(in, out, collected, keyframes); !s.ok()) return s;
   if (in.calibration) {  // after the window's last poses, which may still be from before the lock
@@ -182,7 +224,6 @@ Expected<OdometryStageOutput> RunOdometryStage(const OdometryStageInput& in, Sta
   summary.reader_warnings = in.stream->warnings();
   summary.odometry_warnings = odometry.warnings();
   summary.sensor_factors = odometry.sensor_factors();
-  out.frames = in.frames;
   out.georef = odometry.georeference();
   // trajectory.tum's world W is ENU now; the map stays in the estimator's: T_M_W = T_M_world T_world_enu.
   if (out.georef) out.frames.T_map_world = in.frames.T_map_world * out.georef->T_enu_world.inverse();
