@@ -64,14 +64,14 @@ void PrintSummary(const fs::path& out, const pipeline::RunSummary& s) {
   if (!o.initialization.empty()) std::printf("  initialized: %s\n", o.initialization.c_str());
   if (o.online_calibration && o.calibration_estimates) {
     const pipeline::CalibrateResult& c = *o.calibration_estimates;
+    std::printf("  online calibration (the window waited %.1f s for the locks): ",
+                o.online_calibration->held_s);
     if (o.online_calibration->offset_applied_from)
-      std::printf(
-          "  online calibration: time offset %+.4f s locked and applied (the window waited %.1f s for it, "
-          "%lld re-stamped scans left out)",
-          o.online_calibration->offset_applied_s, o.online_calibration->held_s,
-          static_cast<long long>(o.online_calibration->scans_left_out));
+      std::printf("time offset %+.4f s locked and applied (%lld re-stamped scans left out)",
+                  o.online_calibration->offset_applied_s,
+                  static_cast<long long>(o.online_calibration->scans_left_out));
     else
-      std::printf("  online calibration: no time offset locked (the given one kept)");
+      std::printf("no time offset locked (the given one kept)");
     if (o.online_calibration->rotation_applied_at)
       std::printf("; rotation locked and applied (%.3f deg)\n", o.online_calibration->rotation_applied_deg);
     else
@@ -154,13 +154,13 @@ Subcommand AddRunCommand(CLI::App& app) {
   run->add_flag(
       "--calibrate-online", a->calibrate_online,
       "LIO: estimate the LiDAR-IMU time offset and rotation while running (a LiDAR-only branch feeds "
-      "the calibration workers until they lock); the window waits for the offset (--calibration-hold), "
-      "the locked offset re-stamps the scans, the locked rotation replaces the given one (LiDAR poses "
-      "kept); both are written to calibration_estimated.yaml");
+      "the calibration workers until they lock); the window waits for them (--calibration-hold), the "
+      "locked offset re-stamps the scans, the locked rotation replaces the given one (LiDAR poses kept); "
+      "both are written to calibration_estimated.yaml");
   run->add_option("--calibration-hold", a->calibration_hold_s,
                   "With --calibrate-online: seconds of data (from the first measurement) the window waits, "
-                  "held in memory, for the time offset to lock before it starts; 0: it starts at once and "
-                  "the offset applies from the lock on")
+                  "held in memory, for the time offset and the rotation to lock before it starts; 0: it "
+                  "starts at once and each applies from its lock on")
       ->check(CLI::Range(0.0, 600.0))
       ->capture_default_str();
   run->add_option("--device", a->device,

@@ -59,22 +59,21 @@ std::string FormatOnlineCalibration(const pipeline::OnlineCalibrationSummary& ap
                                     const pipeline::CalibrateResult& r) {
   std::string md = "\n## Online calibration (--calibrate-online)\n\n";
   md += "A LiDAR-only branch fed the calibration workers with " + std::to_string(applied.branch_scans) +
-        " scans (docs/METHOD.md, \"Online spatiotemporal calibration\").\n\n";
+        " scans (docs/METHOD.md, \"Online spatiotemporal calibration\"); the window waited " +
+        FormatValue("%.1f", applied.held_s) + " s of data for the locks (--calibration-hold).\n\n";
   if (r.time_offset_s)
     md += "- time offset: " + std::string(r.time_offset_locked ? "locked" : "not locked") + ", " +
           FormatValue("%+.4f", *r.time_offset_s) + " s on top of the offset read (" +
           FormatValue("%+.4f", ToSeconds(r.lidar_offset_read - r.imu_offset_read)) + " s)\n";
   else
     md += "- time offset: no estimate\n";
-  const std::string held =
-      "the window waited " + FormatValue("%.1f", applied.held_s) + " s of data for it (--calibration-hold)";
   if (applied.offset_applied_from)
     md += "- applied: " + FormatValue("%+.4f", applied.offset_applied_s) + " s added to the scans from " +
-          FormatSeconds(*applied.offset_applied_from) + " on and to the poses before; " + held + "; " +
+          FormatSeconds(*applied.offset_applied_from) + " on and to the poses before (" +
           std::to_string(applied.scans_left_out) +
-          " re-stamped scans left out (they came before the previous scan)\n";
+          " re-stamped scans left out: they came before the previous scan)\n";
   else
-    md += "- applied: nothing (the offset never locked; " + held + "); the run kept the given offset\n";
+    md += "- applied: nothing (the offset never locked); the run kept the given offset\n";
   if (r.R_imu_lidar) {
     const double angle =
         r.T_imu_lidar_given ? (r.T_imu_lidar_given->so3().inverse() * *r.R_imu_lidar).angle() : 0.0;

@@ -32,7 +32,8 @@ CalibrationBranch::CalibrationBranch(std::unique_ptr<RunEstimator> odometry, Cal
 bool CalibrationBranch::Holds(Stamp stamp) {
   if (!holding_) return false;
   if (!hold_from_) hold_from_ = stamp;
-  holding_ = !calibration_.time_offset_locked() && stamp - *hold_from_ < hold_;
+  const bool both_locked = calibration_.time_offset_locked() && calibration_.rotation_locked();
+  holding_ = !both_locked && stamp - *hold_from_ < hold_;
   summary_.held_s = std::max(summary_.held_s, ToSeconds(stamp - *hold_from_));
   return holding_;
 }

@@ -30,7 +30,7 @@ struct OnlineCalibrationSummary {
   double offset_applied_s = 0.0;             // added to the LiDAR stamps from then on
   std::int64_t scans_left_out = 0;           // re-stamped scans that did not come after the previous one
   std::int64_t branch_scans = 0;             // scans the branch's odometry processed
-  double held_s = 0.0;  // how long the run's window waited for the time offset (Holds), stream time
+  double held_s = 0.0;  // how long the run's window waited for the locks (Holds), stream time
   std::optional<Stamp> rotation_applied_at;  // the scan (as read) at which the locked rotation was applied
   double rotation_applied_deg = 0.0;         // its angle from the given rotation
   std::string rotation_refused;              // why the window did not take it (RunEstimator's error)
@@ -50,8 +50,9 @@ class CalibrationBranch {
   // Feeds the scan, as read, to the branch (until both workers have locked; counted in result() always).
   Status AddScan(const LidarScan& scan);
   // Whether the measurement at `stamp` (as read) is to wait before it reaches the run's window: until the
-  // time offset locks, for at most hold_s from the first measurement. Once false, false for good. The run
-  // then starts on re-stamped scans instead of running on the wrong clock until the lock.
+  // time offset and the rotation have locked, for at most hold_s from the first measurement. Once false,
+  // false for good. The run then starts with what locked (re-stamped scans, the new rotation) instead of
+  // running with the given calibration until the locks.
   bool Holds(Stamp stamp);
   // Applies the locked offset to `scan` (nothing before it locks). False when the re-stamped scan does not
   // come after the last scan re-stamped: the run's window is not to get it.

@@ -46,7 +46,7 @@ struct RunRequest {
   double map_voxel_m = 0.05;
   std::string splat_device;  // --device: the splat and views stages' Vulkan device ("": the default)
   bool calibrate_online = false;  // --calibrate-online (LIO): the calibration branch (calibration_branch.h)
-  double calibration_hold_s = 15.0;  // --calibration-hold: the window waits this long for the time offset
+  double calibration_hold_s = 15.0;  // --calibration-hold: the window waits this long for the locks
   // The sections of --config (the defaults without one).
   app::DatasetConfig dataset_config;
   estimator::LidarOdometryConfig lo_config;
