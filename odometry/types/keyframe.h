@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <optional>
 #include <vector>
 
 #include "odometry/types/measurements.h"
@@ -21,6 +22,17 @@ struct Reliability {
   double gnss = 1.0;
 };
 
+// How well the scan's point-to-plane factors pin its pose (docs/METHOD.md "Factor-wise reliability
+// scheduling", LiDAR score): from their Gauss-Newton information H (6x6, tangent [dt (world); dtheta
+// (body)]) at registration.
+struct LidarDegeneracy {
+  int matches = 0;                  // point-to-plane residuals
+  double translation_isotropy = 0;  // lambda_min / mean eigenvalue of H's translation block, in [0, 1]
+  double rotation_isotropy = 0;     // the same of its rotation block
+  Eigen::Vector3d weak_translation = Eigen::Vector3d::Zero();  // world, unit: least constrained direction
+  double score = 1.0;  // D in [0, 1]: 0 pins every direction, 1 leaves one free
+};
+
 struct Keyframe {
   Stamp stamp = 0;
   SE3 T_world_body;                                     // body (IMU in LIO, LiDAR in LO) to world
@@ -31,6 +43,7 @@ struct Keyframe {
   std::vector<float> scan_intensity;  // one per point of scan_world, as the sensor reports it
   std::vector<CameraFrame> images;    // frames taken near stamp, any cameras of the rig
   Reliability reliability;
+  std::optional<LidarDegeneracy> lidar_degeneracy;  // LiDAR window: of its registration (none if rejected)
 };
 
 }  // namespace uf

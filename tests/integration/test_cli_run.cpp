@@ -53,8 +53,25 @@ TEST_F(CliRun, LidarOdometryOnASimulatedSequenceWritesEveryOutput) {
   const auto result = Ultrafusion("run " + Sequence() + " --mode lo --no-map --no-splat --out " + run);
   ASSERT_EQ(result.code, 0) << result.output;
   for (const char* file : {"trajectory.tum", "trajectory_kitti.txt", "timing.json", "config.yaml",
-                           "report.md", "plots/ape_top_view.png", "plots/ape_over_time.png"})
+                           "report.md", "plots/ape_top_view.png", "plots/ape_over_time.png",
+                           "reliability.csv", "plots/reliability_lidar.png"})
     EXPECT_TRUE(fs::exists(run + "/" + file)) << file;
+  // One LiDAR row per registered scan (all but the first), each with its score in [0, 1].
+  std::istringstream reliability(testing::ReadText(run + "/reliability.csv"));
+  std::string line;
+  std::getline(reliability, line);
+  EXPECT_EQ(line.rfind("stamp_ns,modality,score,active,", 0), 0u) << line;
+  int rows = 0;
+  while (std::getline(reliability, line)) {
+    ++rows;
+    const std::size_t modality = line.find(",lidar,");
+    ASSERT_NE(modality, std::string::npos) << line;
+    const double score = std::stod(line.substr(modality + 7));
+    EXPECT_TRUE(score >= 0 && score <= 1) << line;
+  }
+  EXPECT_GE(rows, 30);
+  EXPECT_NE(testing::ReadText(run + "/report.md").find("## Reliability (LiDAR degeneracy)"),
+            std::string::npos);
 
   // 4 s of 10 Hz scans: one pose per scan (none skipped on clean data), 8 numbers per TUM line, 12 per
   // KITTI line, stamps increasing.

@@ -75,6 +75,9 @@ struct ScanState {
   // its own point-to-plane factors give (ForwardSigma); infinite when it has none. For the wheel scale's
   // observability test (WheelScaleObservable).
   double forward_sigma_m = std::numeric_limits<double>::infinity();
+  // The information of its point-to-plane factors at registration (ScanInformation), none before or when
+  // rejected: the wheel scale's test (ForwardSigma) and the keyframe's LiDAR degeneracy read it.
+  std::optional<Matrix6d> information;
 };
 
 // Adds the wall time of its scope to a millisecond counter (the per-stage figures of OdometryStats).
@@ -176,7 +179,8 @@ struct LidarOdometry::Impl {
   void InsertIntoMap(ScanState& scan);
   void Release(ScanState& scan);
   void PopOldest();
-  double ForwardSigma(const ScanState& scan);
+  Matrix6d ScanInformation(const ScanState& scan);
+  double ForwardSigma(const ScanState& scan) const;
 
   // Solve and marginalize (window_solve.cpp).
   bool Solve(int* iterations, bool new_scan_only = false);

@@ -200,6 +200,7 @@ bool LidarOdometry::Impl::RegisterNewScan(ScanState& current) {
   stats.residuals = current.residuals;
   current.plane_cache = {};  // the map changes next
   if (!why) {
+    current.information = ScanInformation(current);
     if (wheel) current.forward_sigma_m = ForwardSigma(current);
     // A scan taken where the last one was matches the map it just made almost fully: at a standstill the
     // match fraction says nothing of what a moving scan reaches, so only scans that moved count.

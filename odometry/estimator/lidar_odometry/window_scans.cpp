@@ -9,6 +9,7 @@
 
 #include "odometry/estimator/factors/point_to_plane_factor.h"
 #include "odometry/estimator/lidar_odometry/odometry_window.h"
+#include "odometry/estimator/schedule/lidar_degeneracy.h"
 
 namespace uf::estimator {
 namespace {
@@ -164,15 +165,15 @@ void LidarOdometry::Impl::Release(ScanState& scan) {
       keyframe.scan_intensity[i] = p.intensity;
     }
   });
+  if (scan.information)
+    keyframe.lidar_degeneracy = AnalyzeLidarInformation(*scan.information, scan.residuals);
   finished.push_back(std::move(keyframe));
 }
 
-// The standard deviation of the scan's position along the wheel's forward axis f = R_world_body R_body_wheel
-// e_x that its own point-to-plane factors give: their Gauss-Newton information H = sum rho' J^T J (rho': the
-// Huber weight at the residual) for a rigid move of the scan (the same tangent step on its begin and end
-// node, J = J_b + J_e), and the variance [f; 0]^T H^-1 [f; 0], the rotation free. Infinite where H leaves f
-// unconstrained (no planes; a straight corridor without a feature along its axis).
-double LidarOdometry::Impl::ForwardSigma(const ScanState& scan) {
+// The Gauss-Newton information of the scan's point-to-plane factors, H = sum rho' J^T J (rho': the Huber
+// weight at the residual), for a rigid move of the scan (the same tangent step [dt; dtheta] on its begin
+// and end node, J = J_b + J_e).
+Matrix6d LidarOdometry::Impl::ScanInformation(const ScanState& scan) {
   Matrix6d H = Matrix6d::Zero();
   for (const Factor& factor : graph.Entries(FactorKind::kLidar)) {
     if (factor.tag != scan.id) continue;
@@ -188,6 +189,16 @@ double LidarOdometry::Impl::ForwardSigma(const ScanState& scan) {
     const Eigen::Matrix<double, 1, 6> J = J_b + J_e;
     H.noalias() += rho[1] * J.transpose() * J;
   }
+  return H;
+}
+
+// The standard deviation of the scan's position along the wheel's forward axis f = R_world_body R_body_wheel
+// e_x that its own point-to-plane factors give (their information at registration, ScanInformation): the
+// variance [f; 0]^T H^-1 [f; 0], the rotation free. Infinite where H leaves f unconstrained (no planes; a
+// straight corridor without a feature along its axis).
+double LidarOdometry::Impl::ForwardSigma(const ScanState& scan) const {
+  if (!scan.information) return std::numeric_limits<double>::infinity();
+  const Matrix6d& H = *scan.information;
   Vector6d e = Vector6d::Zero();
   e.head<3>() = NodePose(scan.end_node).rotation() * config.T_body_wheel.rotation().col(0);
   const Eigen::SelfAdjointEigenSolver<Matrix6d> eigen(H);
@@ -204,8 +215,6 @@ double LidarOdometry::Impl::ForwardSigma(const ScanState& scan) {
   return largest > 0 ? std::sqrt(variance) : std::numeric_limits<double>::infinity();
 }
 
-// Releases the oldest scan, folds what leaves with it into the marginalization prior, and drops the nodes
-// no remaining scan uses.
 void LidarOdometry::Impl::PopOldest() {
   Release(window.front());
   const long keep_from = window.size() > 1 ? window[1].begin_node : LastNodeId() + 1;

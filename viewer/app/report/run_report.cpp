@@ -127,6 +127,31 @@ std::string FormatTracking(const std::vector<estimator::TrackEvent>& events, std
   return md;
 }
 
+// The LiDAR's degeneracy scores (reliability.csv): how many keyframes were degenerate and where.
+std::string FormatReliability(const pipeline::OdometrySummary& o) {
+  constexpr std::size_t kMaxListed = 50;
+  std::string md = "\n## Reliability (LiDAR degeneracy)\n\n";
+  md +=
+      "Per keyframe, the score D of its registration's point-to-plane information (0: every direction "
+      "pinned, 1: one left free; docs/METHOD.md \"Factor-wise reliability scheduling\"), in "
+      "`reliability.csv` with its inputs. Scores only: no factor is scheduled by them yet.\n\n";
+  int degenerate = 0;
+  for (const pipeline::DegenerateSpan& span : o.lidar_degenerate) degenerate += span.keyframes;
+  md += std::to_string(degenerate) + " of " + std::to_string(o.lidar_scored) +
+        " scored keyframes at D >= " + FormatValue("%.1f", pipeline::kDegenerateReported);
+  if (o.lidar_degenerate.empty()) return md + ".\n";
+  md += ":\n\n| from [s] | to [s] | keyframes | worst D |\n|---|---|---|---|\n";
+  for (std::size_t i = 0; i < o.lidar_degenerate.size() && i < kMaxListed; ++i) {
+    const pipeline::DegenerateSpan& span = o.lidar_degenerate[i];
+    md += "| " + FormatSeconds(span.first) + " | " + FormatSeconds(span.last) + " | " +
+          std::to_string(span.keyframes) + " | " + FormatValue("%.2f", span.worst) + " |\n";
+  }
+  if (o.lidar_degenerate.size() > kMaxListed)
+    md += "\n(" + std::to_string(o.lidar_degenerate.size() - kMaxListed) + " more spans not listed)\n";
+  if (!o.reliability_plot.empty()) md += "\n![LiDAR degeneracy](" + o.reliability_plot + ")\n";
+  return md;
+}
+
 }  // namespace
 
 std::vector<ReadWarning> GroupWarnings(const std::vector<std::string>& warnings) {
@@ -167,7 +192,7 @@ std::string FormatRunReport(const pipeline::RunSummary& r) {
     md += "| trajectory poses | " + std::to_string(o.keyframes) + " |\n";
   }
   md += "| wall time [s] | " + FormatValue("%.2f", r.wall_seconds) + " |\n";
-  if (o.step == "scan") md += FormatTracking(o.track_events, o.scans);
+  if (o.step == "scan") md += FormatTracking(o.track_events, o.scans) + FormatReliability(o);
   if (o.online_calibration && o.calibration_estimates)
     md += FormatOnlineCalibration(*o.online_calibration, *o.calibration_estimates);
   md += "\n## Timing per " + o.step + " (" + (o.step == "scan" ? "AddScan" : "the node's solve") +

@@ -17,6 +17,7 @@ struct Collected {
   std::vector<Stamp> stamps;
   std::vector<double> ms;
   std::vector<std::optional<SE3>> T_enu_world_at_pose;
+  std::vector<ScoredKeyframe> scored;  // the keyframes with a LiDAR degeneracy (registered scans)
 };
 
 // Moves the keyframes that left the odometry's window into the trajectory (and the mapper), in time order.
@@ -29,6 +30,7 @@ Status CollectFinished(const OdometryStageInput& in, OdometryStageOutput& out, C
       continue;  // keep stamps increasing
     trajectory.stamps.push_back(k.stamp);
     trajectory.poses.push_back(k.T_world_body);
+    if (k.lidar_degeneracy) collected.scored.push_back({k.stamp, *k.lidar_degeneracy});
     if (in.frames.mode == OdometryMode::kWio) {
       const std::optional<Georeference> georef = in.odometry->georeference();
       collected.T_enu_world_at_pose.push_back(georef ? std::optional<SE3>(georef->T_enu_world)
@@ -120,6 +122,14 @@ Status WriteOdometryFiles(const OdometryStageInput& in, const OdometryStageOutpu
       !s.ok())
     return s;
   for (const char* file : {"trajectory.tum", "trajectory_kitti.txt", "timing.json"}) context.AddOutput(file);
+  if (out.frames.mode != OdometryMode::kWio) {
+    Expected<std::vector<std::string>> written = WriteReliabilityFiles(in.out, collected.scored);
+    if (!written) return written.status();
+    for (const std::string& file : *written) context.AddOutput(file);
+    summary.lidar_degenerate = DegenerateSpans(collected.scored, kDegenerateReported);
+    summary.lidar_scored = static_cast<std::int64_t>(collected.scored.size());
+    if (written->size() > 1) summary.reliability_plot = written->back();
+  }
   if (collected.ms.empty()) return {};
   std::error_code error;
   fs::create_directories(in.out / "plots", error);

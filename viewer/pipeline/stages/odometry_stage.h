@@ -22,6 +22,7 @@
 #include "viewer/pipeline/run/run_frames.h"
 #include "viewer/pipeline/run_files.h"
 #include "viewer/pipeline/stage_runner.h"
+#include "viewer/pipeline/stages/reliability_files.h"
 
 namespace uf::pipeline {
 
@@ -54,6 +55,11 @@ struct OdometrySummary {
   // run --calibrate-online: what the calibration workers found and what the run applied of it
   std::optional<OnlineCalibrationSummary> online_calibration;
   std::optional<CalibrateResult> calibration_estimates;
+  // The LiDAR window's degeneracy scores (reliability_files.h): keyframes scored, the spans at or above
+  // kDegenerateReported, the plot once written.
+  std::int64_t lidar_scored = 0;
+  std::vector<DegenerateSpan> lidar_degenerate;
+  std::string reliability_plot;
 };
 
 // The stream whose messages pace the odometry, for the progress line: the LiDAR's, or the IMU's in WIO.

@@ -1,0 +1,25 @@
+// The LiDAR's degeneracy score of the reliability scheduling (docs/METHOD.md "Factor-wise reliability
+// scheduling"; paper Sec. III-D): how evenly a scan's point-to-plane factors pin the six directions of its
+// pose.
+//
+// From the information H = sum rho' J^T J of the scan's factors for a rigid move of the scan (tangent
+// [dt; dtheta]), each 3x3 block (translation H_tt, rotation H_rr) is scored by its isotropy
+//   iso = lambda_min / (trace / 3)   in [0, 1]
+// (1: every direction as pinned as the mean one; 0: one direction free, as along a corridor's axis). The
+// blocks are taken apart because their units differ (m vs rad: H_rr grows with the range of the points).
+// The score is the worse block's, mapped so that a direction with at least kHealthyIsotropy of the mean
+// information (its standard deviation within sqrt(1 / 0.1) ~ 3x the mean direction's) counts as pinned:
+//   D = 1 - min(1, min(iso_t, iso_r) / kHealthyIsotropy).
+// Fewer than 6 matches, or no information, is degenerate (D = 1).
+#pragma once
+
+#include "odometry/types/keyframe.h"
+#include "odometry/types/se3.h"
+
+namespace uf::estimator {
+
+constexpr double kHealthyIsotropy = 0.1;
+
+LidarDegeneracy AnalyzeLidarInformation(const Matrix6d& information, int matches);
+
+}  // namespace uf::estimator
