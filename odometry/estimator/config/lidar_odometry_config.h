@@ -40,6 +40,10 @@ struct LidarOdometryConfig {
   double max_prediction_s = 0.5;       // the constant-velocity guess extrapolates at most this far
   int min_points = 50;                 // scans with fewer prepared points are skipped
   bool marginalize = true;             // oldest states into a Gaussian prior (else: oldest pose held fixed)
+  // Reliability scheduling of the LiDAR (docs/METHOD.md "Factor-wise reliability scheduling"): a registered
+  // scan's point-to-plane factors lose their say along its weak directions (WeakDirectionProjector); the
+  // IMU, wheel or motion prior carry those.
+  bool drop_weak_directions = false;
   MarginalizationConfig marginalization;
 
   // LIO: IMU preintegration factors between the states instead of the constant-velocity prior.

@@ -78,6 +78,9 @@ struct ScanState {
   // The information of its point-to-plane factors at registration (ScanInformation), none before or when
   // rejected: the wheel scale's test (ForwardSigma) and the keyframe's LiDAR degeneracy read it.
   std::optional<Matrix6d> information;
+  // With config.drop_weak_directions, when the information leaves a direction weak: the projector its
+  // point-to-plane factors are taken through (ProjectedFactor) from then on.
+  std::optional<Matrix6d> projector;
 };
 
 // Adds the wall time of its scope to a millisecond counter (the per-stage figures of OdometryStats).
@@ -180,6 +183,7 @@ struct LidarOdometry::Impl {
   void Release(ScanState& scan);
   void PopOldest();
   Matrix6d ScanInformation(const ScanState& scan);
+  void DropWeakDirections(ScanState& scan);
   double ForwardSigma(const ScanState& scan) const;
 
   // Solve and marginalize (window_solve.cpp).

@@ -202,6 +202,7 @@ bool LidarOdometry::Impl::RegisterNewScan(ScanState& current) {
   if (!why) {
     current.information = ScanInformation(current);
     if (wheel) current.forward_sigma_m = ForwardSigma(current);
+    if (config.drop_weak_directions) DropWeakDirections(current);
     // A scan taken where the last one was matches the map it just made almost fully: at a standstill the
     // match fraction says nothing of what a moving scan reaches, so only scans that moved count.
     const SE3 moved = last_registered ? last_registered->pose.inverse() * NodePose(current.end_node) : SE3();

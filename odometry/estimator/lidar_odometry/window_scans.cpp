@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "odometry/estimator/factors/point_to_plane_factor.h"
+#include "odometry/estimator/factors/projected_factor.h"
 #include "odometry/estimator/lidar_odometry/odometry_window.h"
 #include "odometry/estimator/schedule/lidar_degeneracy.h"
 
@@ -98,6 +99,7 @@ void LidarOdometry::Impl::Associate(ScanState& scan, bool coarse) {
       } else {
         cost = std::make_unique<PointToPlaneFactor>(p.point_lidar, p.alpha, plane, config.T_body_lidar);
       }
+      if (scan.projector) cost = std::make_unique<ProjectedFactor>(std::move(cost), *scan.projector);
       graph.Add(FactorKind::kLidar, scan.id, std::move(cost),
                 std::make_unique<ceres::HuberLoss>(config.huber_m / plane.sigma), blocks, /*anchors=*/true);
       ++scan.residuals;
@@ -190,6 +192,18 @@ Matrix6d LidarOdometry::Impl::ScanInformation(const ScanState& scan) {
     H.noalias() += rho[1] * J.transpose() * J;
   }
   return H;
+}
+
+// Reliability scheduling of the LiDAR (docs/METHOD.md "Factor-wise reliability scheduling"): the scan's
+// factors are taken through the projector of its weak directions from now on, so that the window solves and
+// the marginalization get no LiDAR information along them.
+void LidarOdometry::Impl::DropWeakDirections(ScanState& scan) {
+  if (!scan.information) return;
+  const Matrix6d P = WeakDirectionProjector(*scan.information);
+  if (P.isIdentity(0.0)) return;
+  scan.projector = P;
+  for (Factor& factor : graph.Entries(FactorKind::kLidar))
+    if (factor.tag == scan.id) factor.cost = std::make_unique<ProjectedFactor>(std::move(factor.cost), P);
 }
 
 // The standard deviation of the scan's position along the wheel's forward axis f = R_world_body R_body_wheel

@@ -29,4 +29,21 @@ LidarDegeneracy AnalyzeLidarInformation(const Matrix6d& information, int matches
   return d;
 }
 
+Matrix6d WeakDirectionProjector(const Matrix6d& information) {
+  Matrix6d P = Matrix6d::Identity();
+  if (!information.allFinite()) return P;
+  for (int block = 0; block < 2; ++block) {
+    const Eigen::Matrix3d H = information.block<3, 3>(3 * block, 3 * block);
+    const double mean = H.trace() / 3.0;
+    if (!(mean > 0)) continue;
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(H);
+    for (int i = 0; i < 3; ++i) {
+      if (eigen.eigenvalues()(i) >= kHealthyIsotropy * mean) continue;
+      const Eigen::Vector3d v = eigen.eigenvectors().col(i);
+      P.block<3, 3>(3 * block, 3 * block) -= v * v.transpose();
+    }
+  }
+  return P;
+}
+
 }  // namespace uf::estimator

@@ -22,4 +22,11 @@ constexpr double kHealthyIsotropy = 0.1;
 
 LidarDegeneracy AnalyzeLidarInformation(const Matrix6d& information, int matches);
 
+// The LiDAR's scheduling along its weak directions (docs/METHOD.md "Factor-wise reliability scheduling"):
+// P = blockdiag(I - sum u u^T, I - sum w w^T) over the eigenvectors u of H_tt and w of H_rr whose eigenvalue
+// is below kHealthyIsotropy of their block's mean. A factor's tangent Jacobian times P has no say along them
+// (the other sensors carry those directions); P = I when the scan pins every direction or has no
+// information.
+Matrix6d WeakDirectionProjector(const Matrix6d& information);
+
 }  // namespace uf::estimator

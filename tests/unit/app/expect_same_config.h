@@ -184,6 +184,7 @@ inline void ExpectSameLo(const estimator::LidarOdometryConfig& a, const estimato
   EXPECT_FIELD(min_points);
   EXPECT_FIELD(max_plane_distance_m);
   EXPECT_FIELD(marginalize);
+  EXPECT_FIELD(drop_weak_directions);
   EXPECT_FIELD(motion.acc_density);
   EXPECT_FIELD(motion.angular_acc_density);
   EXPECT_FIELD(map.voxel_m);

@@ -5,8 +5,12 @@
 
 #include <cmath>
 
+#include "odometry/estimator/factors/point_to_plane_factor.h"
+#include "odometry/estimator/factors/projected_factor.h"
 #include "odometry/estimator/lidar_odometry/lidar_odometry.h"
 #include "odometry/estimator/schedule/lidar_degeneracy.h"
+#include "odometry/estimator/state/nav_state.h"
+#include "odometry/estimator/state/pose_manifold.h"
 #include "odometry/io/dataset_reader.h"
 #include "odometry/io/for_each_measurement.h"
 #include "odometry/sim/sequence/sequence_generator.h"
@@ -75,6 +79,52 @@ TEST(LidarDegeneracy, ACorridorLeavesItsAxisFreeABoxPinsEverything) {
   EXPECT_NEAR(in_box.translation_isotropy, 1.0, 1e-9);  // two walls along each axis
   EXPECT_NEAR(in_box.rotation_isotropy, 1.0, 1e-9);     // and the same crosses on each
   EXPECT_EQ(in_box.score, 0.0);
+}
+
+TEST(LidarDegeneracy, TheProjectorRemovesTheWeakDirectionsOnly) {
+  Matrix6d H = Matrix6d::Zero();
+  H.diagonal() << 0.02, 1, 1, 2, 2, 2;  // x translation weak
+  Matrix6d expected = Matrix6d::Identity();
+  expected(0, 0) = 0;
+  EXPECT_LT((WeakDirectionProjector(H) - expected).norm(), 1e-12);
+  H.diagonal() << 1, 1, 1, 0.01, 2, 0.05;  // rotations about x and z weak (0.01, 0.05 < 0.1 * 0.687)
+  expected.setIdentity();
+  expected(3, 3) = expected(5, 5) = 0;
+  EXPECT_LT((WeakDirectionProjector(H) - expected).norm(), 1e-12);
+  H.diagonal() << 1, 1, 4, 2, 2, 2;  // healthy
+  EXPECT_TRUE(WeakDirectionProjector(H).isIdentity(0.0));
+  EXPECT_TRUE(WeakDirectionProjector(Matrix6d::Zero()).isIdentity(0.0));
+}
+
+TEST(LidarDegeneracy, AProjectedFactorKeepsTheResidualAndProjectsTheJacobians) {
+  const Plane plane{Eigen::Vector3d(0.3, -0.5, 0.8).normalized(), Eigen::Vector3d(2, 1, -1), 0.05};
+  const Eigen::Vector3d p_L(4, -2, 1);
+  const SE3 T_body_lidar(SO3::Exp(Eigen::Vector3d(0.1, 0.2, -0.3)), Eigen::Vector3d(0.1, 0, 0.3));
+  const PointToPlaneFactor reference(p_L, 0.3, plane, T_body_lidar);
+  auto inner = std::make_unique<PointToPlaneFactor>(p_L, 0.3, plane, T_body_lidar);
+  Matrix6d P = Matrix6d::Identity();
+  P(0, 0) = 0;
+  P.block<3, 3>(3, 3) -= Eigen::Vector3d(0, 0.6, 0.8) * Eigen::Vector3d(0, 0.6, 0.8).transpose();
+  const ProjectedFactor projected(std::move(inner), P);
+  const auto begin = PoseBlock(SE3(SO3::Exp(Eigen::Vector3d(0.2, -0.1, 0.4)), Eigen::Vector3d(1, 2, 3)));
+  const auto end = PoseBlock(SE3(SO3::Exp(Eigen::Vector3d(0.25, -0.1, 0.5)), Eigen::Vector3d(1.5, 2, 3)));
+  const double* blocks[2] = {begin.data(), end.data()};
+  double r_ref = 0, r = 0;
+  Eigen::Matrix<double, 1, 6> Jb_ref, Je_ref, Jb, Je;
+  double* tangent_ref[2] = {Jb_ref.data(), Je_ref.data()};
+  double* tangent[2] = {Jb.data(), Je.data()};
+  ASSERT_TRUE(reference.EvaluateTangent(blocks, &r_ref, tangent_ref));
+  ASSERT_TRUE(projected.EvaluateTangent(blocks, &r, tangent));
+  EXPECT_EQ(r, r_ref);
+  EXPECT_LT((Jb - Jb_ref * P).norm(), 1e-12);
+  EXPECT_LT((Je - Je_ref * P).norm(), 1e-12);
+  // The ambient Jacobians (for Ceres) lift the projected tangent ones.
+  Eigen::Matrix<double, 1, 7> Ab, Ae;
+  double* ambient[2] = {Ab.data(), Ae.data()};
+  ASSERT_TRUE(projected.Evaluate(blocks, &r, ambient));
+  Eigen::Matrix<double, 7, 6, Eigen::RowMajor> plus;
+  PoseManifold().PlusJacobian(begin.data(), plus.data());
+  EXPECT_LT((Ab * plus - Jb).norm(), 1e-9);
 }
 
 // LIO over `seconds` of a simulated scene (the default 32-beam LiDAR, no camera, wheel or GNSS): its

@@ -44,6 +44,9 @@ Schema<LidarOdometryConfig> MakeLoSchema() {
   s.Key("max_plane_distance_m", &C::max_plane_distance_m, "m",
         "correspondences farther from their plane are dropped");
   s.Key("marginalize", &C::marginalize, "", "oldest states into a prior (false: the oldest pose held fixed)");
+  s.Key("drop_weak_directions", &C::drop_weak_directions, "",
+        "a registered scan's point-to-plane factors lose their say along its weak directions (reliability "
+        "scheduling; the IMU, wheel or motion prior carry them)");
 
   Schema<ConstantVelocityNoise> motion;
   motion.Key("acc_density", &ConstantVelocityNoise::acc_density, "m/s^2/sqrt(Hz)",
