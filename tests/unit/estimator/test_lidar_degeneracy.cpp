@@ -11,10 +11,9 @@
 #include "odometry/estimator/schedule/lidar_degeneracy.h"
 #include "odometry/estimator/state/nav_state.h"
 #include "odometry/estimator/state/pose_manifold.h"
-#include "odometry/io/dataset_reader.h"
-#include "odometry/io/for_each_measurement.h"
 #include "odometry/sim/sequence/sequence_generator.h"
 #include "tests/support/temp_dir.h"
+#include "tests/unit/estimator/lio_test_support.h"
 
 namespace uf::estimator {
 namespace {
@@ -138,22 +137,9 @@ std::vector<LidarDegeneracy> ScoreScene(const std::string& scene, double seconds
   const std::filesystem::path folder = dir.path() / "sequence";
   auto summary = sim::GenerateSequence(config, folder);
   EXPECT_TRUE(summary.ok()) << summary.error();
-  auto reader = OpenDataset(folder.string());
-  EXPECT_TRUE(reader.ok()) << reader.error();
-  LidarOdometryConfig lio;
-  lio.use_imu = true;
-  lio.T_body_lidar = SE3(SO3(), Eigen::Vector3d(0, 0, 0.25));  // the simulator's default mount
-  lio.input_voxel_m = 0.5;
-  lio.max_solver_time_s = 10;
-  auto odometry = LidarOdometry::Create(lio);
+  auto odometry = LidarOdometry::Create(testing::SimulatedLioConfig());
   EXPECT_TRUE(odometry.ok());
-  const Status read = ForEachMeasurement(**reader, [&](Measurement& m) {
-    if (const auto* scan = std::get_if<LidarScan>(&m.data)) return odometry->AddScan(*scan);
-    if (const auto* sample = std::get_if<ImuSample>(&m.data)) return odometry->AddImu(*sample);
-    return Status();
-  });
-  EXPECT_TRUE(read.ok()) << read.message();
-  odometry->Finish();
+  testing::FeedLio(folder, *odometry);
   std::vector<LidarDegeneracy> scores;
   for (const Keyframe& k : odometry->TakeFinished())
     if (k.lidar_degeneracy) scores.push_back(*k.lidar_degeneracy);

@@ -9,17 +9,15 @@
 
 #include "odometry/estimator/lidar_odometry/lidar_odometry.h"
 #include "odometry/eval/evaluation.h"
-#include "odometry/io/dataset_reader.h"
-#include "odometry/io/for_each_measurement.h"
 #include "odometry/io/trajectory_file.h"
 #include "odometry/sim/sequence/sequence_generator.h"
 #include "tests/support/temp_dir.h"
+#include "tests/unit/estimator/lio_test_support.h"
 
 namespace uf::estimator {
 namespace {
 
-// The simulator's default LiDAR mount (simulation_config.h): the true T_imu_lidar.
-const SE3 kTrueImuFromLidar(SO3(), Eigen::Vector3d(0, 0, 0.25));
+const SE3 kTrueImuFromLidar = testing::kSimImuFromLidar;
 constexpr double kDeg = std::numbers::pi / 180;
 
 // `duration_s` of urban driving (1 s at rest, then driving off) with a 16-beam LiDAR and the IMU.
@@ -41,25 +39,9 @@ std::filesystem::path Simulate(const uf::testing::TempDir& dir, double duration_
 // odometry and the scan's stamp). Returns the keyframes' poses.
 Trajectory RunLio(const std::filesystem::path& folder, const SE3& given,
                   const std::function<void(LidarOdometry&, Stamp)>& at_scan) {
-  auto reader = OpenDataset(folder.string());
-  EXPECT_TRUE(reader.ok()) << reader.error();
-  LidarOdometryConfig config;
-  config.use_imu = true;
-  config.T_body_lidar = given;
-  config.input_voxel_m = 0.5;
-  config.max_solver_time_s = 10;  // only the iteration budget: the results do not depend on the load
-  auto lio = LidarOdometry::Create(config);
+  auto lio = LidarOdometry::Create(testing::SimulatedLioConfig(given));
   EXPECT_TRUE(lio.ok()) << lio.error();
-  const Status read = ForEachMeasurement(**reader, [&](Measurement& m) {
-    if (const auto* scan = std::get_if<LidarScan>(&m.data)) {
-      at_scan(*lio, scan->stamp);
-      return lio->AddScan(*scan);
-    }
-    if (const auto* sample = std::get_if<ImuSample>(&m.data)) return lio->AddImu(*sample);
-    return Status();
-  });
-  EXPECT_TRUE(read.ok()) << read.message();
-  lio->Finish();
+  testing::FeedLio(folder, *lio, at_scan);
   Trajectory out;
   for (const Keyframe& k : lio->TakeFinished()) {
     EXPECT_TRUE(k.T_world_body.matrix().allFinite()) << ToSeconds(k.stamp);

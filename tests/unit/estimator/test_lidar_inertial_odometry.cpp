@@ -15,6 +15,7 @@
 #include "odometry/io/trajectory_file.h"
 #include "odometry/sim/sequence/sequence_generator.h"
 #include "tests/support/temp_dir.h"
+#include "tests/unit/estimator/lio_test_support.h"
 
 namespace uf::estimator {
 namespace {
@@ -64,11 +65,7 @@ LioRun RunLio(
   LioRun run;
   auto reader = OpenDataset(folder.string());
   EXPECT_TRUE(reader.ok()) << reader.error();
-  LidarOdometryConfig config;
-  config.use_imu = true;
-  config.T_body_lidar = kImuFromLidar;
-  config.input_voxel_m = 0.5;
-  config.max_solver_time_s = 10;  // only the iteration budget: the results do not depend on the load
+  LidarOdometryConfig config = testing::SimulatedLioConfig(kImuFromLidar);
   if (edit_wheel) {
     config.use_wheel = true;
     for (const StreamInfo& stream : (*reader)->description().streams)
