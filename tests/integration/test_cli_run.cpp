@@ -70,8 +70,9 @@ TEST_F(CliRun, LidarOdometryOnASimulatedSequenceWritesEveryOutput) {
     EXPECT_TRUE(score >= 0 && score <= 1) << line;
   }
   EXPECT_GE(rows, 30);
-  EXPECT_NE(testing::ReadText(run + "/report.md").find("## Reliability (LiDAR degeneracy)"),
-            std::string::npos);
+  const std::string reliability_report = testing::ReadText(run + "/report.md");
+  EXPECT_NE(reliability_report.find("## Reliability (LiDAR degeneracy)"), std::string::npos);
+  EXPECT_NE(reliability_report.find("![LiDAR degeneracy](plots/reliability_lidar.png)"), std::string::npos);
 
   // 4 s of 10 Hz scans: one pose per scan (none skipped on clean data), 8 numbers per TUM line, 12 per
   // KITTI line, stamps increasing.

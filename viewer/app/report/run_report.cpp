@@ -138,9 +138,9 @@ std::string FormatReliability(const pipeline::OdometrySummary& o) {
   int degenerate = 0;
   for (const pipeline::DegenerateSpan& span : o.lidar_degenerate) degenerate += span.keyframes;
   md += std::to_string(degenerate) + " of " + std::to_string(o.lidar_scored) +
-        " scored keyframes at D >= " + FormatValue("%.1f", pipeline::kDegenerateReported);
-  if (o.lidar_degenerate.empty()) return md + ".\n";
-  md += ":\n\n| from [s] | to [s] | keyframes | worst D |\n|---|---|---|---|\n";
+        " scored keyframes at D >= " + FormatValue("%.1f", pipeline::kDegenerateReported) +
+        (o.lidar_degenerate.empty() ? ".\n" : ":\n");
+  if (!o.lidar_degenerate.empty()) md += "\n| from [s] | to [s] | keyframes | worst D |\n|---|---|---|---|\n";
   for (std::size_t i = 0; i < o.lidar_degenerate.size() && i < kMaxListed; ++i) {
     const pipeline::DegenerateSpan& span = o.lidar_degenerate[i];
     md += "| " + FormatSeconds(span.first) + " | " + FormatSeconds(span.last) + " | " +
