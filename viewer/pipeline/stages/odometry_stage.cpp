@@ -189,7 +189,7 @@ Expected<OdometryStageOutput> RunOdometryStage(const OdometryStageInput& in, Sta
     return status;
   };
   // run --calibrate-online: the branch sees every scan and IMU sample as read; the rest waits while the
-  // branch holds the run for the time offset (CalibrationBranch::Holds).
+  // branch holds the run for the locks (CalibrationBranch::Holds).
   std::deque<Measurement> held;
   auto release = [&] {
     for (; !held.empty(); held.pop_front())
