@@ -111,6 +111,33 @@ TEST(CliCalibrate, EstimatesTheInjectedOffsetAndRotation) {
   EXPECT_NE(lo.output.find("--calibrate-online: needs a LIO run"), std::string::npos) << lo.output;
 }
 
+TEST(CliCalibrate, OnlineWithoutAHoldOnARunTooShortToLockKeepsTheGivenCalibration) {
+  TempDir dir;
+  const std::string seq = dir.File("seq");
+  const auto sim = Ultrafusion("sim --scene wild --duration 4 --no-camera --no-gnss --no-wheel --out " + seq);
+  ASSERT_EQ(sim.code, 0) << sim.output;
+  const auto run =
+      Ultrafusion("run " + seq + " --mode lio --no-map --calibrate-online --calibration-hold 0 --config " +
+                  UF_SOURCE_DIR + "/configs/run-sim.yaml --out " + dir.File("run"));
+  ASSERT_EQ(run.code, 0) << run.output;
+  // 4 s cannot reach the 5 s of overlap the offset needs: nothing locks, the window never waited.
+  EXPECT_NE(
+      run.output.find("(the window waited 0.0 s for the locks): no time offset locked (the given one kept); "
+                      "rotation not estimated (the given one kept)"),
+      std::string::npos)
+      << run.output;
+  const std::string report = testing::ReadText(dir.File("run/report.md"));
+  EXPECT_NE(report.find("- applied: nothing (the offset never locked); the run kept the given offset"),
+            std::string::npos)
+      << report;
+  // A negative hold is refused before anything is read.
+  const auto negative =
+      Ultrafusion("run " + seq + " --calibrate-online --calibration-hold -1 --out " + dir.File("never"));
+  EXPECT_EQ(negative.code, 2) << negative.output;
+  EXPECT_NE(negative.output.find("--calibration-hold"), std::string::npos) << negative.output;
+  EXPECT_FALSE(fs::exists(dir.File("never")));
+}
+
 TEST(CliCalibrate, BadInputIsAClearError) {
   TempDir dir;
   const std::string seq = dir.File("no_lidar");
