@@ -66,7 +66,6 @@ void DrawGrid(const Box& viewport, const Box& window, PLFLT x_tick) {
   plbox("g", x_tick, 0, "g", 0.0, 0);
 }
 
-// The axis labels may be as long as their edge of the viewport, the title as wide as the viewport.
 TimePlotFrame BeginTimePlot(const Box& window, PLFLT bottom, PLFLT top) {
   const PLFLT char_px = CharHeightPx();
   TimePlotFrame frame;
@@ -77,6 +76,7 @@ TimePlotFrame BeginTimePlot(const Box& window, PLFLT bottom, PLFLT top) {
   return frame;
 }
 
+// The axis labels may be as long as their edge of the viewport, the title as wide as the viewport.
 void DrawAxes(const Box& viewport, PLFLT x_tick, PLFLT y_label_displacement, const char* x_label,
               const char* y_label, const char* title) {
   plcol0(kInk);

@@ -73,7 +73,7 @@ void PrintSummary(const fs::path& out, const pipeline::RunSummary& s) {
     else
       std::printf("no time offset locked (the given one kept)");
     if (o.online_calibration->rotation_applied_at)
-      std::printf("; rotation locked and applied (%.3f deg)\n", o.online_calibration->rotation_applied_deg);
+      std::printf("; rotation locked and applied (%.3f deg)\n", c.RotationFromGivenDeg());
     else
       std::printf("; rotation %s (the given one kept)\n", !o.online_calibration->rotation_refused.empty()
                                                               ? "locked, not applied"

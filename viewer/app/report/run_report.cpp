@@ -75,18 +75,17 @@ std::string FormatOnlineCalibration(const pipeline::OnlineCalibrationSummary& ap
   else
     md += "- applied: nothing (the offset never locked); the run kept the given offset\n";
   if (r.R_imu_lidar) {
-    const double angle =
-        r.T_imu_lidar_given ? (r.T_imu_lidar_given->so3().inverse() * *r.R_imu_lidar).angle() : 0.0;
-    md += "- rotation: " + std::string(r.rotation_locked ? "locked" : "not locked") + ", " +
-          FormatValue("%.3f", angle * 180.0 / 3.14159265358979323846) + " deg from the given one" +
+    const std::string angle = FormatValue("%.3f", r.RotationFromGivenDeg());
+    md += "- rotation: " + std::string(r.rotation_locked ? "locked" : "not locked") + ", " + angle +
+          " deg from the given one" +
           (r.rotation_locked
                ? std::string()
                : ", standard deviation " + FormatValue("%.3f", r.LatestRotationSigmaDeg()) + " deg (" +
                      (r.UsesEstimatedRotation() ? "written" : "the given one written") + ")") +
           "\n";
     md += applied.rotation_applied_at
-              ? "- applied: " + FormatValue("%.3f", applied.rotation_applied_deg) +
-                    " deg of rotation from the scan at " + FormatSeconds(*applied.rotation_applied_at) +
+              ? "- applied: " + angle + " deg of rotation from the scan at " +
+                    FormatSeconds(*applied.rotation_applied_at) +
                     " on (the window's states and the poses before moved to it, their LiDAR poses kept)\n"
           : !applied.rotation_refused.empty()
               ? "- applied: nothing (" + applied.rotation_refused + "); the run kept the given rotation\n"
@@ -134,7 +133,8 @@ std::string FormatReliability(const pipeline::OdometrySummary& o) {
   md +=
       "Per keyframe, the score D of its registration's point-to-plane information (0: every direction "
       "pinned, 1: one left free; docs/METHOD.md \"Factor-wise reliability scheduling\"), in "
-      "`reliability.csv` with its inputs. Scores only: no factor is scheduled by them yet.\n\n";
+      "`reliability.csv` with its inputs. No factor is scheduled by the score (lo.drop_weak_directions, off "
+      "by default, acts on the same information).\n\n";
   int degenerate = 0;
   for (const pipeline::DegenerateSpan& span : o.lidar_degenerate) degenerate += span.keyframes;
   md += std::to_string(degenerate) + " of " + std::to_string(o.lidar_scored) +

@@ -85,8 +85,12 @@ double CalibrateResult::LidarTimeOffset() const {
 bool CalibrateResult::UsesEstimatedRotation() const {
   if (!R_imu_lidar) return false;
   if (rotation_locked || !T_imu_lidar_given) return true;
-  return (T_imu_lidar_given->so3().inverse() * *R_imu_lidar).angle() / kDegree >
-         3.0 * LatestRotationSigmaDeg();
+  return RotationFromGivenDeg() > 3.0 * LatestRotationSigmaDeg();
+}
+
+double CalibrateResult::RotationFromGivenDeg() const {
+  if (!R_imu_lidar) return 0.0;
+  return ((T_imu_lidar_given ? T_imu_lidar_given->so3() : SO3()).inverse() * *R_imu_lidar).angle() / kDegree;
 }
 
 double CalibrateResult::LatestRotationSigmaDeg() const {

@@ -57,6 +57,9 @@ struct CalibrateResult {
   std::optional<SE3> TImuLidar() const;
   // The latest accepted rotation candidate's standard deviation (RotationSigma), deg; 0 without one.
   double LatestRotationSigmaDeg() const;
+  // The estimated rotation's angle from the given one (identity when none was given), deg; 0 without an
+  // estimate.
+  double RotationFromGivenDeg() const;
   // The reason of the worker's last refused solve ("" when it never refused).
   std::string LastRefusal(estimator::CalibrationWorker worker) const;
 };

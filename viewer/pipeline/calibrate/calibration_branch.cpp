@@ -1,7 +1,6 @@
 #include "viewer/pipeline/calibrate/calibration_branch.h"
 
 #include <algorithm>
-#include <numbers>
 
 namespace uf::pipeline {
 
@@ -32,8 +31,7 @@ CalibrationBranch::CalibrationBranch(std::unique_ptr<RunEstimator> odometry, Cal
 bool CalibrationBranch::Holds(Stamp stamp) {
   if (!holding_) return false;
   if (!hold_from_) hold_from_ = stamp;
-  const bool both_locked = calibration_.time_offset_locked() && calibration_.rotation_locked();
-  holding_ = !both_locked && stamp - *hold_from_ < hold_;
+  holding_ = !BothLocked() && stamp - *hold_from_ < hold_;
   summary_.held_s = std::max(summary_.held_s, ToSeconds(stamp - *hold_from_));
   return holding_;
 }
@@ -49,7 +47,7 @@ Status CalibrationBranch::AddScan(const LidarScan& scan) {
   ++summary_.branch_scans;
   if (Status s = odometry_->AddScan(scan); !s.ok()) return s;
   TakePoses();
-  if (calibration_.time_offset_locked() && calibration_.rotation_locked()) Finish();  // nothing left to learn
+  if (BothLocked()) Finish();  // nothing left to learn
   return {};
 }
 
@@ -83,9 +81,6 @@ void CalibrationBranch::Applied(Stamp stamp, const Status& status) {
     return;
   }
   summary_.rotation_applied_at = stamp;
-  const SO3 given = result_.T_imu_lidar_given.value_or(SE3()).so3();
-  summary_.rotation_applied_deg =
-      (given.inverse() * *calibration_.R_imu_lidar()).angle() * 180.0 / std::numbers::pi;
 }
 
 void CalibrationBranch::Finish() {

@@ -32,7 +32,6 @@ struct OnlineCalibrationSummary {
   std::int64_t branch_scans = 0;             // scans the branch's odometry processed
   double held_s = 0.0;  // how long the run's window waited for the locks (Holds), stream time
   std::optional<Stamp> rotation_applied_at;  // the scan (as read) at which the locked rotation was applied
-  double rotation_applied_deg = 0.0;         // its angle from the given rotation
   std::string rotation_refused;              // why the window did not take it (RunEstimator's error)
 };
 
@@ -40,7 +39,7 @@ class CalibrationBranch {
  public:
   // For the `sensors.lidar` and `sensors.imu` streams of `stream` (both present): their names, the given
   // extrinsic and the offsets they are read with go into result(). Errors: the odometry configuration's.
-  // hold_s: how long the run's window may wait for the time offset (Holds).
+  // hold_s: how long the run's window may wait for the locks (Holds).
   static Expected<std::unique_ptr<CalibrationBranch>> Create(
       const estimator::LidarOdometryConfig& lo, const MeasurementStream& stream,
       const DatasetSensors& sensors, double hold_s = 0.0,
@@ -75,6 +74,7 @@ class CalibrationBranch {
   CalibrationBranch(std::unique_ptr<RunEstimator> odometry, CalibrateResult result, double hold_s,
                     const estimator::OnlineCalibrationOptions& options);
   void TakePoses();
+  bool BothLocked() const { return calibration_.time_offset_locked() && calibration_.rotation_locked(); }
 
   std::unique_ptr<RunEstimator> odometry_;
   estimator::OnlineCalibration calibration_;

@@ -33,7 +33,8 @@ struct OdometryStageInput {
   DatasetSensors sensors;
   RunFrames frames;
   bool gnss_factors = false;  // the fixes go to the estimator (a G mode)
-  // run --calibrate-online: the calibration branch that re-stamps the scans once the offset locks
+  // run --calibrate-online: the calibration branch (holds the run for the locks, re-stamps the scans, hands
+  // over the locked rotation)
   CalibrationBranch* calibration = nullptr;
   // The total of the stream that paces the odometry (PacedStream) for the progress line; 0: unknown.
   std::int64_t paced_messages = 0;
