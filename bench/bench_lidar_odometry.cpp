@@ -21,6 +21,7 @@
 #include "odometry/io/dataset_reader.h"
 #include "odometry/io/for_each_measurement.h"
 #include "odometry/io/trajectory_file.h"
+#include "odometry/types/process_memory.h"
 
 namespace {
 
@@ -34,6 +35,7 @@ double ProcessCpuMs() {
 }  // namespace
 
 int main(int argc, char** argv) {
+  uf::KeepFreedMemoryForReuse();  // as the ultrafusion binary does
   std::string folder = std::string(UF_SOURCE_DIR) + "/../shared/data/kitti00-keyframes", out_path;
   uf::estimator::LidarOdometryConfig config;
   bool no_deskew = false;

@@ -1,5 +1,7 @@
 #include "odometry/io/image_decode.h"
 
+#include <fstream>
+#include <iterator>
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 
@@ -132,6 +134,18 @@ Expected<std::vector<std::uint8_t>> EncodePng(const Image& image, const std::str
   if (!cv::imencode(".png", mat, png, {cv::IMWRITE_PNG_COMPRESSION, 1}))
     return Status::Error(where + ": PNG encoding failed");
   return png;
+}
+
+Expected<Image> ReadImageFile(const std::filesystem::path& path) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) return Status::Error(path.string() + ": cannot open");
+  EncodedImage encoded;
+  encoded.format = "png";  // any format imdecode recognises by its bytes
+  encoded.bytes.assign(std::istreambuf_iterator<char>(file), {});
+  if (encoded.bytes.empty()) return Status::Error(path.string() + ": empty");
+  Expected<Image> image = DecodeImage(encoded);
+  if (!image) return Status::Error(path.string() + ": " + image.error());
+  return image;
 }
 
 }  // namespace uf

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,9 @@ namespace uf {
 // PNG/JPEG (any format OpenCV reads; 16-bit scaled to 8-bit, alpha dropped) or a raw ROS encoding:
 // mono8, 8UC1, mono16, 16UC1, rgb8, bgr8, 8UC3 (taken as bgr, OpenCV's order), rgba8, bgra8.
 Expected<Image> DecodeImage(const EncodedImage& encoded);
+
+// Reads and decodes an image file (any format DecodeImage reads); errors name the path.
+Expected<Image> ReadImageFile(const std::filesystem::path& path);
 
 // Decodes frame.encoded into frame.image (no-op when the image is already decoded) and frees the bytes.
 Status DecodeCameraFrame(CameraFrame& frame);

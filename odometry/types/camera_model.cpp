@@ -225,4 +225,18 @@ Status Equidistant::ValidateIntrinsics() const {
   return Status();
 }
 
+std::optional<PinholeIntrinsics> PinholeOf(const CameraModel& model) {
+  if (const auto* radtan = dynamic_cast<const PinholeRadtan*>(&model)) return radtan->intrinsics().pinhole;
+  if (const auto* fisheye = dynamic_cast<const Equidistant*>(&model)) return fisheye->intrinsics().pinhole;
+  return std::nullopt;
+}
+
+bool IsDistorted(const CameraModel& model) {
+  if (const auto* radtan = dynamic_cast<const PinholeRadtan*>(&model)) {
+    const PinholeRadtanIntrinsics& k = radtan->intrinsics();
+    return k.k1 != 0 || k.k2 != 0 || k.p1 != 0 || k.p2 != 0 || k.k3 != 0;
+  }
+  return true;  // a fisheye is never a pinhole
+}
+
 }  // namespace uf

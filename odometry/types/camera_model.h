@@ -111,4 +111,9 @@ class Equidistant : public CameraModel {
   double max_theta_;  // largest angle up to which theta_d is increasing, at most pi/2 (z > 0)
 };
 
+// The model's own size, focal lengths and principal point (its distortion dropped), and whether it has a
+// non-zero distortion coefficient. Models other than PinholeRadtan and Equidistant: none.
+std::optional<PinholeIntrinsics> PinholeOf(const CameraModel& model);
+bool IsDistorted(const CameraModel& model);
+
 }  // namespace uf

@@ -36,20 +36,6 @@ AxisWeights BoxWeights(int n, int n_new) {
 
 }  // namespace
 
-std::optional<PinholeIntrinsics> PinholeOf(const CameraModel& model) {
-  if (const auto* radtan = dynamic_cast<const PinholeRadtan*>(&model)) return radtan->intrinsics().pinhole;
-  if (const auto* fisheye = dynamic_cast<const Equidistant*>(&model)) return fisheye->intrinsics().pinhole;
-  return std::nullopt;
-}
-
-bool IsDistorted(const CameraModel& model) {
-  if (const auto* radtan = dynamic_cast<const PinholeRadtan*>(&model)) {
-    const PinholeRadtanIntrinsics& k = radtan->intrinsics();
-    return k.k1 != 0 || k.k2 != 0 || k.p1 != 0 || k.p2 != 0 || k.k3 != 0;
-  }
-  return true;  // a fisheye is never a pinhole
-}
-
 std::vector<float> ToRgbFloat(const Image& image) {
   const std::size_t pixels = static_cast<std::size_t>(image.width) * image.height;
   std::vector<float> rgb(3 * pixels);

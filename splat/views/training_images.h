@@ -20,11 +20,6 @@
 
 namespace uf::splat {
 
-// The model's own size, focal lengths and principal point (its distortion dropped), and whether it has a
-// non-zero distortion coefficient. Models other than PinholeRadtan and Equidistant: none.
-std::optional<PinholeIntrinsics> PinholeOf(const CameraModel& model);
-bool IsDistorted(const CameraModel& model);
-
 // width x height x 3 floats in [0, 1] (v / 255) of an 8-bit gray (replicated) or RGB image.
 std::vector<float> ToRgbFloat(const Image& image);
 

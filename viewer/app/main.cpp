@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
+#include "odometry/types/process_memory.h"
 #include "viewer/app/cli/calibrate_command.h"
 #include "viewer/app/cli/colorize_command.h"
 #include "viewer/app/cli/eval_command.h"
@@ -13,8 +14,10 @@
 #include "viewer/app/cli/run_command.h"
 #include "viewer/app/cli/sim_command.h"
 #include "viewer/app/cli/splat_command.h"
+#include "viewer/app/cli/track_command.h"
 
 int main(int argc, char** argv) {
+  uf::KeepFreedMemoryForReuse();
   CLI::App app{"ultrafusion: multi-sensor odometry, mapping and Gaussian splatting"};
   app.set_version_flag("--version", std::string("ultrafusion ") + UF_VERSION);
   app.require_subcommand(1);
@@ -28,6 +31,7 @@ int main(int argc, char** argv) {
   auto run = uf::app::AddRunCommand(app);
   auto sim = uf::app::AddSimCommand(app);
   auto splat = uf::app::AddSplatCommand(app);
+  auto track = uf::app::AddTrackCommand(app);
 
   try {
     app.parse(argc, argv);
@@ -44,5 +48,6 @@ int main(int argc, char** argv) {
   if (app.got_subcommand(run.command)) return run.run();
   if (app.got_subcommand(sim.command)) return sim.run();
   if (app.got_subcommand(splat.command)) return splat.run();
+  if (app.got_subcommand(track.command)) return track.run();
   return uf::app::kExitUsage;
 }

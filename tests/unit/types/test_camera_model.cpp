@@ -1,7 +1,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
 #include <numbers>
+#include <optional>
 #include <vector>
 
 #include "odometry/types/camera_model.h"
@@ -230,6 +232,37 @@ TEST(CameraModelTest, ValidateNamesTheImpossibleField) {
       Equidistant({.pinhole = {.width = 640, .height = 480, .fx = 200, .fy = 200, .cx = 320, .cy = 240},
                    .k4 = std::nan("")}),
       "k4 = nan");
+}
+
+// A model that is neither pinhole-radtan nor equidistant (an orthographic camera, for the test only).
+class Orthographic : public CameraModel {
+ public:
+  Orthographic() : CameraModel(4, 3) {}
+  Eigen::Vector3d Unproject(const Eigen::Vector2d&) const override { return Eigen::Vector3d::UnitZ(); }
+  std::unique_ptr<CameraModel> Clone() const override { return std::make_unique<Orthographic>(*this); }
+
+ protected:
+  std::optional<Eigen::Vector2d> ProjectInFront(const Eigen::Vector3d& p,
+                                                Eigen::Matrix<double, 2, 3>*) const override {
+    return Eigen::Vector2d(p.x(), p.y());
+  }
+  Status ValidateIntrinsics() const override { return {}; }
+};
+
+TEST(CameraModel, ThePinholeOfAModelIsItsSizeFocalLengthsAndPrincipalPoint) {
+  PinholeRadtanIntrinsics radtan;
+  radtan.pinhole = {.width = 640, .height = 480, .fx = 400, .fy = 410, .cx = 319.5, .cy = 239.25};
+  radtan.k2 = 0.01;
+  EXPECT_EQ(PinholeOf(PinholeRadtan(radtan)), (PinholeIntrinsics{640, 480, 400, 410, 319.5, 239.25}));
+  EXPECT_TRUE(IsDistorted(PinholeRadtan(radtan)));  // k2 alone is a distortion
+
+  // A fisheye keeps its focal lengths and principal point, and is always distorted, even without
+  // coefficients (its projection is not a pinhole's).
+  const Equidistant fisheye(EquidistantIntrinsics{{1280, 1024, 350, 350.5, 640.1, 511.9}});
+  EXPECT_EQ(PinholeOf(fisheye), (PinholeIntrinsics{1280, 1024, 350, 350.5, 640.1, 511.9}));
+  EXPECT_TRUE(IsDistorted(fisheye));
+
+  EXPECT_FALSE(PinholeOf(Orthographic()).has_value());
 }
 
 }  // namespace

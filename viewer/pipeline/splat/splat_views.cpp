@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
-#include <iterator>
 #include <numbers>
 
 #include "odometry/io/for_each_measurement.h"
@@ -20,7 +18,7 @@ StoredView MakeView(const Image& image, const CameraModel& model, const PinholeI
                     const PinholeIntrinsics& target, const SE3& T_world_camera, Stamp stamp,
                     std::span<const Eigen::Vector3f> depth_points) {
   std::vector<float> rgb = splat::ToRgbFloat(image);
-  if (splat::IsDistorted(model)) rgb = splat::Undistort(rgb, model, native);
+  if (IsDistorted(model)) rgb = splat::Undistort(rgb, model, native);
   if (target.width != native.width || target.height != native.height)
     rgb = splat::ResizeArea(rgb, native.width, native.height, 3, target.width, target.height);
   StoredView view;
@@ -41,16 +39,10 @@ Expected<std::shared_ptr<const std::vector<std::uint8_t>>> CameraMask(const Came
                                                                       const std::string& mask_image) {
   const std::size_t pixels = static_cast<std::size_t>(native.width) * native.height;
   std::vector<std::uint8_t> mask(pixels, 1);
-  if (splat::IsDistorted(model)) mask = splat::UndistortedCoverage(model, native);
+  if (IsDistorted(model)) mask = splat::UndistortedCoverage(model, native);
   if (!mask_image.empty()) {
-    std::ifstream file(mask_image, std::ios::binary);
-    if (!file) return Status::Error("splat.mask_image: cannot open " + mask_image);
-    EncodedImage encoded;
-    encoded.format = "png";
-    encoded.bytes.assign(std::istreambuf_iterator<char>(file), {});
-    if (encoded.bytes.empty()) return Status::Error("splat.mask_image: " + mask_image + " is empty");
-    Expected<Image> image = DecodeImage(encoded);
-    if (!image) return Status::Error("splat.mask_image: " + mask_image + ": " + image.error());
+    Expected<Image> image = ReadImageFile(mask_image);
+    if (!image) return Status::Error("splat.mask_image: " + image.error());
     if (image->width != native.width || image->height != native.height)
       return Status::Error("splat.mask_image: " + mask_image + " is " + std::to_string(image->width) + " x " +
                            std::to_string(image->height) + " px, the camera " + std::to_string(native.width) +
@@ -77,7 +69,7 @@ Expected<SplatCameraStream> FindSplatCamera(const DatasetDescription& descriptio
       return Status::Error(where + " has no intrinsics (camera model): its images cannot be placed");
     if (!stream.T_body_sensor)
       return Status::Error(where + " has no extrinsic (T_body_sensor): its images cannot be placed");
-    if (!splat::PinholeOf(*stream.camera_model))
+    if (!PinholeOf(*stream.camera_model))
       return Status::Error(where + ": unsupported camera model (pinhole-radtan and equidistant are)");
     return SplatCameraStream{static_cast<int>(s), stream.name, stream.camera_model,
                              T_output_body * *stream.T_body_sensor};
@@ -113,7 +105,7 @@ Expected<SplatViews> LoadSplatViews(MeasurementStream& stream, const SplatCamera
   SplatViews views;
   views.camera_name = camera.name;
   views.model = camera.model;
-  const PinholeIntrinsics native = *splat::PinholeOf(*camera.model);
+  const PinholeIntrinsics native = *PinholeOf(*camera.model);
   int width = config.width, height = config.height;
   if (width == 0) DefaultSize(native.width, native.height, config.max_width, width, height);
   views.pinhole = splat::ScalePinhole(native, width, height);

@@ -1,0 +1,185 @@
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <map>
+#include <vector>
+
+#include "odometry/estimator/visual/feature_tracker.h"
+#include "tests/unit/estimator/visual/simulated_camera.h"
+
+namespace uf::estimator {
+namespace {
+
+constexpr Stamp kFramePeriod = 100'000'000;  // 10 Hz, the simulated camera's rate
+
+double Median(std::vector<double> values) {
+  std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+  return values[values.size() / 2];
+}
+
+Image Filled(int width, int height, std::uint8_t value) {
+  return {width, height, 1, std::vector<std::uint8_t>(static_cast<std::size_t>(width) * height, value)};
+}
+
+// Tracks on simulated frames land where the scene point first tracked projects in the later frames.
+TEST(FeatureTracker, TracksFollowTheTrueProjectionsOfScenePoints) {
+  const auto camera = test::SimulatedCamera::Create("urban", 8.0, 3);
+  ASSERT_NE(camera, nullptr);
+  auto tracker = FeatureTracker::Create(camera->model(), {});
+  ASSERT_TRUE(tracker) << tracker.error();
+
+  std::map<long, std::optional<Eigen::Vector3d>> points;  // per track: the scene point of its first pixel
+  std::vector<double> errors;
+  double features = 0, occupancy = 0;
+  const int frames = 12;
+  for (int k = 0; k < frames; ++k) {
+    const Stamp t = camera->begin() + 2'000'000'000 + k * kFramePeriod;
+    auto frame = tracker->Track(t, camera->Render(t));
+    ASSERT_TRUE(frame) << frame.error();
+    EXPECT_TRUE(frame->stats.warning.empty()) << frame->stats.warning;
+    features += frame->stats.features;
+    occupancy += frame->stats.grid_occupancy;
+    for (const TrackedFeature& f : frame->features) {
+      if (f.length == 1) {
+        points[f.id] = camera->PointAt(t, f.pixel);
+        continue;
+      }
+      const std::optional<Eigen::Vector3d>& point = points.at(f.id);
+      if (!point) continue;  // the sky
+      const std::optional<Eigen::Vector2d> truth = camera->PixelOf(t, *point);
+      ASSERT_TRUE(truth.has_value());
+      errors.push_back((*truth - f.pixel).norm());
+    }
+  }
+  ASSERT_GT(errors.size(), 500u);
+  EXPECT_LT(Median(errors), 0.5) << errors.size() << " tracked observations";
+  EXPECT_GT(features / frames, 120.0);  // of the 150 wanted
+  EXPECT_GT(occupancy / frames, 0.5);   // spread over the image, not clustered
+}
+
+TEST(FeatureTracker, AStillCameraKeepsEveryTrackWithoutParallax) {
+  const auto camera = test::SimulatedCamera::Create("warehouse", 4.0, 1);
+  ASSERT_NE(camera, nullptr);
+  auto tracker = FeatureTracker::Create(camera->model(), {});
+  ASSERT_TRUE(tracker);
+  const Image image = camera->Render(camera->begin() + 500'000'000);
+  auto first = tracker->Track(1000, image);
+  ASSERT_TRUE(first);
+  EXPECT_TRUE(first->stats.keyframe);
+  EXPECT_EQ(first->stats.tracked, 0);
+  EXPECT_GT(first->stats.detected, 50);
+  for (int k = 1; k <= 3; ++k) {
+    auto again = tracker->Track(1000 + k * kFramePeriod, image);
+    ASSERT_TRUE(again);
+    EXPECT_EQ(again->stats.tracked, first->stats.features);
+    EXPECT_DOUBLE_EQ(again->stats.tracked_ratio, 1.0);
+    EXPECT_EQ(again->stats.detected, 0);
+    EXPECT_LT(again->stats.parallax_px, 0.01);
+    EXPECT_FALSE(again->stats.keyframe);
+    for (const TrackedFeature& f : again->features) {
+      EXPECT_EQ(f.length, k + 1);
+      EXPECT_LT((f.pixel - f.previous_pixel).norm(), 0.01);
+      EXPECT_LT(f.velocity.norm(), 1e-3);
+    }
+  }
+}
+
+TEST(FeatureTracker, PoorFramesAreTrackedWithAWarningAndTrackingResumes) {
+  const auto camera = test::SimulatedCamera::Create("urban", 6.0, 2);
+  ASSERT_NE(camera, nullptr);
+  auto tracker = FeatureTracker::Create(camera->model(), {});
+  ASSERT_TRUE(tracker);
+  const int w = camera->model().width(), h = camera->model().height();
+  Stamp t = camera->begin() + 1'000'000'000;
+  ASSERT_TRUE(tracker->Track(t, camera->Render(t)));
+  struct Case {
+    Image image;
+    const char* warning;
+  };
+  const std::vector<Case> cases = {
+      {Filled(w, h, 0), "dark"}, {Filled(w, h, 255), "saturated"}, {Filled(w, h, 128), "textureless"}};
+  for (const Case& c : cases) {
+    t += kFramePeriod;
+    auto frame = tracker->Track(t, c.image);
+    ASSERT_TRUE(frame) << frame.error();
+    EXPECT_NE(frame->stats.warning.find(c.warning), std::string::npos) << frame->stats.warning;
+    EXPECT_EQ(frame->stats.features, 0) << c.warning;
+    for (const TrackedFeature& f : frame->features) EXPECT_TRUE(f.pixel.allFinite());
+  }
+  t += kFramePeriod;
+  auto resumed = tracker->Track(t, camera->Render(t));
+  ASSERT_TRUE(resumed);
+  EXPECT_TRUE(resumed->stats.warning.empty());
+  EXPECT_GT(resumed->stats.detected, 100);
+  EXPECT_TRUE(resumed->stats.keyframe);  // nothing in common with the last keyframe
+}
+
+TEST(FeatureTracker, FramesOutOfOrderOrOfTheWrongSizeAreRefusedAndChangeNothing) {
+  const auto camera = test::SimulatedCamera::Create("urban", 6.0, 2);
+  ASSERT_NE(camera, nullptr);
+  auto tracker = FeatureTracker::Create(camera->model(), {});
+  ASSERT_TRUE(tracker);
+  const Stamp t0 = camera->begin() + 1'000'000'000;
+  auto first = tracker->Track(t0, camera->Render(t0));
+  ASSERT_TRUE(first);
+
+  auto repeated = tracker->Track(t0, camera->Render(t0));
+  ASSERT_FALSE(repeated);
+  EXPECT_NE(repeated.error().find("not after the previous frame"), std::string::npos) << repeated.error();
+  EXPECT_FALSE(tracker->Track(t0 - kFramePeriod, camera->Render(t0 - kFramePeriod)));
+  auto small = tracker->Track(t0 + kFramePeriod, Filled(320, 240, 100));
+  ASSERT_FALSE(small);
+  EXPECT_NE(small.error().find("320 x 240 x 1 pixels, the camera is 640 x 480"), std::string::npos)
+      << small.error();
+
+  const Stamp t1 = t0 + kFramePeriod;
+  auto next = tracker->Track(t1, camera->Render(t1));
+  ASSERT_TRUE(next) << next.error();
+  EXPECT_GT(next->stats.tracked_ratio, 0.7);  // tracked from the first frame, as if nothing had come between
+}
+
+TEST(FeatureTracker, NoFeatureLiesUnderTheMask) {
+  const auto camera = test::SimulatedCamera::Create("urban", 6.0, 1);
+  ASSERT_NE(camera, nullptr);
+  const int w = camera->model().width(), h = camera->model().height();
+  Image mask = Filled(w, h, 255);
+  for (int y = 0; y < h; ++y)
+    std::fill_n(mask.pixels.begin() + static_cast<std::ptrdiff_t>(y) * w, w / 2, 0);  // left half: ego
+  auto tracker = FeatureTracker::Create(camera->model(), {}, mask);
+  ASSERT_TRUE(tracker) << tracker.error();
+  int features = 0;
+  for (int k = 0; k < 5; ++k) {
+    const Stamp t = camera->begin() + 1'000'000'000 + k * kFramePeriod;
+    auto frame = tracker->Track(t, camera->Render(t));
+    ASSERT_TRUE(frame);
+    for (const TrackedFeature& f : frame->features) EXPECT_GE(f.pixel.x(), w / 2 - 0.5);
+    features += frame->stats.features;
+  }
+  EXPECT_GT(features, 5 * 40);
+
+  const auto wrong = FeatureTracker::Create(camera->model(), {}, Filled(w, h - 1, 255));
+  ASSERT_FALSE(wrong);
+  EXPECT_NE(wrong.error().find("640 x 479 with 1 channels, the camera is 640 x 480"), std::string::npos)
+      << wrong.error();
+}
+
+TEST(FeatureTracker, ConfigErrorsNameTheField) {
+  const PinholeRadtan camera(
+      {.pinhole = {.width = 64, .height = 48, .fx = 50, .fy = 50, .cx = 32, .cy = 24}});
+  FeatureTrackerConfig config;
+  config.max_features = 0;
+  EXPECT_EQ(FeatureTracker::Create(camera, config).error(), "max_features: must be at least 1, got 0");
+  config = {};
+  config.klt_window_px = 20;
+  EXPECT_EQ(FeatureTracker::Create(camera, config).error(),
+            "klt_window_px: must be odd and at least 5, got 20");
+  config = {};
+  config.ransac_confidence = 1;
+  EXPECT_EQ(FeatureTracker::Create(camera, config).error(), "ransac_confidence: must be in (0, 1), got 1");
+  const PinholeRadtan no_focal(
+      {.pinhole = {.width = 64, .height = 48, .fx = 0, .fy = 50, .cx = 32, .cy = 24}});
+  EXPECT_NE(FeatureTracker::Create(no_focal, {}).error().find("fx"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace uf::estimator

@@ -1,0 +1,119 @@
+#include "viewer/app/cli/track_command.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "viewer/app/cli/exit_codes.h"
+#include "viewer/app/config/config_file.h"
+#include "viewer/pipeline/progress_line.h"
+#include "viewer/pipeline/track/track_job.h"
+
+namespace uf::app {
+namespace {
+
+struct TrackArguments {
+  std::string dataset, out, config, camera, mask;
+  int overlay_every = 20;
+  std::int64_t max_frames = 0;
+  estimator::FeatureTrackerConfig tracker;
+};
+
+double Percentile(std::vector<double> values, double q) {
+  std::sort(values.begin(), values.end());
+  return values[static_cast<std::size_t>(q * static_cast<double>(values.size() - 1) + 0.5)];
+}
+
+void PrintResult(const pipeline::TrackResult& r) {
+  std::printf("track: %s (%d x %d): %zu frames tracked", r.camera_stream.c_str(), r.width, r.height,
+              r.frames.size());
+  if (r.undecodable + r.refused > 0)
+    std::printf(", %lld skipped (%lld undecodable, %lld refused)",
+                static_cast<long long>(r.undecodable + r.refused), static_cast<long long>(r.undecodable),
+                static_cast<long long>(r.refused));
+  std::printf("\n");
+  if (r.frames.empty()) return;
+  double features = 0, ratio = 0, occupancy = 0, epipolar = 0;
+  int keyframes = 0, poor = 0;
+  std::string first_poor;
+  std::vector<double> ms;
+  for (const estimator::FrameTrackStats& s : r.frames) {
+    features += s.features;
+    ratio += s.tracked_ratio;
+    occupancy += s.grid_occupancy;
+    epipolar += s.epipolar_error_px;
+    keyframes += s.keyframe;
+    if (!s.warning.empty() && poor++ == 0) first_poor = StampText(s.stamp) + ": " + s.warning;
+    ms.push_back(s.time_ms);
+  }
+  const double n = static_cast<double>(r.frames.size());
+  std::printf(
+      "  features %.1f of %d, tracked ratio %.3f, grid occupancy %.3f, epipolar error %.3f px (means)\n",
+      features / n, r.max_features, ratio / n, occupancy / n, epipolar / n);
+  std::printf("  keyframes %d; poor frames %d%s%s\n", keyframes, poor, poor > 0 ? ", the first at " : "",
+              first_poor.c_str());
+  double total = 0;
+  for (double v : ms) total += v;
+  std::printf("  time per frame: mean %.2f ms, p95 %.2f ms\n", total / n, Percentile(ms, 0.95));
+  if (!r.warnings.empty())
+    std::printf("  %zu warnings, the first: %s\n", r.warnings.size(), r.warnings[0].c_str());
+}
+
+int RunTrackCommand(const TrackArguments& a) {
+  pipeline::TrackRequest request;
+  request.dataset = a.dataset;
+  request.camera = a.camera;
+  request.mask = a.mask;
+  request.overlay_every = a.overlay_every;
+  request.max_frames = a.max_frames;
+  request.tracker = a.tracker;
+  if (!a.config.empty()) {
+    Expected<ConfigFile> loaded = LoadConfigFile(a.config);
+    if (!loaded) return ReportUsageError(loaded.status());
+    request.dataset_config = loaded->dataset;
+  }
+  pipeline::ProgressLine progress("track");
+  Expected<pipeline::TrackResult> result = pipeline::RunTrack(
+      request, [&](std::int64_t frames) { progress.Update("tracking", frames, 0, "frames"); });
+  progress.EndLine();
+  if (!result) return ReportError(result.status());
+  PrintResult(*result);
+  if (!a.out.empty()) {
+    Expected<std::vector<std::string>> written = pipeline::WriteTrackOutputs(a.out, *result);
+    if (!written) return ReportError(written.status());
+    std::printf("  wrote %s: tracks.csv, %zu plots\n", a.out.c_str(), written->size() - 1);
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
+Subcommand AddTrackCommand(CLI::App& app) {
+  auto a = std::make_shared<TrackArguments>();
+  CLI::App* command = app.add_subcommand(
+      "track", "Run the visual front end (corners, KLT tracks, epipolar check) over a dataset's camera");
+  command->add_option("DATASET", a->dataset, "ROS1 .bag file, or a KITTI raw, EuRoC or ultrafusion folder")
+      ->required();
+  command->add_option("--out", a->out, "Folder for tracks.csv and plots/ (created)");
+  command->add_option("--config", a->config, "YAML file with a dataset: section")->check(CLI::ExistingFile);
+  command->add_option("--camera", a->camera, "Camera stream name (default: the first camera)");
+  command->add_option("--mask", a->mask, "Image of the camera's size whose black pixels get no features")
+      ->check(CLI::ExistingFile);
+  command->add_option("--overlay-every", a->overlay_every, "Write an overlay of every N-th frame (0: none)")
+      ->check(CLI::Range(0, 1000000))
+      ->capture_default_str();
+  command->add_option("--max-frames", a->max_frames, "Stop after this many frames (0: all)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  command->add_option("--max-features", a->tracker.max_features, "Features kept per frame")
+      ->check(CLI::Range(1, 10000))
+      ->capture_default_str();
+  command->add_option("--min-distance", a->tracker.min_distance_px, "Least distance between features, px")
+      ->check(CLI::Range(0.0, 1000.0))
+      ->capture_default_str();
+  return {command, [a] { return RunTrackCommand(*a); }};
+}
+
+}  // namespace uf::app
