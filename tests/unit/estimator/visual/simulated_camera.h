@@ -48,6 +48,7 @@ class SimulatedCamera {
   }
 
   Stamp begin() const { return motion_->begin; }
+  SE3 CameraPose(Stamp t) const { return renderer_->CameraPose(t); }
   const PinholeRadtan& model() const { return renderer_->model(); }
 
   Image Render(Stamp t) const {
