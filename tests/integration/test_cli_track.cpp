@@ -58,13 +58,16 @@ TEST_F(CliTrack, TracksTheSimulatedCameraAndWritesItsFiles) {
   ASSERT_EQ(rows.size(), 31u);
   int features = 0;
   for (const auto& row : rows) {
-    ASSERT_EQ(row.size(), 17u);
+    ASSERT_EQ(row.size(), 20u);
     features += std::stoi(row[1]);
-    EXPECT_EQ(row[16], "\"\"");  // no poor frame
+    EXPECT_EQ(row[17], "");      // no stereo
+    EXPECT_EQ(row[19], "\"\"");  // no poor frame
   }
-  EXPECT_EQ(rows[0][14], "1");  // the first frame is a keyframe
+  EXPECT_EQ(rows[0][14], "1");      // the first frame is a keyframe
+  EXPECT_EQ(rows[0][16], "1.000");  // and has no tracks: degenerate
+  EXPECT_LT(std::stod(rows[10][16]), 0.5);
   EXPECT_GT(features / 31, 120);
-  for (const char* plot : {"track_features.png", "track_ratio.png"})
+  for (const char* plot : {"track_features.png", "track_ratio.png", "track_degeneracy.png"})
     EXPECT_TRUE(fs::exists(out + "/plots/" + plot)) << plot;
   int overlays = 0;
   for (const auto& entry : fs::directory_iterator(out + "/plots"))
@@ -113,6 +116,35 @@ TEST_F(CliTrack, BadCameraOrMaskIsAnErrorNamingIt) {
   EXPECT_EQ(result.code, 1) << result.output;
   EXPECT_NE(result.output.find("track needs a camera stream; the dataset has"), std::string::npos)
       << result.output;
+}
+
+// The real EuRoC stereo pair: every cam0 frame finds its cam1 partner, and the matches fit the calibrated
+// extrinsic (an epipolar distance of a fraction of a pixel).
+TEST(CliTrackStereo, EurocPairsMatchAndFitTheirExtrinsic) {
+  const std::string shared = testing::SharedData();
+  const fs::path folder = fs::path(shared) / "euroc-v101-micro";
+  if (shared.empty() || !fs::exists(folder)) GTEST_SKIP() << "no recorded data at " << folder;
+  TempDir dir;
+  const auto result =
+      Ultrafusion("track " + folder.string() + " --stereo mav0/cam1/data.csv --out " + dir.File("t"));
+  ASSERT_EQ(result.code, 0) << result.output;
+  EXPECT_NE(result.output.find("stereo mav0/cam1/data.csv: 16 pairs"), std::string::npos) << result.output;
+  const auto rows = CsvRows(dir.File("t") + "/tracks.csv");
+  ASSERT_EQ(rows.size(), 16u);
+  for (const auto& row : rows) {
+    ASSERT_EQ(row.size(), 20u);
+    EXPECT_GT(std::stoi(row[17]), 30);
+    EXPECT_LT(std::stod(row[18]), 0.5);
+  }
+  auto same = Ultrafusion("track " + folder.string() + " --stereo mav0/cam0/data.csv");
+  EXPECT_EQ(same.code, 1) << same.output;
+  EXPECT_NE(same.output.find("the tracked camera itself"), std::string::npos) << same.output;
+}
+
+TEST_F(CliTrack, AStereoCameraThatIsNotThereIsAnError) {
+  const auto result = Ultrafusion("track " + Seq() + " --stereo cam1");
+  EXPECT_EQ(result.code, 1) << result.output;
+  EXPECT_NE(result.output.find("track needs a camera stream named cam1"), std::string::npos) << result.output;
 }
 
 }  // namespace

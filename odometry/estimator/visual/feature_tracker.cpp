@@ -9,6 +9,7 @@
 #include <unordered_map>
 
 #include "odometry/estimator/visual/epipolar_check.h"
+#include "odometry/estimator/visual/gray_frame.h"
 #include "odometry/types/printf_text.h"
 
 namespace uf::estimator {
@@ -31,16 +32,6 @@ struct LiveTrack {
 
 Status FieldError(const char* field, double value, const char* rule) {
   return Status::Error(std::string(field) + ": " + rule + PrintfText(", got %g", value));
-}
-
-cv::Mat GrayOf(const Image& image) {
-  // OpenCV only reads through the wrapper: the const_cast does not lead to a write.
-  cv::Mat wrapped(image.height, image.width, image.channels == 1 ? CV_8UC1 : CV_8UC3,
-                  const_cast<std::uint8_t*>(image.pixels.data()));
-  if (image.channels == 1) return wrapped.clone();
-  cv::Mat gray;
-  cv::cvtColor(wrapped, gray, cv::COLOR_RGB2GRAY);
-  return gray;
 }
 
 bool InsideAndUnmasked(const cv::Point2f& p, const cv::Mat& mask) {
@@ -279,12 +270,13 @@ Expected<TrackedFrame> FeatureTracker::Track(Stamp stamp, const Image& image) {
   frame.stamp = stamp;
   FrameTrackStats& stats = frame.stats;
   stats.stamp = stamp;
-  const cv::Mat gray = GrayOf(image);
+  cv::Mat gray = GrayOf(image);
   cv::Scalar mean, std_dev;
   cv::meanStdDev(gray, mean, std_dev);
   stats.mean_intensity = mean[0];
   stats.intensity_std = std_dev[0];
   stats.warning = QualityWarning(mean[0], std_dev[0], s.config.min_contrast_dn);
+  if (s.config.normalize_exposure) NormalizeExposure(gray, mean[0], std_dev[0], s.config.min_contrast_dn);
 
   std::vector<cv::Mat> pyramid;
   const cv::Size window(s.config.klt_window_px, s.config.klt_window_px);

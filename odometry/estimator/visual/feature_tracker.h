@@ -40,6 +40,9 @@ struct FeatureTrackerConfig {
   double keyframe_parallax_px = 10;  // mean undistorted parallax against the last keyframe
   int grid_cells = 8;                // occupancy grid: grid_cells x grid_cells cells
   double min_contrast_dn = 3.0;      // intensity standard deviation below which a frame is textureless
+  // Map every frame to the same mean and spread before tracking (a global gain and offset), so that tracks
+  // survive exposure and illumination changes; the statistics stay those of the frame as recorded.
+  bool normalize_exposure = true;
 };
 
 // The first bad field, e.g. "max_features: must be at least 1, got 0"; ok otherwise.

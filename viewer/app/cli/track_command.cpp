@@ -9,13 +9,14 @@
 #include "viewer/app/cli/exit_codes.h"
 #include "viewer/app/config/config_file.h"
 #include "viewer/pipeline/progress_line.h"
+#include "viewer/pipeline/stages/reliability_files.h"
 #include "viewer/pipeline/track/track_job.h"
 
 namespace uf::app {
 namespace {
 
 struct TrackArguments {
-  std::string dataset, out, config, camera, mask;
+  std::string dataset, out, config, camera, stereo, mask;
   int overlay_every = 20;
   std::int64_t max_frames = 0;
   estimator::FeatureTrackerConfig tracker;
@@ -54,6 +55,23 @@ void PrintResult(const pipeline::TrackResult& r) {
       features / n, r.max_features, ratio / n, occupancy / n, epipolar / n);
   std::printf("  keyframes %d; poor frames %d%s%s\n", keyframes, poor, poor > 0 ? ", the first at " : "",
               first_poor.c_str());
+  int degenerate = 0;
+  for (const estimator::CameraDegeneracy& d : r.degeneracy)
+    degenerate += d.score >= pipeline::kDegenerateReported;
+  std::printf("  camera degeneracy D >= %.1f in %d of %zu frames\n", pipeline::kDegenerateReported,
+              degenerate, r.frames.size());
+  double pairs = 0, stereo_features = 0, matched = 0, stereo_epipolar = 0;
+  for (const std::optional<estimator::StereoStats>& pair : r.stereo) {
+    if (!pair) continue;
+    ++pairs;
+    stereo_features += pair->features;
+    matched += pair->matched;
+    stereo_epipolar += pair->epipolar_px;
+  }
+  if (!r.stereo_stream.empty())
+    std::printf("  stereo %s: %.0f pairs, %.1f of %.1f features matched, epipolar distance %.3f px (means)\n",
+                r.stereo_stream.c_str(), pairs, matched / std::max(1.0, pairs),
+                stereo_features / std::max(1.0, pairs), stereo_epipolar / std::max(1.0, pairs));
   double total = 0;
   for (double v : ms) total += v;
   std::printf("  time per frame: mean %.2f ms, p95 %.2f ms\n", total / n, Percentile(ms, 0.95));
@@ -65,6 +83,7 @@ int RunTrackCommand(const TrackArguments& a) {
   pipeline::TrackRequest request;
   request.dataset = a.dataset;
   request.camera = a.camera;
+  request.stereo_camera = a.stereo;
   request.mask = a.mask;
   request.overlay_every = a.overlay_every;
   request.max_frames = a.max_frames;
@@ -99,6 +118,8 @@ Subcommand AddTrackCommand(CLI::App& app) {
   command->add_option("--out", a->out, "Folder for tracks.csv and plots/ (created)");
   command->add_option("--config", a->config, "YAML file with a dataset: section")->check(CLI::ExistingFile);
   command->add_option("--camera", a->camera, "Camera stream name (default: the first camera)");
+  command->add_option("--stereo", a->stereo,
+                      "Second camera stream: match every frame in it (needs both cameras' extrinsics)");
   command->add_option("--mask", a->mask, "Image of the camera's size whose black pixels get no features")
       ->check(CLI::ExistingFile);
   command->add_option("--overlay-every", a->overlay_every, "Write an overlay of every N-th frame (0: none)")

@@ -9,6 +9,8 @@
 #include "odometry/io/measurement_stream.h"
 #include "odometry/types/printf_text.h"
 #include "viewer/pipeline/run_files.h"
+#include "viewer/pipeline/stages/reliability_files.h"
+#include "viewer/pipeline/track/stereo_pairs.h"
 #include "viewer/pipeline/track/track_overlay.h"
 
 namespace uf::pipeline {
@@ -55,14 +57,20 @@ std::string TracksCsv(const TrackResult& r) {
   std::ostringstream csv;
   csv << "stamp_ns,features,tracked,detected,lost_klt,lost_fb,lost_ransac,lost_spacing,tracked_ratio,"
          "grid_occupancy,epipolar_error_px,parallax_px,mean_intensity,intensity_std,keyframe,time_ms,"
-         "warning\n";
-  for (const FrameTrackStats& s : r.frames)
+         "degeneracy,stereo_matched,stereo_epipolar_px,warning\n";
+  for (std::size_t i = 0; i < r.frames.size(); ++i) {
+    const FrameTrackStats& s = r.frames[i];
     csv << s.stamp << ',' << s.features << ',' << s.tracked << ',' << s.detected << ',' << s.lost_klt << ','
         << s.lost_fb << ',' << s.lost_ransac << ',' << s.lost_spacing << ','
         << PrintfText("%.4f,%.4f,%.4f,%.3f,%.2f,%.2f", s.tracked_ratio, s.grid_occupancy, s.epipolar_error_px,
                       s.parallax_px, s.mean_intensity, s.intensity_std)
-        << ',' << (s.keyframe ? 1 : 0) << ',' << PrintfText("%.3f", s.time_ms) << ",\"" << s.warning
-        << "\"\n";
+        << ',' << (s.keyframe ? 1 : 0) << ',' << PrintfText("%.3f,%.3f,", s.time_ms, r.degeneracy[i].score);
+    if (const std::optional<estimator::StereoStats>& pair = r.stereo[i])
+      csv << pair->matched << ',' << PrintfText("%.4f", pair->epipolar_px);
+    else
+      csv << ',';
+    csv << ",\"" << s.warning << "\"\n";
+  }
   return csv.str();
 }
 
@@ -95,15 +103,44 @@ Expected<TrackResult> RunTrack(const TrackRequest& request, const TrackProgress&
   Expected<estimator::FeatureTracker> tracker =
       estimator::FeatureTracker::Create(camera, request.tracker, mask);
   if (!tracker) return Status::Error("track: " + tracker.error());
+  int stereo_stream = -1;
+  std::optional<StereoPairs> stereo;
+  if (!request.stereo_camera.empty()) {
+    Expected<int> found = FindCamera(request.dataset, stream->description(), request.stereo_camera);
+    if (!found) return found.status();
+    stereo_stream = *found;
+    const StreamInfo& right = stream->description().streams[static_cast<std::size_t>(stereo_stream)];
+    if (stereo_stream == *camera_stream)
+      return Status::Error("--stereo " + right.name + ": the tracked camera itself; name the other camera");
+    if (!info.T_body_sensor || !right.T_body_sensor)
+      return Status::Error(request.dataset.string() + ": --stereo needs the extrinsics (T_body_sensor) of " +
+                           info.name + " and " + right.name);
+    stereo.emplace(camera, *right.camera_model, info.T_body_sensor->inverse() * *right.T_body_sensor);
+  }
 
   TrackResult r;
   r.camera_stream = info.name;
+  if (stereo_stream >= 0)
+    r.stereo_stream = stream->description().streams[static_cast<std::size_t>(stereo_stream)].name;
+  auto keep_stereo = [&](Expected<std::optional<StereoPairResult>> pair) -> Status {
+    if (!pair) return pair.status();
+    if (*pair) r.stereo[(*pair)->first] = (*pair)->second;
+    return Status();
+  };
   r.width = camera.width();
   r.height = camera.height();
   r.max_features = request.tracker.max_features;
   std::int64_t seen = 0;
   const Status read = ForEachMeasurement(*stream, [&](Measurement& m) {
     auto* frame = std::get_if<CameraFrame>(&m.data);
+    if (frame && stereo && m.stream == stereo_stream) {
+      if (Status decoded = DecodeCameraFrame(*frame); !decoded.ok()) {
+        ++r.undecodable;
+        KeepReason(r, "stereo frame at " + StampText(frame->stamp) + ": " + decoded.message() + ", skipped");
+        return Status();
+      }
+      return keep_stereo(stereo->AddRight(frame->stamp, std::move(frame->image)));
+    }
     if (!frame || m.stream != *camera_stream) return Status();
     if (request.max_frames > 0 && seen >= request.max_frames) return Status();
     ++seen;
@@ -120,6 +157,15 @@ Expected<TrackResult> RunTrack(const TrackRequest& request, const TrackProgress&
     }
     const std::size_t index = r.frames.size();
     r.frames.push_back(tracked->stats);
+    const FrameTrackStats& stats = tracked->stats;
+    r.degeneracy.push_back(
+        estimator::ScoreCameraFrame(stats.tracked, stats.grid_occupancy, stats.epipolar_error_px));
+    r.stereo.emplace_back();
+    if (stereo) {
+      if (Status s = keep_stereo(stereo->AddLeft(index, frame->stamp, frame->image, tracked->features));
+          !s.ok())
+        return s;
+    }
     if (request.overlay_every > 0 && index % static_cast<std::size_t>(request.overlay_every) == 0) {
       const Image overlay = RenderTrackOverlay(frame->image, *tracked, request.tracker.min_track_length);
       Expected<std::vector<std::uint8_t>> png = EncodePng(overlay, "track overlay");
@@ -143,11 +189,12 @@ Expected<std::vector<std::string>> WriteTrackOutputs(const fs::path& out, const 
   if (Status s = WriteTextFileAtomically(out / "tracks.csv", TracksCsv(r)); !s.ok()) return s;
   written.push_back("tracks.csv");
   if (!r.frames.empty()) {
-    std::vector<double> seconds, features, ratio;
-    for (const FrameTrackStats& s : r.frames) {
-      seconds.push_back(ToSeconds(s.stamp - r.frames.front().stamp));
-      features.push_back(s.features);
-      ratio.push_back(s.tracked_ratio);
+    std::vector<double> seconds, features, ratio, degeneracy;
+    for (std::size_t i = 0; i < r.frames.size(); ++i) {
+      seconds.push_back(ToSeconds(r.frames[i].stamp - r.frames.front().stamp));
+      features.push_back(r.frames[i].features);
+      ratio.push_back(r.frames[i].tracked_ratio);
+      degeneracy.push_back(r.degeneracy[i].score);
     }
     const std::string x = "time since the first frame (s)";
     if (Status s = WriteSeriesPlot((out / "plots/track_features.png").string(), seconds, features, "features",
@@ -163,6 +210,12 @@ Expected<std::vector<std::string>> WriteTrackOutputs(const fs::path& out, const 
         !s.ok())
       return s;
     written.push_back("plots/track_ratio.png");
+    if (Status s = WriteSeriesPlot((out / "plots/track_degeneracy.png").string(), seconds, degeneracy,
+                                   "degeneracy D", SeriesLevel{kDegenerateReported, "reported"},
+                                   "Camera degeneracy score per frame, " + r.camera_stream, x, "D");
+        !s.ok())
+      return s;
+    written.push_back("plots/track_degeneracy.png");
   }
   for (const auto& [stamp, png] : r.overlays) {
     const std::string name = "plots/tracks_" + std::to_string(stamp) + ".png";

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -19,10 +20,13 @@ namespace uf::estimator::test {
 
 class SimulatedCamera {
  public:
-  // The scene's default vehicle motion with the simulator's default forward-looking 640 x 480 camera.
-  static std::unique_ptr<SimulatedCamera> Create(const std::string& scene, double duration_s,
-                                                 std::uint64_t seed) {
+  // The scene's default vehicle motion with the simulator's default forward-looking 640 x 480 camera,
+  // changed by `adjust` when given (e.g. scripted darkness).
+  static std::unique_ptr<SimulatedCamera> Create(
+      const std::string& scene, double duration_s, std::uint64_t seed,
+      const std::function<void(sim::CameraConfig&)>& adjust = nullptr) {
     auto out = std::unique_ptr<SimulatedCamera>(new SimulatedCamera);
+    if (adjust) adjust(out->config_.camera.model);
     out->config_.scene = scene;
     out->config_.duration_s = duration_s;
     out->config_.seed = seed;
@@ -45,6 +49,23 @@ class SimulatedCamera {
     if (!renderer) return nullptr;
     out->renderer_ = std::make_unique<sim::CameraRenderer>(std::move(*renderer));
     return out;
+  }
+
+  // A second camera of the same model at T_left_right from the first (a stereo pair); RenderRight then
+  // renders it.
+  bool AddRightCamera(const SE3& T_left_right) {
+    auto right =
+        sim::CameraRenderer::Create(config_.camera.model, *caster_, motion_->spline,
+                                    config_.camera.placement.T_body_sensor * T_left_right, config_.seed + 1);
+    EXPECT_TRUE(right) << right.error();
+    if (!right) return false;
+    right_ = std::make_unique<sim::CameraRenderer>(std::move(*right));
+    return true;
+  }
+  Image RenderRight(Stamp t) const {
+    auto frame = right_->Render(t);
+    EXPECT_TRUE(frame) << frame.error();
+    return frame ? frame->image : Image{};
   }
 
   Stamp begin() const { return motion_->begin; }
@@ -78,7 +99,7 @@ class SimulatedCamera {
   sim::SimulationConfig config_;
   std::unique_ptr<sim::SimulationTrajectory> motion_;
   std::unique_ptr<sim::RayCaster> caster_;
-  std::unique_ptr<sim::CameraRenderer> renderer_;
+  std::unique_ptr<sim::CameraRenderer> renderer_, right_;
 };
 
 }  // namespace uf::estimator::test

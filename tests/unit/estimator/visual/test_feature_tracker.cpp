@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <map>
+#include <utility>
 #include <vector>
 
 #include "odometry/estimator/visual/feature_tracker.h"
@@ -112,6 +113,39 @@ TEST(FeatureTracker, PoorFramesAreTrackedWithAWarningAndTrackingResumes) {
   EXPECT_TRUE(resumed->stats.warning.empty());
   EXPECT_GT(resumed->stats.detected, 100);
   EXPECT_TRUE(resumed->stats.keyframe);  // nothing in common with the last keyframe
+}
+
+// The simulator's scripted exposure change (gain 0.4 over 3-4 s) and darkness (illumination x 0.1, noise
+// x 3 over 5-6 s): Lucas-Kanade matches raw intensities, so without the exposure normalization every track
+// is lost at each of the four transitions; with it most survive.
+TEST(FeatureTracker, TracksSurviveExposureAndIlluminationChanges) {
+  const Stamp t0 = 1'700'000'000'000'000'000;  // the simulator's default start
+  const auto camera = test::SimulatedCamera::Create("urban", 8.0, 3, [&](sim::CameraConfig& c) {
+    c.exposure_changes.push_back({{t0 + 3'000'000'000, t0 + 4'000'000'000}, 0.4});
+    c.darkness.push_back({t0 + 5'000'000'000, t0 + 6'000'000'000});
+  });
+  ASSERT_NE(camera, nullptr);
+  ASSERT_EQ(camera->begin(), t0);
+  std::vector<std::pair<Stamp, Image>> frames;
+  for (Stamp t = t0 + 2'800'000'000; t <= t0 + 6'100'000'000; t += kFramePeriod)
+    frames.emplace_back(t, camera->Render(t));
+  const std::vector<Stamp> transitions = {t0 + 3'000'000'000, t0 + 4'000'000'000, t0 + 5'000'000'000,
+                                          t0 + 6'000'000'000};
+  for (const bool normalize : {true, false}) {
+    FeatureTrackerConfig config;
+    config.normalize_exposure = normalize;
+    auto tracker = FeatureTracker::Create(camera->model(), config);
+    ASSERT_TRUE(tracker);
+    for (const auto& [t, image] : frames) {
+      auto frame = tracker->Track(t, image);
+      ASSERT_TRUE(frame);
+      if (std::find(transitions.begin(), transitions.end(), t) == transitions.end()) continue;
+      if (normalize)
+        EXPECT_GT(frame->stats.tracked_ratio, 0.4) << ToSeconds(t - t0) << " s";
+      else
+        EXPECT_LT(frame->stats.tracked_ratio, 0.1) << ToSeconds(t - t0) << " s";
+    }
+  }
 }
 
 TEST(FeatureTracker, FramesOutOfOrderOrOfTheWrongSizeAreRefusedAndChangeNothing) {

@@ -91,7 +91,7 @@ TEST(Triangulation, TracksOnSimulatedFramesLandOnTheScene) {
   };
   std::map<long, Track> tracks;
   for (int k = 0; k < 12; ++k) {
-    const Stamp t = camera->begin() + 2'000'000'000 + k * 100'000'000;
+    const Stamp t = camera->begin() + 2'000'000'000 + Stamp{k} * 100'000'000;
     auto frame = tracker->Track(t, camera->Render(t));
     ASSERT_TRUE(frame);
     for (const TrackedFeature& f : frame->features) {

@@ -1,0 +1,25 @@
+#include "odometry/estimator/visual/gray_frame.h"
+
+#include <algorithm>
+#include <opencv2/imgproc.hpp>
+
+namespace uf::estimator {
+
+cv::Mat GrayOf(const Image& image) {
+  // OpenCV only reads through the wrapper: the const_cast does not lead to a write.
+  cv::Mat wrapped(image.height, image.width, image.channels == 1 ? CV_8UC1 : CV_8UC3,
+                  const_cast<std::uint8_t*>(image.pixels.data()));
+  if (image.channels == 1) return wrapped.clone();
+  cv::Mat gray;
+  cv::cvtColor(wrapped, gray, cv::COLOR_RGB2GRAY);
+  return gray;
+}
+
+void NormalizeExposure(cv::Mat& gray, double mean, double std_dev, double min_contrast) {
+  constexpr double kExposureMean = 128, kExposureStd = 50, kMaxGain = 8;
+  if (std_dev < std::max(min_contrast, 1e-9)) return;
+  const double gain = std::clamp(kExposureStd / std_dev, 1 / kMaxGain, kMaxGain);
+  gray.convertTo(gray, CV_8U, gain, kExposureMean - gain * mean);
+}
+
+}  // namespace uf::estimator
