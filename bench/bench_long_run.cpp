@@ -24,6 +24,7 @@
 #include "odometry/io/dataset_reader.h"
 #include "odometry/io/for_each_measurement.h"
 #include "odometry/io/trajectory_file.h"
+#include "odometry/types/process_memory.h"
 
 namespace {
 
@@ -46,6 +47,7 @@ double ResidentMiB() {
 
 int main(int argc, char** argv) {
   using namespace uf;
+  KeepFreedMemoryForReuse();  // as the ultrafusion binary does
   if (argc < 2) {
     std::fprintf(
         stderr,

@@ -58,4 +58,12 @@ Status WriteTextFileAtomically(const std::filesystem::path& path, const std::str
   return writer.Commit();
 }
 
+Status WriteBinaryFileAtomically(const std::filesystem::path& path, const std::vector<std::uint8_t>& bytes) {
+  AtomicFileWriter writer(path.string());
+  if (Status s = writer.status(); !s.ok()) return s;
+  writer.stream().write(reinterpret_cast<const char*>(bytes.data()),
+                        static_cast<std::streamsize>(bytes.size()));
+  return writer.Commit();
+}
+
 }  // namespace uf::pipeline

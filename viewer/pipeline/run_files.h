@@ -41,5 +41,6 @@ Status WriteTimingPlot(const std::filesystem::path& png, const std::vector<Stamp
                        const std::vector<double>& milliseconds, const std::string& step);
 
 Status WriteTextFileAtomically(const std::filesystem::path& path, const std::string& text);
+Status WriteBinaryFileAtomically(const std::filesystem::path& path, const std::vector<std::uint8_t>& bytes);
 
 }  // namespace uf::pipeline

@@ -9,6 +9,7 @@
 #include "viewer/app/cli/exit_codes.h"
 #include "viewer/app/config/config_file.h"
 #include "viewer/pipeline/progress_line.h"
+#include "viewer/pipeline/run_files.h"
 #include "viewer/pipeline/stages/reliability_files.h"
 #include "viewer/pipeline/track/track_job.h"
 
@@ -21,11 +22,6 @@ struct TrackArguments {
   std::int64_t max_frames = 0;
   estimator::FeatureTrackerConfig tracker;
 };
-
-double Percentile(std::vector<double> values, double q) {
-  std::sort(values.begin(), values.end());
-  return values[static_cast<std::size_t>(q * static_cast<double>(values.size() - 1) + 0.5)];
-}
 
 void PrintResult(const pipeline::TrackResult& r) {
   std::printf("track: %s (%d x %d): %zu frames tracked", r.camera_stream.c_str(), r.width, r.height,
@@ -72,9 +68,8 @@ void PrintResult(const pipeline::TrackResult& r) {
     std::printf("  stereo %s: %.0f pairs, %.1f of %.1f features matched, epipolar distance %.3f px (means)\n",
                 r.stereo_stream.c_str(), pairs, matched / std::max(1.0, pairs),
                 stereo_features / std::max(1.0, pairs), stereo_epipolar / std::max(1.0, pairs));
-  double total = 0;
-  for (double v : ms) total += v;
-  std::printf("  time per frame: mean %.2f ms, p95 %.2f ms\n", total / n, Percentile(ms, 0.95));
+  const pipeline::TimingSummary timing = pipeline::SummarizeTimings(ms);
+  std::printf("  time per frame: mean %.2f ms, p95 %.2f ms\n", timing.mean, timing.p95);
   if (!r.warnings.empty())
     std::printf("  %zu warnings, the first: %s\n", r.warnings.size(), r.warnings[0].c_str());
 }

@@ -10,6 +10,7 @@
 #include "odometry/eval/plots.h"
 #include "odometry/io/atomic_file.h"
 #include "odometry/io/image_decode.h"
+#include "viewer/pipeline/run_files.h"
 
 namespace uf::pipeline {
 namespace {
@@ -19,14 +20,6 @@ namespace fs = std::filesystem;
 // JSON has no infinity: identical images (PSNR +inf) are written as null.
 nlohmann::json Number(double value) {
   return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json();
-}
-
-Status WriteBytes(const fs::path& file, const std::vector<std::uint8_t>& bytes) {
-  AtomicFileWriter writer(file.string());
-  if (Status s = writer.status(); !s.ok()) return s;
-  writer.stream().write(reinterpret_cast<const char*>(bytes.data()),
-                        static_cast<std::streamsize>(bytes.size()));
-  return writer.Commit();
 }
 
 }  // namespace
@@ -91,7 +84,7 @@ Status WriteRgbPng(const fs::path& file, const std::vector<float>& rgb, int widt
     image.pixels[i] = static_cast<std::uint8_t>(std::lround(255.0f * std::clamp(rgb[i], 0.0f, 1.0f)));
   Expected<std::vector<std::uint8_t>> png = EncodePng(image, file.string());
   if (!png) return png.status();
-  return WriteBytes(file, *png);
+  return WriteBinaryFileAtomically(file, *png);
 }
 
 Expected<std::vector<std::string>> WriteComparisons(const fs::path& folder,

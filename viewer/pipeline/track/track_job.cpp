@@ -3,7 +3,6 @@
 #include <sstream>
 
 #include "odometry/eval/series_plot.h"
-#include "odometry/io/atomic_file.h"
 #include "odometry/io/for_each_measurement.h"
 #include "odometry/io/image_decode.h"
 #include "odometry/io/measurement_stream.h"
@@ -72,14 +71,6 @@ std::string TracksCsv(const TrackResult& r) {
     csv << ",\"" << s.warning << "\"\n";
   }
   return csv.str();
-}
-
-Status WriteBytes(const fs::path& path, const std::vector<std::uint8_t>& bytes) {
-  AtomicFileWriter writer(path.string());
-  if (Status s = writer.status(); !s.ok()) return s;
-  writer.stream().write(reinterpret_cast<const char*>(bytes.data()),
-                        static_cast<std::streamsize>(bytes.size()));
-  return writer.Commit();
 }
 
 }  // namespace
@@ -219,7 +210,7 @@ Expected<std::vector<std::string>> WriteTrackOutputs(const fs::path& out, const 
   }
   for (const auto& [stamp, png] : r.overlays) {
     const std::string name = "plots/tracks_" + std::to_string(stamp) + ".png";
-    if (Status s = WriteBytes(out / name, png); !s.ok()) return s;
+    if (Status s = WriteBinaryFileAtomically(out / name, png); !s.ok()) return s;
     written.push_back(name);
   }
   return written;
