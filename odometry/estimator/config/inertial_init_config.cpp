@@ -19,6 +19,8 @@ Status InertialInitConfig::Validate() const {
   if (max_scans < min_scans || max_scans > 200) return Bad("max_scans", "in [min_scans, 200]", max_scans);
   if (!Positive(static_min_duration_s)) return Bad("static_min_duration_s", "> 0", static_min_duration_s);
   if (!Positive(static_max_gyro_std)) return Bad("static_max_gyro_std", "> 0", static_max_gyro_std);
+  if (!Positive(static_max_vibration_deg))
+    return Bad("static_max_vibration_deg", "> 0", static_max_vibration_deg);
   if (!Positive(static_max_acc_std)) return Bad("static_max_acc_std", "> 0", static_max_acc_std);
   if (!Positive(static_max_speed_mps)) return Bad("static_max_speed_mps", "> 0", static_max_speed_mps);
   if (!Positive(max_gravity_error) || max_gravity_error >= 1)

@@ -8,6 +8,9 @@
 //   spread of a sample is its white noise times sqrt(rate), 0.004 rad/s and 0.05 m/s^2 (3D RMS) for the
 //   simulated ADIS16448 at 200 Hz; a start moves more: a car pulling away at 1 m/s^2, a robot turning at
 //   0.1 rad/s.
+// - static_max_vibration_deg 0.25: a platform whose motors run at rest (EuRoC's MAV: spread 0.08 rad/s and
+//   1.1 m/s^2, far above the two limits above) turns its body by 0.16 deg at most over 2 s and gains 0.04 m/s
+//   at most; a start turns and gains far more. 0.25 deg of turning tilts the mean specific force by less.
 // - static_min_duration_s 0.1: 20 samples at 200 Hz give the gyro bias to 0.0024 / sqrt(20) = 5e-4 rad/s and
 //   the gravity direction to 0.028 / sqrt(20) / 9.81 = 0.04 deg (the paper's static gravity uses 1.0 s).
 // - static_max_speed_mps 0.05: S sets v = 0, so the LO speed it tolerates beyond 3 sigma of the LO noise is
@@ -48,6 +51,10 @@ struct InertialInitConfig {
   double static_max_gyro_std = 0.02;   // rad/s: spread of the angular rate (RMS of the 3D deviation)
   double static_max_acc_std = 0.3;     // m/s^2: spread of the specific force
   double static_max_speed_mps = 0.05;  // m/s: E_v, the LO (WIO: wheel) speed beyond 3 sigma of its noise
+  // A spread above its limit is still rest when it is vibration: the angle the body turns (its angular rate
+  // less the mean, integrated) stays within this and the velocity it gains (the specific force less the
+  // mean, integrated) within static_max_speed_mps (init_mode_selection.h).
+  double static_max_vibration_deg = 0.25;  // deg
   // S and M: admitted when ||g| - gravity| <= this fraction of gravity (S: the mean specific force).
   double max_gravity_error = 0.1;
   // M (LIO): admitted once the predicted standard deviation of the gravity direction is this small.

@@ -51,6 +51,15 @@ InitIndicators ComputeInitIndicators(std::span<const ImuSample> samples, std::sp
     out.acc_std = std::sqrt(acc_var);
     out.gyro_std = std::sqrt(gyro_var);
     out.acc_norm_error = std::abs(out.mean_acc.norm() - gravity);
+    // Excursions: the deviations from the means integrated sample by sample (rectangle rule).
+    Eigen::Vector3d angle = Eigen::Vector3d::Zero(), velocity = Eigen::Vector3d::Zero();
+    for (std::size_t k = 1; k < samples.size(); ++k) {
+      const double dt = ToSeconds(samples[k].stamp - samples[k - 1].stamp);
+      angle += (samples[k].gyro - out.mean_gyro) * dt;
+      velocity += (samples[k].acc - out.mean_acc) * dt;
+      out.angle_excursion_rad = std::max(out.angle_excursion_rad, angle.norm());
+      out.velocity_excursion_mps = std::max(out.velocity_excursion_mps, velocity.norm());
+    }
   }
   // E_v: a straight line through the positions by least squares; its speed less three standard deviations,
   // the noise of a position being position_sigma_m or (LIO) the scatter about the line when larger.
@@ -86,16 +95,20 @@ InitIndicators ComputeInitIndicators(std::span<const ImuSample> samples, std::sp
 }
 
 std::string NotStaticReason(const InitIndicators& in, const InertialInitConfig& config, double gravity) {
+  constexpr double kDegree = 3.14159265358979323846 / 180.0;
+  const double max_vibration_rad = config.static_max_vibration_deg * kDegree;
   std::ostringstream why;
   why.precision(3);
   if (in.imu_span_s < config.static_min_duration_s)
     why << in.imu_span_s << " s of IMU, need static_min_duration_s " << config.static_min_duration_s;
-  else if (in.gyro_std > config.static_max_gyro_std)
+  else if (in.gyro_std > config.static_max_gyro_std && in.angle_excursion_rad > max_vibration_rad)
     why << "angular rate spread " << in.gyro_std << " rad/s > static_max_gyro_std "
-        << config.static_max_gyro_std;
-  else if (in.acc_std > config.static_max_acc_std)
+        << config.static_max_gyro_std << ", turning the body by " << in.angle_excursion_rad / kDegree
+        << " deg > static_max_vibration_deg " << config.static_max_vibration_deg;
+  else if (in.acc_std > config.static_max_acc_std && in.velocity_excursion_mps > config.static_max_speed_mps)
     why << "specific force spread " << in.acc_std << " m/s^2 > static_max_acc_std "
-        << config.static_max_acc_std;
+        << config.static_max_acc_std << ", changing the velocity by " << in.velocity_excursion_mps
+        << " m/s > static_max_speed_mps " << config.static_max_speed_mps;
   else if (in.lo_speed > config.static_max_speed_mps)
     why << "the poses move at " << in.lo_raw_speed << " m/s (" << in.lo_speed
         << " beyond 3 sigma of their noise) > static_max_speed_mps " << config.static_max_speed_mps;

@@ -21,7 +21,10 @@
 // Decision (SelectInitMode):
 //   S (static) when the IMU has rested for static_min_duration_s, E_omega <= static_max_gyro_std,
 //     E_a <= static_max_acc_std and E_v <= static_max_speed_mps (with two scans at least: a static IMU looks
-//     the same as a steady drive, which only the LiDAR tells apart);
+//     the same as a steady drive, which only the LiDAR tells apart). A spread above its limit still counts as
+//     rest when it is vibration: the body's rate less its mean, integrated, turns it by at most
+//     static_max_vibration_deg, and its specific force less the mean, integrated, changes its velocity by at
+//     most static_max_speed_mps (a MAV whose rotors run, a car with its engine idling);
 //   M (LiDAR-aided short-window MAP) when not at rest and N_lidar >= min_scans;
 //     M itself then defers while its gravity direction is not yet determined to max_tilt_sigma_deg (the
 //     well-posedness test of short_window_map.h: its precision grows with the window's span);
@@ -53,6 +56,9 @@ struct InitIndicators {
   double gyro_std = 0;        // E_omega, rad/s
   double acc_std = 0;         // m/s^2
   double acc_norm_error = 0;  // ||mean acc| - gravity|, m/s^2
+  // The largest |integral of (rate - mean rate)| and |integral of (specific force - mean)| over the window:
+  // how far vibration, or a motion, turns the body and changes its velocity, rad and m/s.
+  double angle_excursion_rad = 0, velocity_excursion_mps = 0;
   double lo_speed = 0;        // E_v, m/s (0 with fewer than two poses)
   double lo_raw_speed = 0;    // |v| of the line, without the noise allowance, m/s
   int scans = 0;              // in the window

@@ -207,6 +207,7 @@ inline void ExpectSameInertialParts(const Config& a, const Config& b) {
   EXPECT_FIELD(imu.max_accel_bias_change);
   EXPECT_FIELD(imu.max_gyro_bias_change);
   EXPECT_FIELD(init.static_max_gyro_std);
+  EXPECT_FIELD(init.static_max_vibration_deg);
   EXPECT_FIELD(init.static_max_acc_std);
   EXPECT_FIELD(init.static_min_duration_s);
   EXPECT_FIELD(init.static_max_speed_mps);

@@ -154,6 +154,43 @@ TEST(InitModeSelection, RotationIsNotRest) {
             std::string::npos);
 }
 
+// Vibration added to a resting IMU: a sinusoid on every axis of the specific force (amplitude a, frequency f)
+// and of the angular rate (w, f). Integrated, an axis swings by a / (2 pi f) about its start's offset: at
+// most 2 a / (2 pi f) from the start, once more for the window's mean removed over a partial period, and
+// sqrt(3) for three axes: 3 sqrt(3) a / (2 pi f). At 40 Hz with a = 1.5 m/s^2 and w = 0.12 rad/s (motors
+// running) the spreads exceed their limits but that bound is 0.031 m/s and 0.14 deg: rest. The same
+// amplitudes at 1 Hz (a sway) swing an axis by 0.24 m/s and 1.1 deg: not rest.
+std::vector<ImuSample> Vibrated(std::vector<ImuSample> samples, double hz, double acc_amplitude,
+                                double rate_amplitude) {
+  for (ImuSample& s : samples) {
+    const double phase = 2 * std::numbers::pi * hz * ToSeconds(s.stamp);
+    s.acc += acc_amplitude * Eigen::Vector3d(std::sin(phase), std::cos(phase), std::sin(phase + 1));
+    s.gyro += rate_amplitude * Eigen::Vector3d(std::cos(phase), std::sin(phase + 2), std::sin(phase));
+  }
+  return samples;
+}
+
+TEST(InitModeSelection, VibrationAtRestIsRestAndASwayIsNot) {
+  RestingWindow w = Resting(11);  // 1 s of samples
+  const std::vector<ImuSample> rest = w.samples;
+  const double gravity = ImuNoiseParams().gravity;
+  w.samples = Vibrated(rest, 40.0, 1.5, 0.12);
+  InitIndicators in = Indicators(w, w.poses, 11);
+  EXPECT_GT(in.gyro_std, InertialInitConfig().static_max_gyro_std);
+  EXPECT_GT(in.acc_std, InertialInitConfig().static_max_acc_std);
+  const double bound = 3 * std::sqrt(3.0) / (2 * std::numbers::pi * 40.0);
+  EXPECT_LT(in.angle_excursion_rad, bound * 0.12);
+  EXPECT_LT(in.velocity_excursion_mps, bound * 1.5);
+  EXPECT_EQ(NotStaticReason(in, InertialInitConfig(), gravity), "");
+  EXPECT_EQ(SelectInitMode(in, InertialInitConfig(), gravity).mode, InitMode::kStatic);
+
+  w.samples = Vibrated(rest, 1.0, 1.5, 0.12);
+  in = Indicators(w, w.poses, 11);
+  const std::string why = NotStaticReason(in, InertialInitConfig(), gravity);
+  EXPECT_NE(why.find("static_max_vibration_deg"), std::string::npos) << why;
+  EXPECT_NE(SelectInitMode(in, InertialInitConfig(), gravity).mode, InitMode::kStatic);
+}
+
 TEST(InitAdmission, RejectsAStaticInitializationWithAWrongGravity) {
   const RestingWindow w = Resting(4);
   const double gravity = ImuNoiseParams().gravity;

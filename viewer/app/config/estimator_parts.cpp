@@ -73,6 +73,9 @@ Schema<InertialInitConfig> InitSchema(bool lidar) {
            "static initialization: spread of the angular rate at rest");
   init.Key("static_max_acc_std", &I::static_max_acc_std, "m/s^2",
            "static initialization: spread of the specific force at rest");
+  init.Key("static_max_vibration_deg", &I::static_max_vibration_deg, "deg",
+           "static initialization: a spread above its limit is vibration at rest when the body turns by at "
+           "most this (and gains at most static_max_speed_mps) over the window");
   init.Key(
       "static_max_speed_mps", &I::static_max_speed_mps, "m/s",
       lidar ? "static initialization: the LO speed beyond 3 sigma of its noise is at most this (S sets v = 0)"
