@@ -8,6 +8,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "odometry/types/printf_text.h"
+
 namespace uf {
 namespace {
 
@@ -17,6 +19,8 @@ constexpr std::array<const char*, 30> kFields = {
     "au",           "wx",      "wy",      "wz",      "wf",      "wl",     "wu", "pos_accuracy",
     "vel_accuracy", "navstat", "numsats", "posmode", "velmode", "orimode"};
 
+// navstat, numsats, posmode are small whole numbers (KITTI's drives hold -1 too: "no mode").
+constexpr double kMaxStatusValue = 1000;
 constexpr double kEarthRadius = 6378137.0;  // m, WGS84 equatorial radius, as the devkit uses
 constexpr double kDegToRad = M_PI / 180.0;
 
@@ -50,6 +54,11 @@ Expected<OxtsRecord> ReadOxtsFile(const std::filesystem::path& path) {
   if (std::abs(v[1]) > 180)
     return FieldError(path, 1, "is " + std::to_string(v[1]) + ", outside [-180, 180] deg");
   if (v[23] < 0) return FieldError(path, 23, "is negative (" + std::to_string(v[23]) + " m)");
+  for (int i : {25, 26, 27}) {
+    if (std::abs(v[i]) > kMaxStatusValue || v[i] != std::floor(v[i]))
+      return FieldError(path, i,
+                        PrintfText("is %g, not a whole number within +-%.0f", v[i], kMaxStatusValue));
+  }
   OxtsRecord record;
   record.latitude_deg = v[0];
   record.longitude_deg = v[1];

@@ -33,6 +33,20 @@ Expected<int> FindCamera(const fs::path& dataset, const DatasetDescription& d, c
                        (d.streams.empty() ? "no streams" : StreamNames(d)));
 }
 
+// The stereo camera's stream: a camera with intrinsics other than the tracked one, both with extrinsics.
+Expected<int> FindStereoCamera(const TrackRequest& request, const DatasetDescription& d, int tracked) {
+  Expected<int> found = FindCamera(request.dataset, d, request.stereo_camera);
+  if (!found) return found;
+  const StreamInfo& left = d.streams[static_cast<std::size_t>(tracked)];
+  const StreamInfo& right = d.streams[static_cast<std::size_t>(*found)];
+  if (*found == tracked)
+    return Status::Error("--stereo " + right.name + ": the tracked camera itself; name the other camera");
+  if (!left.T_body_sensor || !right.T_body_sensor)
+    return Status::Error(request.dataset.string() + ": --stereo needs the extrinsics (T_body_sensor) of " +
+                         left.name + " and " + right.name);
+  return found;
+}
+
 // Non-zero where features may be: the mask image's black pixels (first channel < 128) are masked.
 Expected<Image> ReadMask(const fs::path& path, const CameraModel& camera) {
   Expected<Image> image = ReadImageFile(path);
@@ -97,22 +111,16 @@ Expected<TrackResult> RunTrack(const TrackRequest& request, const TrackProgress&
   int stereo_stream = -1;
   std::optional<StereoPairs> stereo;
   if (!request.stereo_camera.empty()) {
-    Expected<int> found = FindCamera(request.dataset, stream->description(), request.stereo_camera);
+    Expected<int> found = FindStereoCamera(request, stream->description(), *camera_stream);
     if (!found) return found.status();
     stereo_stream = *found;
     const StreamInfo& right = stream->description().streams[static_cast<std::size_t>(stereo_stream)];
-    if (stereo_stream == *camera_stream)
-      return Status::Error("--stereo " + right.name + ": the tracked camera itself; name the other camera");
-    if (!info.T_body_sensor || !right.T_body_sensor)
-      return Status::Error(request.dataset.string() + ": --stereo needs the extrinsics (T_body_sensor) of " +
-                           info.name + " and " + right.name);
     stereo.emplace(camera, *right.camera_model, info.T_body_sensor->inverse() * *right.T_body_sensor);
   }
 
   TrackResult r;
   r.camera_stream = info.name;
-  if (stereo_stream >= 0)
-    r.stereo_stream = stream->description().streams[static_cast<std::size_t>(stereo_stream)].name;
+  if (stereo) r.stereo_stream = request.stereo_camera;
   auto keep_stereo = [&](Expected<std::optional<StereoPairResult>> pair) -> Status {
     if (!pair) return pair.status();
     if (*pair) r.stereo[(*pair)->first] = (*pair)->second;
@@ -124,7 +132,8 @@ Expected<TrackResult> RunTrack(const TrackRequest& request, const TrackProgress&
   std::int64_t seen = 0;
   const Status read = ForEachMeasurement(*stream, [&](Measurement& m) {
     auto* frame = std::get_if<CameraFrame>(&m.data);
-    if (frame && stereo && m.stream == stereo_stream) {
+    if (!frame || (request.max_frames > 0 && seen >= request.max_frames)) return Status();
+    if (stereo && m.stream == stereo_stream) {
       if (Status decoded = DecodeCameraFrame(*frame); !decoded.ok()) {
         ++r.undecodable;
         KeepReason(r, "stereo frame at " + StampText(frame->stamp) + ": " + decoded.message() + ", skipped");
@@ -132,8 +141,7 @@ Expected<TrackResult> RunTrack(const TrackRequest& request, const TrackProgress&
       }
       return keep_stereo(stereo->AddRight(frame->stamp, std::move(frame->image)));
     }
-    if (!frame || m.stream != *camera_stream) return Status();
-    if (request.max_frames > 0 && seen >= request.max_frames) return Status();
+    if (m.stream != *camera_stream) return Status();
     ++seen;
     if (Status decoded = DecodeCameraFrame(*frame); !decoded.ok()) {
       ++r.undecodable;

@@ -10,6 +10,7 @@
 #include "odometry/io/dataset_reader.h"
 #include "odometry/io/folders/folder_readers.h"
 #include "odometry/io/folders/kitti_raw_files.h"
+#include "odometry/io/folders/kitti_raw_oxts.h"
 #include "odometry/io/trajectory_file.h"
 #include "tests/support/read_all.h"
 #include "tests/support/temp_dir.h"
@@ -271,6 +272,28 @@ TEST(KittiRawDrive, MissingScansEmptyStampsAndDamagedFilesAreCountedWarnings) {
     if (w.what.starts_with("damaged")) {
       EXPECT_NE(w.what.find("0000000001.bin"), std::string::npos) << w.what;
     }
+}
+
+// Found by fuzz_kitti_raw: a status field far outside int's range was cast to int (undefined behaviour).
+TEST(KittiRawOxts, StatusFieldsMustBeSmallWholeNumbers) {
+  TempDir dir;
+  const fs::path file = dir.path() / "0000000000.txt";
+  auto record = [](const std::string& navstat) {
+    std::string text = "49.0 8.4 115.0";
+    for (int i = 3; i < 25; ++i) text += " 0.1";
+    return text + " " + navstat + " 10 5 5 5\n";
+  };
+  for (const char* good : {"4", "-1"}) {  // -1 occurs in KITTI's own drives
+    testing::WriteBytes(file, record(good));
+    EXPECT_TRUE(ReadOxtsFile(file).ok()) << good;
+  }
+  for (const char* bad : {"4.88889e+17", "2.5", "-1e9"}) {
+    testing::WriteBytes(file, record(bad));
+    auto read = ReadOxtsFile(file);
+    ASSERT_FALSE(read.ok()) << bad;
+    EXPECT_NE(read.error().find("field 26 (navstat) is "), std::string::npos) << read.error();
+    EXPECT_NE(read.error().find("not a whole number within +-1000"), std::string::npos) << read.error();
+  }
 }
 
 TEST(KittiRawDrive, BadInputIsAClearError) {
