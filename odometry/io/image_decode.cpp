@@ -148,4 +148,17 @@ Expected<Image> ReadImageFile(const std::filesystem::path& path) {
   return image;
 }
 
+Expected<Image> ReadMaskFile(const std::filesystem::path& path, int width, int height) {
+  Expected<Image> image = ReadImageFile(path);
+  if (!image) return image.status();
+  if (image->width != width || image->height != height)
+    return Status::Error(path.string() + " is " + std::to_string(image->width) + " x " +
+                         std::to_string(image->height) + " px, the camera " + std::to_string(width) + " x " +
+                         std::to_string(height));
+  Image mask{width, height, 1, std::vector<std::uint8_t>(static_cast<std::size_t>(width) * height)};
+  for (std::size_t p = 0; p < mask.pixels.size(); ++p)
+    mask.pixels[p] = image->pixels[p * image->channels] < 128 ? 0 : 255;
+  return mask;
+}
+
 }  // namespace uf

@@ -20,6 +20,11 @@ Expected<Image> DecodeImage(const EncodedImage& encoded);
 // Reads and decodes an image file (any format DecodeImage reads); errors name the path.
 Expected<Image> ReadImageFile(const std::filesystem::path& path);
 
+// A mask of a camera (black pixels masked: the ego vehicle, a hood) read from an image file: one channel,
+// 0 where the file's first channel is below 128, else 255. Errors name the path; an image of another size
+// than width x height: "PATH is W x H px, the camera W x H".
+Expected<Image> ReadMaskFile(const std::filesystem::path& path, int width, int height);
+
 // Decodes frame.encoded into frame.image (no-op when the image is already decoded) and frees the bytes.
 Status DecodeCameraFrame(CameraFrame& frame);
 

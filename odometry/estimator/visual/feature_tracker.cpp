@@ -18,8 +18,6 @@ namespace {
 // Frame quality: a mean below kDarkDn or above kSaturatedDn (of 255) marks a dark or saturated frame.
 constexpr double kDarkDn = 15.0;
 constexpr double kSaturatedDn = 240.0;
-// A ray whose z is below this (a fisheye beyond ~89 deg) has no finite normalised coordinates.
-constexpr double kMinBearingZ = 1e-3;
 // A keyframe also when fewer than this share of the last keyframe's features are still tracked.
 constexpr double kMinKeyframeOverlap = 0.5;
 
@@ -90,9 +88,7 @@ struct FeatureTracker::Impl {
 
   // Undistorted (normalised) coordinates of a pixel; nullopt for a ray at or beyond 90 deg.
   std::optional<Eigen::Vector2d> Normalize(const cv::Point2f& p) const {
-    const Eigen::Vector3d ray = camera->Unproject(Eigen::Vector2d(p.x, p.y));
-    if (!(ray.z() > kMinBearingZ)) return std::nullopt;
-    return Eigen::Vector2d(ray.x() / ray.z(), ray.y() / ray.z());
+    return NormalizedRay(*camera, Eigen::Vector2d(p.x, p.y));
   }
   Eigen::Vector2d Undistorted(const Eigen::Vector2d& normalized) const {
     return {pinhole.fx * normalized.x() + pinhole.cx, pinhole.fy * normalized.y() + pinhole.cy};
@@ -259,9 +255,7 @@ Expected<TrackedFrame> FeatureTracker::Track(Stamp stamp, const Image& image) {
   if (s.has_previous && stamp <= s.previous_stamp)
     return Status::Error("camera frame at " + StampText(stamp) + ": not after the previous frame at " +
                          StampText(s.previous_stamp) + ", skipped");
-  if (image.width != s.pinhole.width || image.height != s.pinhole.height ||
-      (image.channels != 1 && image.channels != 3) ||
-      image.pixels.size() != static_cast<std::size_t>(image.width) * image.height * image.channels)
+  if (!FitsCamera(image, *s.camera))
     return Status::Error("camera frame at " + StampText(stamp) +
                          PrintfText(": %.0f x %.0f x %.0f pixels, the camera is %.0f x %.0f", image.width,
                                     image.height, image.channels, s.pinhole.width, s.pinhole.height));

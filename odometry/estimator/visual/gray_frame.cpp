@@ -22,4 +22,17 @@ void NormalizeExposure(cv::Mat& gray, double mean, double std_dev, double min_co
   gray.convertTo(gray, CV_8U, gain, kExposureMean - gain * mean);
 }
 
+bool FitsCamera(const Image& image, const CameraModel& camera) {
+  return image.width == camera.width() && image.height == camera.height() &&
+         (image.channels == 1 || image.channels == 3) &&
+         image.pixels.size() == static_cast<std::size_t>(image.width) * image.height * image.channels;
+}
+
+std::optional<Eigen::Vector2d> NormalizedRay(const CameraModel& camera, const Eigen::Vector2d& pixel) {
+  constexpr double kMinBearingZ = 1e-3;
+  const Eigen::Vector3d ray = camera.Unproject(pixel);
+  if (!(ray.z() > kMinBearingZ)) return std::nullopt;
+  return Eigen::Vector2d(ray.x() / ray.z(), ray.y() / ray.z());
+}
+
 }  // namespace uf::estimator

@@ -1,9 +1,13 @@
 // Internal to uf_estimator_visual (OpenCV types; include only from its sources): a frame as the 8-bit gray
-// image the front end works on, and its exposure normalization (docs/METHOD.md "Visual front end", step 0).
+// image the front end works on, its exposure normalization (docs/METHOD.md "Visual front end", step 0), and
+// the checks the tracker and the stereo matcher share.
 #pragma once
 
+#include <Eigen/Core>
 #include <opencv2/core.hpp>
+#include <optional>
 
+#include "odometry/types/camera_model.h"
 #include "odometry/types/measurements.h"
 
 namespace uf::estimator {
@@ -15,5 +19,12 @@ cv::Mat GrayOf(const Image& image);
 // which matches raw intensities, follows a global exposure or illumination change. A frame with less spread
 // than min_contrast is left alone (its noise would be amplified).
 void NormalizeExposure(cv::Mat& gray, double mean, double std_dev, double min_contrast);
+
+// Whether the image is 8-bit gray or RGB of the camera's size, its pixel buffer complete.
+bool FitsCamera(const Image& image, const CameraModel& camera);
+
+// The undistorted normalized coordinates (x/z, y/z) of a pixel's ray; nullopt for a ray at or beyond ~89 deg
+// from the optical axis (a fisheye's rim), which has none.
+std::optional<Eigen::Vector2d> NormalizedRay(const CameraModel& camera, const Eigen::Vector2d& pixel);
 
 }  // namespace uf::estimator

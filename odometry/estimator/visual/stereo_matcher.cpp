@@ -13,7 +13,6 @@ namespace uf::estimator {
 namespace {
 
 constexpr double kMinContrastDn = 3.0;  // frames with less spread are not normalized (gray_frame.h)
-constexpr double kMinBearingZ = 1e-3;   // rays at or beyond ~89 deg have no normalized coordinates
 
 cv::Mat NormalizedGray(const Image& image) {
   cv::Mat gray = GrayOf(image);
@@ -21,12 +20,6 @@ cv::Mat NormalizedGray(const Image& image) {
   cv::meanStdDev(gray, mean, std_dev);
   NormalizeExposure(gray, mean[0], std_dev[0], kMinContrastDn);
   return gray;
-}
-
-bool Fits(const Image& image, const CameraModel& camera) {
-  return image.width == camera.width() && image.height == camera.height() &&
-         (image.channels == 1 || image.channels == 3) &&
-         image.pixels.size() == static_cast<std::size_t>(image.width) * image.height * image.channels;
 }
 
 Status CheckInputs(const Image& left, const Image& right, const CameraModel& left_camera,
@@ -46,7 +39,7 @@ Status CheckInputs(const Image& left, const Image& right, const CameraModel& lef
     return Status::Error("stereo: the right camera model has no pinhole intrinsics");
   if (!T_left_right.translation().allFinite() || !T_left_right.so3().matrix().allFinite())
     return Status::Error("stereo: the extrinsic between the cameras is not finite");
-  if (!Fits(left, left_camera) || !Fits(right, right_camera))
+  if (!FitsCamera(left, left_camera) || !FitsCamera(right, right_camera))
     return Status::Error(
         PrintfText("stereo: images %.0f x %.0f and %.0f x %.0f, the cameras %.0f x %.0f and %.0f x %.0f",
                    left.width, left.height, right.width, right.height, left_camera.width(),
@@ -94,12 +87,12 @@ Expected<StereoResult> MatchStereo(const std::vector<TrackedFeature>& left_featu
       ++result.stats.lost_fb;
       continue;
     }
-    const Eigen::Vector3d ray = right_camera.Unproject(right_pixel);
-    if (!(ray.z() > kMinBearingZ)) {
+    const std::optional<Eigen::Vector2d> ray = NormalizedRay(right_camera, right_pixel);
+    if (!ray) {
       ++result.stats.lost_klt;
       continue;
     }
-    const Eigen::Vector2d n_right = ray.head<2>() / ray.z(), n_left = left_features[i].normalized;
+    const Eigen::Vector2d n_right = *ray, n_left = left_features[i].normalized;
     const double epipolar = focal * SampsonDistance(E, n_left, n_right);
     if (epipolar > config.max_epipolar_px) {
       ++result.stats.lost_epipolar;

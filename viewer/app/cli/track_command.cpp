@@ -23,6 +23,21 @@ struct TrackArguments {
   estimator::FeatureTrackerConfig tracker;
 };
 
+// The means over the frames that found their stereo partner.
+void PrintStereo(const pipeline::TrackResult& r) {
+  double pairs = 0, stereo_features = 0, matched = 0, stereo_epipolar = 0;
+  for (const std::optional<estimator::StereoStats>& pair : r.stereo) {
+    if (!pair) continue;
+    ++pairs;
+    stereo_features += pair->features;
+    matched += pair->matched;
+    stereo_epipolar += pair->epipolar_px;
+  }
+  std::printf("  stereo %s: %.0f pairs, %.1f of %.1f features matched, epipolar distance %.3f px (means)\n",
+              r.stereo_stream.c_str(), pairs, matched / std::max(1.0, pairs),
+              stereo_features / std::max(1.0, pairs), stereo_epipolar / std::max(1.0, pairs));
+}
+
 void PrintResult(const pipeline::TrackResult& r) {
   std::printf("track: %s (%d x %d): %zu frames tracked", r.camera_stream.c_str(), r.width, r.height,
               r.frames.size());
@@ -56,18 +71,7 @@ void PrintResult(const pipeline::TrackResult& r) {
     degenerate += d.score >= pipeline::kDegenerateReported;
   std::printf("  camera degeneracy D >= %.1f in %d of %zu frames\n", pipeline::kDegenerateReported,
               degenerate, r.frames.size());
-  double pairs = 0, stereo_features = 0, matched = 0, stereo_epipolar = 0;
-  for (const std::optional<estimator::StereoStats>& pair : r.stereo) {
-    if (!pair) continue;
-    ++pairs;
-    stereo_features += pair->features;
-    matched += pair->matched;
-    stereo_epipolar += pair->epipolar_px;
-  }
-  if (!r.stereo_stream.empty())
-    std::printf("  stereo %s: %.0f pairs, %.1f of %.1f features matched, epipolar distance %.3f px (means)\n",
-                r.stereo_stream.c_str(), pairs, matched / std::max(1.0, pairs),
-                stereo_features / std::max(1.0, pairs), stereo_epipolar / std::max(1.0, pairs));
+  if (!r.stereo_stream.empty()) PrintStereo(r);
   const pipeline::TimingSummary timing = pipeline::SummarizeTimings(ms);
   std::printf("  time per frame: mean %.2f ms, p95 %.2f ms\n", timing.mean, timing.p95);
   if (!r.warnings.empty())

@@ -41,15 +41,10 @@ Expected<std::shared_ptr<const std::vector<std::uint8_t>>> CameraMask(const Came
   std::vector<std::uint8_t> mask(pixels, 1);
   if (IsDistorted(model)) mask = splat::UndistortedCoverage(model, native);
   if (!mask_image.empty()) {
-    Expected<Image> image = ReadImageFile(mask_image);
-    if (!image) return Status::Error("splat.mask_image: " + image.error());
-    if (image->width != native.width || image->height != native.height)
-      return Status::Error("splat.mask_image: " + mask_image + " is " + std::to_string(image->width) + " x " +
-                           std::to_string(image->height) + " px, the camera " + std::to_string(native.width) +
-                           " x " + std::to_string(native.height));
-    const int channels = image->channels;
+    Expected<Image> masked = ReadMaskFile(mask_image, native.width, native.height);
+    if (!masked) return Status::Error("splat.mask_image: " + masked.error());
     for (std::size_t p = 0; p < pixels; ++p)
-      if (image->pixels[p * channels] < 128) mask[p] = 0;  // black (the first channel) masks
+      if (masked->pixels[p] == 0) mask[p] = 0;
   }
   if (std::all_of(mask.begin(), mask.end(), [](std::uint8_t m) { return m != 0; }))
     return std::shared_ptr<const std::vector<std::uint8_t>>();

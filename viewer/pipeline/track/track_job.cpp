@@ -47,21 +47,6 @@ Expected<int> FindStereoCamera(const TrackRequest& request, const DatasetDescrip
   return found;
 }
 
-// Non-zero where features may be: the mask image's black pixels (first channel < 128) are masked.
-Expected<Image> ReadMask(const fs::path& path, const CameraModel& camera) {
-  Expected<Image> image = ReadImageFile(path);
-  if (!image) return Status::Error("--mask: " + image.error());
-  if (image->width != camera.width() || image->height != camera.height())
-    return Status::Error("--mask: " + path.string() +
-                         PrintfText(" is %.0f x %.0f px, the camera %.0f x %.0f", image->width, image->height,
-                                    camera.width(), camera.height()));
-  Image mask{image->width, image->height, 1, {}};
-  mask.pixels.resize(static_cast<std::size_t>(mask.width) * mask.height);
-  for (std::size_t p = 0; p < mask.pixels.size(); ++p)
-    mask.pixels[p] = image->pixels[p * image->channels] < 128 ? 0 : 255;
-  return mask;
-}
-
 void KeepReason(TrackResult& r, const std::string& reason) {
   if (r.undecodable + r.refused <= static_cast<std::int64_t>(kMaxKeptReasons)) r.warnings.push_back(reason);
 }
@@ -101,8 +86,8 @@ Expected<TrackResult> RunTrack(const TrackRequest& request, const TrackProgress&
   const CameraModel& camera = *info.camera_model;
   Image mask;
   if (!request.mask.empty()) {
-    Expected<Image> read = ReadMask(request.mask, camera);
-    if (!read) return read.status();
+    Expected<Image> read = ReadMaskFile(request.mask, camera.width(), camera.height());
+    if (!read) return Status::Error("--mask: " + read.error());
     mask = std::move(*read);
   }
   Expected<estimator::FeatureTracker> tracker =
