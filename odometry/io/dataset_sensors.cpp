@@ -10,10 +10,13 @@ DatasetSensors FindSensors(const DatasetDescription& description) {
     if (kind == SensorKind::kImu && sensors.imu < 0) sensors.imu = static_cast<int>(s);
     if (kind == SensorKind::kWheel && sensors.wheel < 0) sensors.wheel = static_cast<int>(s);
     if (kind == SensorKind::kGnss && sensors.gnss < 0) sensors.gnss = static_cast<int>(s);
+    if (kind == SensorKind::kCamera && sensors.camera < 0 && description.streams[s].camera_model)
+      sensors.camera = static_cast<int>(s);
   }
   if (sensors.lidar >= 0) sensors.T_imu_lidar = ImuFromSensor(description, sensors.lidar);
   if (sensors.wheel >= 0) sensors.T_imu_wheel = ImuFromSensor(description, sensors.wheel);
   if (sensors.gnss >= 0) sensors.T_imu_gnss = ImuFromSensor(description, sensors.gnss);
+  if (sensors.camera >= 0) sensors.T_imu_camera = ImuFromSensor(description, sensors.camera);
   return sensors;
 }
 

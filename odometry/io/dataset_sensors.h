@@ -10,11 +10,11 @@
 
 namespace uf {
 
-// The first LiDAR, IMU, wheel and GNSS streams (-1: none), and the LiDAR's, the wheel's and the GNSS
-// antenna's extrinsics to the IMU (ImuFromSensor).
+// The first LiDAR, IMU, wheel and GNSS streams and the first camera with intrinsics (-1: none), and their
+// extrinsics to the IMU (ImuFromSensor).
 struct DatasetSensors {
-  int lidar = -1, imu = -1, wheel = -1, gnss = -1;
-  std::optional<SE3> T_imu_lidar, T_imu_wheel, T_imu_gnss;
+  int lidar = -1, imu = -1, wheel = -1, gnss = -1, camera = -1;
+  std::optional<SE3> T_imu_lidar, T_imu_wheel, T_imu_gnss, T_imu_camera;
 };
 
 DatasetSensors FindSensors(const DatasetDescription& description);

@@ -41,6 +41,12 @@ Status InertialOdometryConfig::Validate() const {
   if (Status s = wheel.Validate(); !s.ok()) return UnderWio(s);
   if (!T_body_wheel.matrix().allFinite()) return Bad("T_body_wheel", "finite", "non-finite");
   if (!Positive(wheel_max_wait_s)) return Bad("wheel_max_wait_s", "> 0", wheel_max_wait_s);
+  if (!use_wheel && !use_camera) return Bad("use_wheel", "true without the camera", "false");
+  if (use_camera) {
+    if (Status s = visual.Validate(); !s.ok()) return UnderWio(s);
+    if (!camera) return Bad("camera", "a camera model with use_camera", "none");
+    if (!T_body_camera.matrix().allFinite()) return Bad("T_body_camera", "finite", "non-finite");
+  }
   if (!use_gnss) return {};
   if (Status s = gnss.Validate(); !s.ok()) return UnderWio(s);
   if (!T_body_gnss.matrix().allFinite()) return Bad("T_body_gnss", "finite", "non-finite");

@@ -4,11 +4,15 @@
 // <value>"; the nested parts "wio.imu.", "wio.init.", "wio.wheel.", "wio.marginalization.").
 #pragma once
 
+#include <memory>
+
 #include "odometry/estimator/config/gnss_factor_config.h"
 #include "odometry/estimator/config/imu_noise_params.h"
 #include "odometry/estimator/config/inertial_init_config.h"
 #include "odometry/estimator/config/marginalization_config.h"
+#include "odometry/estimator/config/visual_factor_config.h"
 #include "odometry/estimator/config/wheel_factor_config.h"
+#include "odometry/types/camera_model.h"
 #include "odometry/types/se3.h"
 #include "odometry/types/status.h"
 
@@ -42,6 +46,8 @@ struct InertialOdometryConfig {
   double imu_max_gap_s = 0.05;  // a longer step between IMU samples is a gap: the window restarts after it
   double max_speed_mps = 80;    // a faster state is divergence: logged re-initialization
 
+  // Wheel odometry factors (WIO, VWIO); false: none (VIO), and the nodes wait for the IMU alone.
+  bool use_wheel = true;
   WheelFactorConfig wheel;
   SE3 T_body_wheel;  // the wheel (base) frame in the body (IMU) frame, from the calibration
   // A node the IMU covers waits this long (IMU time) for the wheel to cover it too; then it is added with
@@ -53,6 +59,14 @@ struct InertialOdometryConfig {
   bool use_gnss = false;
   GnssFactorConfig gnss;
   SE3 T_body_gnss;  // the antenna in the body (IMU) frame; its translation is the lever arm
+
+  // Camera factors (VIO, VWIO; providers/visual_provider.h): a node at every frame (its stamp + t_d)
+  // instead of the grid, and reprojection factors between them. Needs the tracked camera's model and its
+  // pose in the body (IMU) frame. Without the wheel the initialization is static only.
+  bool use_camera = false;
+  VisualFactorConfig visual;
+  std::shared_ptr<const CameraModel> camera;
+  SE3 T_body_camera;
 
   Status Validate() const;
 };

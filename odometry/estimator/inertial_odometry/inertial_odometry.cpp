@@ -8,22 +8,35 @@
 
 namespace uf::estimator {
 
-// Nodes on the grid of IMU time: each once the IMU covers it and the wheel does too, or once the IMU is
-// wheel_max_wait_s past it (the wheel stalled), or at the end of the data (flush). The grid starts where
-// both streams have begun, so that both cover its first node.
+// Nodes on the grid of IMU time (with the camera: at the frames' node stamps), each once the IMU covers it
+// and the wheel does too, or once the IMU is wheel_max_wait_s past it (the wheel stalled), or at the end of
+// the data (flush). The nodes start where the streams have begun, so that they cover the first node.
 void InertialOdometry::Impl::ProcessReady(bool flush) {
   if (!next_stamp) {
-    if (imu.empty() || wheel.CoveredUntil() == std::numeric_limits<Stamp>::min()) return;
-    next_stamp = std::max(imu.CoveredUntil(), wheel.CoveredUntil());
+    const bool wheel_started = wheel.CoveredUntil() != std::numeric_limits<Stamp>::min();
+    if (imu.empty() || (config.use_wheel && !wheel_started)) return;
+    next_stamp = config.use_wheel ? std::max(imu.CoveredUntil(), wheel.CoveredUntil()) : imu.CoveredUntil();
   }
-  while (imu.CoveredUntil() >= *next_stamp) {
-    const Stamp stamp = *next_stamp;
-    const bool wheel_covers = wheel.CoveredUntil() >= stamp;
-    const bool stalled = imu.CoveredUntil() - stamp > FromSeconds(config.wheel_max_wait_s);
-    if (!wheel_covers && !stalled && !flush) return;
-    *next_stamp += FromSeconds(config.node_interval_s);
-    AddNodeAt(stamp);
+  for (std::optional<Stamp> stamp = NextNodeStamp(); stamp && imu.CoveredUntil() >= *stamp;
+       stamp = NextNodeStamp()) {
+    if (config.use_wheel) {
+      const bool wheel_covers = wheel.CoveredUntil() >= *stamp;
+      const bool stalled = imu.CoveredUntil() - *stamp > FromSeconds(config.wheel_max_wait_s);
+      if (!wheel_covers && !stalled && !flush) return;
+    }
+    next_stamp = visual ? *stamp + 1 : *stamp + FromSeconds(config.node_interval_s);
+    AddNodeAt(*stamp);
   }
+}
+
+std::optional<Stamp> InertialOdometry::Impl::NextNodeStamp() const {
+  if (!visual) return next_stamp;
+  return visual->NextNodeStamp(*next_stamp - 1);
+}
+
+void InertialOdometry::Impl::AttachProviders() {
+  wheel.Attach(graph);
+  if (visual) visual->Attach(graph);
 }
 
 // One node, as the method reads: before initialization it only waits in the initialization window; then
@@ -64,7 +77,7 @@ void InertialOdometry::Impl::AddNodeAt(Stamp stamp) {
 // again; then the oldest nodes leave while the window is over its size.
 void InertialOdometry::Impl::SolveAndSlide(InertialOdometryStats& stats) {
   const SavedStates saved = Save(nodes);
-  if (!Solve(&stats.iterations)) {
+  if (!Solve(&stats.iterations, &stats.outliers)) {
     Restore(saved, nodes);
     warnings.push_back("WIO solve at " + StampText(nodes.back().stamp) + " failed; kept the prediction");
   }
@@ -75,6 +88,10 @@ void InertialOdometry::Impl::SolveAndSlide(InertialOdometryStats& stats) {
     return;
   }
   while (static_cast<int>(nodes.size()) > config.window_size) MarginalizeOldest(&stats.marginalize_ms);
+  if (visual) {
+    stats.landmarks = visual->landmarks_in_graph();
+    stats.reprojection_px = visual->mean_reprojection_px();
+  }
 }
 
 // Drops the IMU and wheel samples that neither the window nor a waiting initialization needs.
@@ -86,6 +103,7 @@ void InertialOdometry::Impl::TrimStreams() {
   if (oldest == std::numeric_limits<Stamp>::max()) return;
   imu.Trim(oldest);
   wheel.Trim(oldest);
+  if (visual) visual->Trim(oldest);
 }
 
 InertialOdometry::InertialOdometry(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
@@ -95,7 +113,14 @@ InertialOdometry::~InertialOdometry() = default;
 
 Expected<InertialOdometry> InertialOdometry::Create(const InertialOdometryConfig& config) {
   if (Status status = config.Validate(); !status.ok()) return status;
-  return InertialOdometry(std::make_unique<Impl>(config));
+  std::unique_ptr<VisualProvider> visual;
+  if (config.use_camera) {
+    Expected<std::unique_ptr<VisualProvider>> made =
+        VisualProvider::Create(config.visual, *config.camera, config.T_body_camera);
+    if (!made) return Status::Error("wio.visual: " + made.status().message());
+    visual = std::move(*made);
+  }
+  return InertialOdometry(std::make_unique<Impl>(config, std::move(visual)));
 }
 
 Status InertialOdometry::AddImu(const ImuSample& sample) {
@@ -114,6 +139,24 @@ Status InertialOdometry::AddWheel(const WheelSample& sample) {
   }
   impl_->ProcessReady(/*flush=*/false);
   return {};
+}
+
+Status InertialOdometry::AddCameraFrame(const CameraFrame& frame) {
+  if (!impl_->visual) return {};
+  Expected<FrameTrackStats> stats = impl_->visual->AddFrame(frame.stamp, frame.image);
+  if (!stats) {
+    impl_->warnings.push_back(stats.status().message() + "; frame skipped");
+    return {};
+  }
+  impl_->tracked_frames.push_back(std::move(*stats));
+  impl_->ProcessReady(/*flush=*/false);
+  return {};
+}
+
+std::vector<FrameTrackStats> InertialOdometry::TakeTrackStats() {
+  std::vector<FrameTrackStats> out = std::move(impl_->tracked_frames);
+  impl_->tracked_frames.clear();
+  return out;
 }
 
 std::vector<Keyframe> InertialOdometry::TakeFinished() {
@@ -150,6 +193,7 @@ SensorFactorStats InertialOdometry::sensor_factors() const {
   SensorFactorStats stats;
   impl_->wheel.Report(stats);
   if (impl_->gnss) impl_->gnss->Report(stats);
+  if (impl_->visual) impl_->visual->Report(stats);
   return stats;
 }
 

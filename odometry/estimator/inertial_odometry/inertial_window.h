@@ -5,7 +5,8 @@
 //
 // LinkNode(id) links each new node to the one before it (IMU, wheel) before the solve that follows; the GNSS
 // provider (WGIO) links the fixes the nodes cover before each solve (Solve in window_solve.cpp), through
-// NodeViews(nodes) (state/window_node.h).
+// NodeViews(nodes) (state/window_node.h); the visual provider (VIO, VWIO) observes each node's frame when
+// it is pushed, and links its landmarks before each solve.
 #pragma once
 
 #include <deque>
@@ -18,6 +19,7 @@
 #include "odometry/estimator/init/inertial_alignment.h"
 #include "odometry/estimator/preintegration/imu_buffer.h"
 #include "odometry/estimator/providers/gnss_provider.h"
+#include "odometry/estimator/providers/visual_provider.h"
 #include "odometry/estimator/providers/wheel_provider.h"
 #include "odometry/estimator/state/window_node.h"
 #include "odometry/estimator/window/factor_graph.h"
@@ -25,9 +27,9 @@
 namespace uf::estimator {
 
 struct InertialOdometry::Impl {
-  explicit Impl(const InertialOdometryConfig& c)
-      : config(c), imu(c.imu, c.imu_max_gap_s), wheel(c.wheel, c.T_body_wheel) {
-    wheel.Attach(graph);
+  Impl(const InertialOdometryConfig& c, std::unique_ptr<VisualProvider> camera)
+      : config(c), imu(c.imu, c.imu_max_gap_s), wheel(c.wheel, c.T_body_wheel), visual(std::move(camera)) {
+    AttachProviders();
     if (config.use_gnss) gnss = std::make_unique<GnssProvider>(config.gnss, config.T_body_gnss.translation());
   }
 
@@ -35,10 +37,13 @@ struct InertialOdometry::Impl {
   FactorGraph graph;
   ImuBuffer imu;
   WheelProvider wheel;
-  std::unique_ptr<GnssProvider> gnss;  // WGIO
+  std::unique_ptr<GnssProvider> gnss;      // WGIO
+  std::unique_ptr<VisualProvider> visual;  // VIO, VWIO
   std::deque<WindowNode> nodes;        // ids first_node_id ...; the factors ending at node id carry tag id
   long first_node_id = 0;
-  std::optional<Stamp> next_stamp;     // the grid's next node, once both streams have begun
+  // The grid's next node (with the camera: the earliest stamp a frame's node may have), once the streams
+  // have begun.
+  std::optional<Stamp> next_stamp;
   std::vector<Stamp> init_stamps;      // before initialization: the waiting nodes
   SE3 restart_pose;                    // T_world_imu where the next initialization starts ...
   std::optional<Stamp> restart_stamp;  // ... and when (none at the very start: the first node's)
@@ -47,9 +52,12 @@ struct InertialOdometry::Impl {
   std::vector<Keyframe> finished;
   std::vector<std::string> warnings;
   std::vector<InertialOdometryStats> processed;
+  std::vector<FrameTrackStats> tracked_frames;  // the front end's, per frame since the last take
 
   // Flow (inertial_odometry.cpp).
   void ProcessReady(bool flush);
+  std::optional<Stamp> NextNodeStamp() const;
+  void AttachProviders();
   void AddNodeAt(Stamp stamp);
   void SolveAndSlide(InertialOdometryStats& stats);
   void TrimStreams();
@@ -68,7 +76,7 @@ struct InertialOdometry::Impl {
   long PushNode(const WindowNode& node);
   void LinkNode(long id, ImuPreintegration imu_preintegration);
   void AddGaugePrior();
-  bool Solve(int* iterations);
+  bool Solve(int* iterations, int* outliers);
   void MarginalizeOldest(double* ms);
   void ReleaseOldest();
 };

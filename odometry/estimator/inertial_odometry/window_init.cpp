@@ -16,7 +16,7 @@ void InertialOdometry::Impl::TryInitialize() {
   Status failure = poses ? Status() : poses.status();
   if (poses) {
     Expected<InertialAlignment> alignment =
-        AlignStaticOrMoving(imu, init_stamps, *poses, config.init, config.imu.gravity);
+        AlignStaticOrMoving(imu, init_stamps, *poses, config.init, config.imu.gravity, config.use_wheel);
     failure = alignment ? Start(*alignment, *poses) : alignment.status();
     if (failure.ok()) {
       std::ostringstream summary;
@@ -36,11 +36,13 @@ void InertialOdometry::Impl::TryInitialize() {
   TrimStreams();
 }
 
-// Poses T_lo_imu of the IMU at `stamps` from the wheel alone: T_lo_imu(t_k+1) = T_lo_imu(t_k) T_body_wheel
+// Poses T_lo_imu of the IMU at `stamps` from the wheel alone (without the wheel: all at restart_pose, which
+// only the static alignment accepts): T_lo_imu(t_k+1) = T_lo_imu(t_k) T_body_wheel
 // dT_wheel T_body_wheel^-1 (WheelProvider::Motion), starting at restart_pose, carried from restart_stamp to
 // the first stamp when the wheel covers that (after an IMU gap: the position continues across it).
 Expected<std::vector<SE3>> InertialOdometry::Impl::DeadReckon(const std::vector<Stamp>& stamps) const {
   SE3 pose = restart_pose;
+  if (!config.use_wheel) return std::vector<SE3>(stamps.size(), pose);
   if (restart_stamp)
     if (Expected<SE3> across = wheel.Motion(*restart_stamp, stamps.front())) pose = pose * *across;
   std::vector<SE3> poses = {pose};
@@ -122,7 +124,8 @@ void InertialOdometry::Impl::Restart(bool keep_window) {
   nodes.clear();
   first_node_id = 0;
   graph.Clear();
-  wheel.Attach(graph);
+  if (visual) visual->Reset();
+  AttachProviders();
   if (gnss) gnss->Reset();
   inertial = false;
   init_stamps.clear();

@@ -22,6 +22,7 @@ long InertialOdometry::Impl::PushNode(const WindowNode& node) {
   nodes.push_back(node);
   graph.AddPoseBlock(nodes.back().pose.data());
   graph.AddEuclideanBlock(nodes.back().speed_bias.data(), kSpeedBiasSize);
+  if (visual) visual->Observe(LastNodeId(), node.stamp);
   return LastNodeId();
 }
 
@@ -31,6 +32,7 @@ void InertialOdometry::Impl::LinkNode(long id, ImuPreintegration imu_preintegrat
   WindowNode &from = NodeAt(id - 1), &to = NodeAt(id);
   graph.Add(FactorKind::kImu, id, std::make_unique<ImuFactor>(std::move(imu_preintegration)), nullptr,
             {from.pose.data(), from.speed_bias.data(), to.pose.data(), to.speed_bias.data()});
+  if (!config.use_wheel) return;
   if (Status s = wheel.Link(graph, id, from.pose.data(), to.pose.data(), from.stamp, to.stamp); !s.ok())
     warnings.push_back("wheel factor at " + StampText(to.stamp) + " skipped: " + s.message());
 }
@@ -43,20 +45,25 @@ void InertialOdometry::Impl::AddGaugePrior() {
             {nodes.front().pose.data()}, /*anchors=*/true);
 }
 
-// One dense Levenberg-Marquardt solve of every node and the wheel scale. The IMU factors whose start
-// node's biases moved beyond the first-order range integrate again at them first.
-bool InertialOdometry::Impl::Solve(int* iterations) {
+// One dense Levenberg-Marquardt solve of every node, the wheel scale and (with the camera) the landmarks'
+// inverse depths and t_d. The IMU factors whose start node's biases moved beyond the first-order range
+// integrate again at them first; the camera's new landmarks and observations are linked first and its
+// outliers dropped after.
+bool InertialOdometry::Impl::Solve(int* iterations, int* outliers) {
   for (Factor& factor : graph.Entries(FactorKind::kImu)) {
     const NavState from = NodeNavState(NodeAt(factor.tag - 1));
     static_cast<ImuFactor*>(factor.cost.get())->Relinearize(from.accel_bias, from.gyro_bias);
   }
   if (gnss && inertial) gnss->Link(graph, NodeViews(nodes), warnings);
+  const PoseBlockOf pose_of = [this](long id) { return NodeAt(id).pose.data(); };
+  if (visual) visual->Link(graph, pose_of);
   WindowSolveRequest request;
   for (const NodeView& node : NodeViews(nodes)) {
     request.free.push_back(node.pose);
     request.free.push_back(node.speed_bias);
   }
-  if (wheel.scale_free()) request.free.push_back(wheel.scale_block());
+  if (config.use_wheel && wheel.scale_free()) request.free.push_back(wheel.scale_block());
+  if (visual) visual->AppendFreeBlocks(request.free);
   if (gnss && gnss->aligned()) request.free.push_back(gnss->alignment_block());
   request.use_prior = graph.prior() != nullptr;
   request.solver = WindowSolver::kDense;
@@ -64,21 +71,26 @@ bool InertialOdometry::Impl::Solve(int* iterations) {
   request.max_time_s = config.max_solver_time_s;
   const WindowSolveResult result = graph.Solve(request);
   *iterations += result.iterations;
+  if (visual && result.usable) *outliers += visual->DropOutliers(graph);
   return result.usable;
 }
 
-// The oldest node leaves: its factors (and the gauge prior or the previous prior) fold into the
-// marginalization prior, or are dropped with marginalize off; it becomes a keyframe. Without a prior
-// afterwards (marginalize off, or a failed marginalization) the new oldest node takes the gauge prior.
+// The oldest node leaves: its factors (and the gauge prior or the previous prior), and with the camera the
+// landmarks anchored in it, fold into the marginalization prior, or are dropped with marginalize off; it
+// becomes a keyframe. Without a prior afterwards (marginalize off, or a failed marginalization) the new
+// oldest node takes the gauge prior.
 void InertialOdometry::Impl::MarginalizeOldest(double* ms) {
   const auto start = std::chrono::steady_clock::now();
-  const std::vector<double*> leaving = {nodes.front().pose.data(), nodes.front().speed_bias.data()};
+  std::vector<double*> leaving = {nodes.front().pose.data(), nodes.front().speed_bias.data()};
+  if (visual)
+    for (double* inverse_depth : visual->AnchoredBlocks(first_node_id)) leaving.push_back(inverse_depth);
   if (!config.marginalize) {
     graph.RemoveBlocks(leaving);
   } else if (Status s = graph.Marginalize(leaving, config.marginalization); !s.ok()) {
     warnings.push_back("marginalization at " + StampText(nodes.front().stamp) +
                        " failed, prior dropped: " + s.message());
   }
+  if (visual) visual->ForgetNode(first_node_id);
   ReleaseOldest();
   if (!graph.prior()) AddGaugePrior();
   TrimStreams();

@@ -123,12 +123,16 @@ Expected<InertialAlignment> LidarAidedAlignment(std::span<const SE3> poses,
 
 Expected<InertialAlignment> AlignStaticOrMoving(const ImuBuffer& imu, std::span<const Stamp> stamps,
                                                 std::span<const SE3> poses, const InertialInitConfig& config,
-                                                double gravity) {
+                                                double gravity, bool allow_moving) {
   const std::vector<ImuSample> samples = imu.Between(stamps.front(), stamps.back());
   const InitIndicators indicators = ComputeInitIndicators(samples, stamps, poses, 0.0, gravity);
   Expected<InertialAlignment> alignment = StaticAlignment(indicators, poses, config, gravity);
   if (alignment) return alignment;
   const std::string static_failure = alignment.status().message();
+  if (!allow_moving)
+    return Status::Error(static_failure +
+                         "; no moving start without the wheel's poses (the visual-inertial alignment is not "
+                         "built yet)");
   std::vector<ImuPreintegration> preintegrations;
   for (std::size_t k = 1; k < stamps.size(); ++k) {
     Expected<ImuPreintegration> pre = imu.Preintegrate(stamps[k - 1], stamps[k], nullptr);

@@ -71,11 +71,11 @@ Expected<InertialAlignment> LidarAidedAlignment(std::span<const SE3> poses,
                                                 std::vector<ImuPreintegration> preintegrations,
                                                 const InertialInitConfig& config);
 
-// WIO: S, else the linear moving alignment, over the nodes at `stamps` with the poses T_lo_imu from another
-// sensor (LiDAR odometry, wheel dead reckoning) and the IMU samples of `imu` (preintegrated between the nodes
-// for M). Fails with the reasons of both (the caller retries with a later window).
+// WIO: S, else (allow_moving) the linear moving alignment, over the nodes at `stamps` with the poses T_lo_imu
+// from another sensor (LiDAR odometry, wheel dead reckoning) and the IMU samples of `imu` (preintegrated
+// between the nodes for M). Fails with the reasons of both (the caller retries with a later window).
 Expected<InertialAlignment> AlignStaticOrMoving(const ImuBuffer& imu, std::span<const Stamp> stamps,
                                                 std::span<const SE3> poses, const InertialInitConfig& config,
-                                                double gravity);
+                                                double gravity, bool allow_moving = true);
 
 }  // namespace uf::estimator

@@ -23,7 +23,12 @@ struct SensorFactorStats {
     int tested = 0;
     double horizontal_median_m = 0, horizontal_p95_m = 0, mean_d2 = 0;
   } gnss_innovations;
-  std::string gnss_alignment;  // how the world -> ENU alignment started, or why not yet ("" without GNSS)
+  std::string gnss_alignment;
+  // Camera (VIO): reprojection factors added, landmarks that did not triangulate (skipped), landmarks
+  // dropped as outliers (rejected); the camera time offset t_d at the end (camera stamp + t_d = IMU time).
+  FactorCount visual;
+  double camera_time_offset_s =
+      0;  // how the world -> ENU alignment started, or why not yet ("" without GNSS)
 };
 
 }  // namespace uf::estimator

@@ -32,6 +32,8 @@ const char* FactorKindName(FactorKind kind) {
       return "gnss";
     case FactorKind::kLidar:
       return "lidar";
+    case FactorKind::kVisual:
+      return "visual";
     case FactorKind::kStatePrior:
       return "state_prior";
   }

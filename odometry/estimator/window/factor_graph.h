@@ -30,8 +30,8 @@
 namespace uf::estimator {
 
 // Solve order. Adding a kind: one line here and its name in factor_graph.cpp.
-enum class FactorKind { kMotionPrior, kImu, kWheel, kGnss, kLidar, kStatePrior };
-constexpr int kFactorKinds = 6;
+enum class FactorKind { kMotionPrior, kImu, kWheel, kGnss, kLidar, kVisual, kStatePrior };
+constexpr int kFactorKinds = 7;
 const char* FactorKindName(FactorKind kind);
 
 struct Factor {

@@ -255,7 +255,8 @@ inline void ExpectSameLio(const estimator::LidarOdometryConfig& a, const estimat
   ExpectSameInertialParts(a, b);
 }
 
-// The keys of wio: (not T_body_wheel, T_body_gnss, use_gnss and marginalization, which have none).
+// The keys of wio: (not T_body_wheel, T_body_gnss, T_body_camera, camera, use_wheel, use_camera, use_gnss and
+// marginalization, which have none).
 inline void ExpectSameWio(const estimator::InertialOdometryConfig& a,
                           const estimator::InertialOdometryConfig& b) {
   EXPECT_FIELD(node_interval_s);
@@ -270,6 +271,28 @@ inline void ExpectSameWio(const estimator::InertialOdometryConfig& a,
   EXPECT_FIELD(max_speed_mps);
   EXPECT_FIELD(wheel_max_wait_s);
   ExpectSameInertialParts(a, b);
+  EXPECT_FIELD(visual.pixel_sigma_px);
+  EXPECT_FIELD(visual.huber_sigmas);
+  EXPECT_FIELD(visual.min_parallax_deg);
+  EXPECT_FIELD(visual.min_depth_m);
+  EXPECT_FIELD(visual.max_depth_m);
+  EXPECT_FIELD(visual.max_reprojection_px);
+  EXPECT_FIELD(visual.time_offset_s);
+  EXPECT_FIELD(visual.estimate_time_offset);
+  EXPECT_FIELD(visual.time_offset_sigma_s);
+  EXPECT_FIELD(visual.tracker.max_features);
+  EXPECT_FIELD(visual.tracker.min_distance_px);
+  EXPECT_FIELD(visual.tracker.quality_level);
+  EXPECT_FIELD(visual.tracker.klt_window_px);
+  EXPECT_FIELD(visual.tracker.klt_pyramid_levels);
+  EXPECT_FIELD(visual.tracker.max_fb_error_px);
+  EXPECT_FIELD(visual.tracker.ransac_threshold_px);
+  EXPECT_FIELD(visual.tracker.ransac_confidence);
+  EXPECT_FIELD(visual.tracker.min_track_length);
+  EXPECT_FIELD(visual.tracker.keyframe_parallax_px);
+  EXPECT_FIELD(visual.tracker.grid_cells);
+  EXPECT_FIELD(visual.tracker.min_contrast_dn);
+  EXPECT_FIELD(visual.tracker.normalize_exposure);
 }
 
 inline void ExpectSameSplat(const SplatConfig& a, const SplatConfig& b) {

@@ -9,12 +9,11 @@
 #include <functional>
 
 #include "odometry/estimator/inertial_odometry/inertial_odometry.h"
-#include "odometry/eval/evaluation.h"
 #include "odometry/io/dataset_reader.h"
 #include "odometry/io/for_each_measurement.h"
-#include "odometry/io/trajectory_file.h"
 #include "odometry/sim/sequence/sequence_generator.h"
 #include "tests/support/temp_dir.h"
+#include "tests/unit/estimator/window_truth_support.h"
 
 namespace uf::estimator {
 namespace {
@@ -77,25 +76,14 @@ WioRun RunWio(
   run.warnings = wio->warnings();
   run.initialization = wio->initialization();
   run.factors = wio->sensor_factors();
-  auto truth = ReadTrajectory((folder / "groundtruth.tum").string());
-  EXPECT_TRUE(truth.ok());
-  run.truth = *truth;
-  EvalOptions options;
-  options.kitti_drift = true;
-  auto result = Evaluate(*truth, run.estimate, options);
-  EXPECT_TRUE(result.ok()) << result.error();
-  if (result.ok()) {
-    run.ate_m = result->ape.rmse;
-    run.drift = result->kitti_drift.value_or(KittiDrift{});
-  }
+  const testing::TruthFigures figures = testing::AgainstTruth(folder, run.estimate);
+  run.truth = figures.truth;
+  run.ate_m = figures.ate_m;
+  run.drift = figures.drift;
   return run;
 }
 
-std::string Joined(const std::vector<std::string>& lines) {
-  std::string text;
-  for (const std::string& line : lines) text += line + "\n";
-  return text;
-}
+using testing::Joined;
 
 // The truth's velocity at each keyframe (central difference over +-5 ms of the 200 Hz ground truth) against
 // the estimate's, rotated by the yaw of the SE3 alignment of the first keyframe: RMS of the difference.

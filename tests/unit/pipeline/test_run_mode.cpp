@@ -77,13 +77,16 @@ TEST(RunMode, WithoutALidarAutoRunsTheWheelInertialWindow) {
   EXPECT_EQ(*ChooseMode(std::nullopt, husky.description, husky.sensors, notes),
             (EstimatorMode{OdometryMode::kWio, true, true}));
   ASSERT_EQ(notes.size(), 1u);
-  EXPECT_NE(notes[0].find("ran wgio (no LiDAR stream)"), std::string::npos) << notes[0];
+  EXPECT_NE(notes[0].find("ran wgio (no LiDAR stream, no camera stream with intrinsics)"), std::string::npos)
+      << notes[0];
 
   notes.clear();
   const Dataset no_gnss({Stream("imu", SensorKind::kImu), Stream("odom", SensorKind::kWheel)});
   EXPECT_EQ(*ChooseMode(std::nullopt, no_gnss.description, no_gnss.sensors, notes),
             (EstimatorMode{OdometryMode::kWio, true, false}));
-  EXPECT_NE(notes[0].find("ran wio (no LiDAR stream, no GNSS stream)"), std::string::npos) << notes[0];
+  EXPECT_NE(notes[0].find("ran wio (no LiDAR stream, no camera stream with intrinsics, no GNSS stream)"),
+            std::string::npos)
+      << notes[0];
 
   // The wheel's extrinsic is needed; the LiDAR modes are named as what does not run either.
   const Dataset no_extrinsic({Stream("imu", SensorKind::kImu), Stream("odom", SensorKind::kWheel, false)});
@@ -92,13 +95,53 @@ TEST(RunMode, WithoutALidarAutoRunsTheWheelInertialWindow) {
   ASSERT_FALSE(none.ok());
   EXPECT_NE(
       none.error().find("data: no LiDAR stream (for lo and lio) and no wheel-to-IMU transform (T_body_sensor "
-                        "of odom) (for wio)"),
+                        "of odom) (for wio), no camera stream with intrinsics (for vio)"),
       std::string::npos)
       << none.error();
   const Expected<EstimatorMode> lio =
       ChooseMode(EstimatorMode{OdometryMode::kLio, false, false}, husky.description, husky.sensors, notes);
   ASSERT_FALSE(lio.ok());
   EXPECT_NE(lio.error().find("--mode lio: data has no LiDAR stream"), std::string::npos) << lio.error();
+}
+
+// A camera stream with intrinsics (a pinhole 640 x 480).
+StreamInfo Camera(std::string name, bool extrinsic = true) {
+  StreamInfo stream = Stream(std::move(name), SensorKind::kCamera, extrinsic);
+  stream.camera_model =
+      std::make_shared<PinholeRadtan>(PinholeRadtanIntrinsics{{640, 480, 400, 400, 319.5, 239.5}});
+  return stream;
+}
+
+TEST(RunMode, WithoutALidarAutoAddsTheCamera) {
+  std::vector<std::string> notes;
+  const Dataset euroc({Stream("imu0", SensorKind::kImu), Camera("cam0")});
+  EXPECT_EQ(*ChooseMode(std::nullopt, euroc.description, euroc.sensors, notes),
+            (EstimatorMode{OdometryMode::kWio, false, false, true}));
+  ASSERT_EQ(notes.size(), 1u);
+  EXPECT_NE(notes[0].find("ran vio (no LiDAR stream, no wheel odometry stream, no GNSS stream)"),
+            std::string::npos)
+      << notes[0];
+  notes.clear();
+  const Dataset all({Stream("imu", SensorKind::kImu), Stream("odom", SensorKind::kWheel), Camera("cam"),
+                     Stream("fix", SensorKind::kGnss)});
+  EXPECT_EQ(*ChooseMode(std::nullopt, all.description, all.sensors, notes),
+            (EstimatorMode{OdometryMode::kWio, true, true, true}));
+  EXPECT_EQ(ModeName(*ChooseMode(std::nullopt, all.description, all.sensors, notes)), "vwgio");
+  // A camera without its extrinsic, or without intrinsics, is no camera for the estimator.
+  const Dataset no_extrinsic({Stream("imu", SensorKind::kImu), Camera("cam", false)});
+  const Expected<EstimatorMode> vio =
+      ChooseMode(**ParseMode("vio"), no_extrinsic.description, no_extrinsic.sensors, notes);
+  ASSERT_FALSE(vio.ok());
+  EXPECT_NE(vio.error().find("--mode vio: data has no camera-to-IMU transform (T_body_sensor of cam)"),
+            std::string::npos)
+      << vio.error();
+  const Dataset no_intrinsics({Stream("imu", SensorKind::kImu), Stream("cam", SensorKind::kCamera)});
+  const Expected<EstimatorMode> vwio =
+      ChooseMode(**ParseMode("vwio"), no_intrinsics.description, no_intrinsics.sensors, notes);
+  ASSERT_FALSE(vwio.ok());
+  EXPECT_NE(vwio.error().find("no wheel odometry stream, no camera stream with intrinsics"),
+            std::string::npos)
+      << vwio.error();
 }
 
 TEST(RunMode, AnExplicitModeNamesWhatIsMissing) {

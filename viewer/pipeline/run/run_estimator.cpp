@@ -6,8 +6,8 @@
 namespace uf::pipeline {
 namespace {
 
-// One RunEstimator over either window: their interfaces agree but for the scans (WIO reads none) and the
-// type of their per-step statistics.
+// One RunEstimator over either window: their interfaces agree but for the scans (WIO reads none), the
+// camera (the LiDAR window reads none) and the type of their per-step statistics.
 template <typename Odometry>
 class WindowEstimator final : public RunEstimator {
  public:
@@ -23,6 +23,18 @@ class WindowEstimator final : public RunEstimator {
   Status AddImu(const ImuSample& sample) override { return odometry_.AddImu(sample); }
   Status AddWheel(const WheelSample& sample) override { return odometry_.AddWheel(sample); }
   Status AddGnss(const GnssFix& fix) override { return odometry_.AddGnss(fix); }
+  Status AddCameraFrame(const CameraFrame& frame) override {
+    if constexpr (requires(Odometry & o) { o.AddCameraFrame(frame); })
+      return odometry_.AddCameraFrame(frame);
+    else
+      return {};
+  }
+  std::vector<estimator::FrameTrackStats> TakeTrackStats() override {
+    if constexpr (requires(Odometry & o) { o.TakeTrackStats(); })
+      return odometry_.TakeTrackStats();
+    else
+      return {};
+  }
   std::vector<Keyframe> TakeFinished() override { return odometry_.TakeFinished(); }
   std::vector<StepTime> TakeStepTimes() override {
     std::vector<StepTime> times;

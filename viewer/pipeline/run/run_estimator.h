@@ -13,6 +13,7 @@
 #include "odometry/estimator/config/lidar_odometry_config.h"
 #include "odometry/estimator/lidar_odometry/track_event.h"
 #include "odometry/estimator/providers/sensor_factor_stats.h"
+#include "odometry/estimator/visual/feature_tracker.h"
 #include "odometry/types/georeference.h"
 #include "odometry/types/keyframe.h"
 #include "odometry/types/measurements.h"
@@ -37,6 +38,10 @@ class RunEstimator {
   virtual Status AddImu(const ImuSample& sample) = 0;
   virtual Status AddWheel(const WheelSample& sample) = 0;
   virtual Status AddGnss(const GnssFix& fix) = 0;
+  // A decoded frame of the tracked camera (the inertial window with the camera; ignored otherwise).
+  virtual Status AddCameraFrame(const CameraFrame& frame) = 0;
+  // The visual front end's statistics per frame since the last call (none without the camera).
+  virtual std::vector<estimator::FrameTrackStats> TakeTrackStats() = 0;
   // The keyframes that left the window since the last call (the LiDAR window's carry the deskewed scan).
   virtual std::vector<Keyframe> TakeFinished() = 0;
   // The steps processed since the last call.
@@ -56,7 +61,8 @@ class RunEstimator {
   virtual std::string step() const = 0;                          // "scan" or "node"
 };
 
-// The window of `mode`'s core: LidarOdometry with `lo` for LO and LIO, InertialOdometry with `wio` for WIO.
+// The window of `mode`'s core: LidarOdometry with `lo` for LO and LIO, InertialOdometry with `wio` for the
+// inertial window (wio, vio and their variants).
 // Errors: the configuration's (Validate of the window's config).
 Expected<std::unique_ptr<RunEstimator>> CreateRunEstimator(const EstimatorMode& mode,
                                                            const estimator::LidarOdometryConfig& lo,

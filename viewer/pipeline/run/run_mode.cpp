@@ -8,10 +8,18 @@ namespace {
 
 // The modes that run.
 constexpr std::array kModes = {
-    EstimatorMode{OdometryMode::kLo, false, false}, EstimatorMode{OdometryMode::kLio, false, false},
-    EstimatorMode{OdometryMode::kLio, true, false}, EstimatorMode{OdometryMode::kLo, true, false},
-    EstimatorMode{OdometryMode::kLio, false, true}, EstimatorMode{OdometryMode::kLio, true, true},
-    EstimatorMode{OdometryMode::kWio, true, false}, EstimatorMode{OdometryMode::kWio, true, true},
+    EstimatorMode{OdometryMode::kLo, false, false},
+    EstimatorMode{OdometryMode::kLio, false, false},
+    EstimatorMode{OdometryMode::kLio, true, false},
+    EstimatorMode{OdometryMode::kLo, true, false},
+    EstimatorMode{OdometryMode::kLio, false, true},
+    EstimatorMode{OdometryMode::kLio, true, true},
+    EstimatorMode{OdometryMode::kWio, true, false},
+    EstimatorMode{OdometryMode::kWio, true, true},
+    EstimatorMode{OdometryMode::kWio, false, false, true},
+    EstimatorMode{OdometryMode::kWio, true, false, true},
+    EstimatorMode{OdometryMode::kWio, false, true, true},
+    EstimatorMode{OdometryMode::kWio, true, true, true},
 };
 
 std::string Joined(const std::vector<std::string>& parts) {
@@ -39,6 +47,11 @@ std::string MissingFor(const EstimatorMode& mode, const DatasetDescription& desc
   else if (mode.wheel && mode.core == OdometryMode::kLo && !sensors.T_imu_lidar)
     missing.push_back("no wheel-to-LiDAR transform (the LiDAR's T_body_sensor)");
   if (mode.gnss && sensors.gnss < 0) missing.push_back("no GNSS stream");
+  if (mode.camera && sensors.camera < 0)
+    missing.push_back("no camera stream with intrinsics");
+  else if (mode.camera && !sensors.T_imu_camera)
+    missing.push_back("no camera-to-IMU transform (T_body_sensor of " +
+                      description.streams[sensors.camera].name + ")");
   return Joined(missing);
 }
 
@@ -52,7 +65,8 @@ std::string StreamList(const DatasetDescription& description) {
 }
 
 std::string ModeName(const EstimatorMode& mode) {
-  if (mode.core == OdometryMode::kWio) return mode.gnss ? "wgio" : "wio";
+  if (mode.core == OdometryMode::kWio)
+    return std::string(mode.camera ? "v" : "") + (mode.wheel ? "w" : "") + (mode.gnss ? "g" : "") + "io";
   if (mode.gnss && !mode.wheel) return mode.core == OdometryMode::kLio ? "lio+g" : "lo+g";
   return std::string("l") + (mode.wheel ? "w" : "") + (mode.gnss ? "g" : "") +
          (mode.core == OdometryMode::kLio ? "io" : "o");
@@ -81,17 +95,22 @@ Expected<std::optional<EstimatorMode>> ParseMode(std::string_view text) {
 
 namespace {
 
-// Auto on a dataset without a LiDAR: the wheel-inertial window (with GNSS factors when there is a GNSS
-// stream), or an error naming what the data lacks for it.
+// Auto on a dataset without a LiDAR: the inertial window with the camera and the wheel when the dataset has
+// them (at least one), GNSS factors when there is a GNSS stream; or an error naming what the data lacks.
 Expected<EstimatorMode> ChooseWithoutLidar(const DatasetDescription& description,
                                            const DatasetSensors& sensors, std::vector<std::string>& notes) {
-  EstimatorMode mode{OdometryMode::kWio, true, false};
-  if (const std::string missing = MissingFor(mode, description, sensors); !missing.empty())
-    return Status::Error(description.path.string() + ": no LiDAR stream (for lo and lio) and " + missing +
-                         " (for wio) (streams: " + StreamList(description) + ")");
-  mode.gnss = sensors.gnss >= 0;
-  notes.push_back("--mode auto: ran " + ModeName(mode) + " (no LiDAR stream" +
-                  (mode.gnss ? "" : ", no GNSS stream") + ")");
+  const std::string no_wheel = MissingFor({OdometryMode::kWio, true, false}, description, sensors);
+  const std::string no_camera = MissingFor({OdometryMode::kWio, false, false, true}, description, sensors);
+  if (!no_wheel.empty() && !no_camera.empty())
+    return Status::Error(description.path.string() + ": no LiDAR stream (for lo and lio) and " + no_wheel +
+                         " (for wio), " + no_camera + " (for vio) (streams: " + StreamList(description) +
+                         ")");
+  const EstimatorMode mode{OdometryMode::kWio, no_wheel.empty(), sensors.gnss >= 0, no_camera.empty()};
+  std::vector<std::string> left_out = {"no LiDAR stream"};
+  for (const std::string* why : {&no_wheel, &no_camera})
+    if (!why->empty()) left_out.push_back(*why);
+  if (!mode.gnss) left_out.push_back("no GNSS stream");
+  notes.push_back("--mode auto: ran " + ModeName(mode) + " (" + Joined(left_out) + ")");
   return mode;
 }
 

@@ -1,9 +1,9 @@
 // The estimator's mode (docs/METHOD.md "Modes"): its core, LiDAR-only (LO), LiDAR-inertial (LIO) or
-// wheel-inertial without a LiDAR (WIO), and the optional factors it adds (W: wheel odometry, G: GNSS), named
-// as the paper names them: lo, lio, lwio, lio+g, lwgio, wio, wgio (and lwo, wheel factors on LO). `run
-// --mode` takes a name or auto, which picks the richest mode the dataset supports and says what it left out
-// and why. GNSS needs an inertial core: its alignment to ENU is a yaw and a translation of a gravity-aligned
-// world.
+// inertial without a LiDAR (the WIO window, with the wheel, the camera or both), and the optional factors it
+// adds (W: wheel odometry, G: GNSS, V: camera), named as the paper names them: lo, lio, lwio, lio+g, lwgio,
+// wio, wgio, vio, vwio, vgio, vwgio (and lwo, wheel factors on LO). `run --mode` takes a name or auto, which
+// picks the richest mode the dataset supports and says what it left out and why. GNSS needs an inertial
+// core: its alignment to ENU is a yaw and a translation of a gravity-aligned world.
 #pragma once
 
 #include <optional>
@@ -20,13 +20,14 @@ namespace uf::pipeline {
 
 struct EstimatorMode {
   OdometryMode core = OdometryMode::kLo;
-  bool wheel = false;  // wheel odometry factors between the nodes (always in WIO)
-  bool gnss = false;   // GNSS position factors (LIO and WIO)
+  bool wheel = false;   // wheel odometry factors between the nodes (in WIO without the camera always)
+  bool gnss = false;    // GNSS position factors (LIO and WIO)
+  bool camera = false;  // visual factors (the WIO window only: vio, vwio, vgio, vwgio)
 
   bool operator==(const EstimatorMode&) const = default;
 };
 
-// "lo", "lio", "lwio", "lwo", "lio+g", "lwgio", "wio", "wgio".
+// "lo", "lio", "lwio", "lwo", "lio+g", "lwgio", "wio", "wgio", "vio", "vwio", "vgio", "vwgio".
 std::string ModeName(const EstimatorMode& mode);
 // "auto" (nullopt) or the name of a mode that runs: lo, lio, lwio, lwo, lio+g, lwgio, wio, wgio. "lo+g" and
 // "lwgo" (GNSS without the IMU) are errors saying why they do not run; anything else is an error listing
@@ -40,8 +41,9 @@ std::string StreamList(const DatasetDescription& description);
 
 // The mode to run: `asked` when the dataset has what it needs (else an error naming the missing stream or
 // extrinsic and listing the streams), or with auto the richest one it supports, with a note for each
-// factor left out: a LiDAR mode when there is a LiDAR, else wio or wgio (an error when the IMU, the wheel
-// or its extrinsic is missing too).
+// factor left out: a LiDAR mode when there is a LiDAR, else the inertial window with the camera (when it
+// has intrinsics and an extrinsic), the wheel and GNSS the dataset has (an error when the IMU is missing, or
+// both the wheel and the camera).
 Expected<EstimatorMode> ChooseMode(const std::optional<EstimatorMode>& asked,
                                    const DatasetDescription& description, const DatasetSensors& sensors,
                                    std::vector<std::string>& notes);

@@ -58,6 +58,7 @@ void DescribeRun(RunPlan& plan) {
   if (core != OdometryMode::kLo) used.push_back(plan.sensors.imu);
   if (plan.mode.wheel) used.push_back(plan.sensors.wheel);
   if (plan.mode.gnss) used.push_back(plan.sensors.gnss);
+  if (plan.mode.camera) used.push_back(plan.sensors.camera);
   std::string streams;
   for (int stream : used) streams += (streams.empty() ? "" : ", ") + description.streams[stream].name;
   const bool wheel_factors = plan.mode.wheel && core != OdometryMode::kWio;  // WIO is the wheel's window
@@ -65,8 +66,11 @@ void DescribeRun(RunPlan& plan) {
                         : wheel_factors                 ? " with wheel factors"
                         : plan.mode.gnss                ? " with GNSS factors"
                                                         : "";
+  const char* inertial = !plan.mode.camera ? "wheel-inertial"
+                         : plan.mode.wheel ? "visual-wheel-inertial"
+                                           : "visual-inertial";
   const char* kind = core == OdometryMode::kLio   ? "LiDAR-inertial"
-                     : core == OdometryMode::kWio ? "wheel-inertial"
+                     : core == OdometryMode::kWio ? inertial
                                                   : "LiDAR-only";
   summary.mode = ModeName(plan.mode) + " (" + kind + " odometry" + factors + " on " + streams + ")";
   summary.output_frame = plan.frames.trajectory_frame;
@@ -145,7 +149,13 @@ void ConfigureEstimator(RunPlan& plan) {
                                  " has no T_body_sensor: the antenna is taken at the IMU (no lever arm)");
   if (mode.core == OdometryMode::kWio) {
     plan.wio_config = r.wio_config;
-    plan.wio_config.T_body_wheel = *sensors.T_imu_wheel;  // ChooseMode checked it
+    plan.wio_config.use_wheel = mode.wheel;
+    if (mode.wheel) plan.wio_config.T_body_wheel = *sensors.T_imu_wheel;  // ChooseMode checked it
+    plan.wio_config.use_camera = mode.camera;
+    if (mode.camera) {  // ChooseMode checked both
+      plan.wio_config.camera = description.streams[sensors.camera].camera_model;
+      plan.wio_config.T_body_camera = *sensors.T_imu_camera;
+    }
     plan.wio_config.use_gnss = mode.gnss;
     plan.wio_config.T_body_gnss = T_imu_gnss;
     FitImuGapToRate(plan.wio_config.imu_max_gap_s, description, sensors.imu, plan.summary.notes);

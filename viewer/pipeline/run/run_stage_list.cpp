@@ -4,9 +4,11 @@
 #include <chrono>
 #include <cstdio>
 
+#include "odometry/types/printf_text.h"
 #include "viewer/pipeline/run/run_cameras.h"
 #include "viewer/pipeline/run/run_pipeline.h"
 #include "viewer/pipeline/run/run_record.h"
+#include "viewer/pipeline/run/run_tracks.h"
 #include "viewer/pipeline/run_files.h"
 #include "viewer/pipeline/run_folder.h"
 #include "viewer/pipeline/stages/exports_stage.h"
@@ -106,10 +108,12 @@ std::vector<Stage> RunStageList(RunPlan& plan, const fs::path& out, StageOutputs
                                 .sensors = plan.sensors,
                                 .frames = plan.frames,
                                 .gnss_factors = plan.mode.gnss,
+                                .camera_factors = plan.mode.camera,
                                 .calibration = plan.calibration.get(),
                                 .paced_messages = o.dataset ? o.dataset->paced_messages : 0,
                                 .out = out};
     if (Status s = Keep(o.odometry, RunOdometryStage(in, c)); !s.ok()) return s;
+    if (Status s = WriteRunTracks(plan, *o.odometry, out, c); !s.ok()) return s;
     const std::optional<OnlineCalibrationSummary>& calibration = o.odometry->summary.online_calibration;
     if (!o.odometry->georef && !(calibration && calibration->rotation_applied_at)) return Status();
     // trajectory.tum is in ENU: run.json gets the map's new T_M_W, which the splat stage reads; or the
@@ -192,6 +196,13 @@ void Summarize(const RunPlan& plan, StageOutputs& o, RunSummary& summary) {
                               " skipped (no wheel samples over the interval); estimated wheel scale " +
                               scale);
     }
+    if (plan.mode.camera)
+      summary.notes.push_back(
+          PrintfText("visual factors: %.0f reprojections added, %.0f landmarks that did not "
+                     "triangulate, %.0f dropped as outliers; camera time offset t_d %.4f s",
+                     factors.visual.added, factors.visual.skipped, factors.visual.rejected,
+                     factors.camera_time_offset_s) +
+          (plan.wio_config.visual.estimate_time_offset ? " (estimated)" : " (fixed)"));
     if (plan.mode.gnss)
       summary.notes.push_back("GNSS factors: " + std::to_string(factors.gnss.added) + " added (" +
                               std::to_string(factors.gnss_horizontal_only) +

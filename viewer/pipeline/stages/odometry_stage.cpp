@@ -4,6 +4,7 @@
 
 #include "odometry/io/for_each_measurement.h"
 #include "odometry/io/geo_trajectory_file.h"
+#include "odometry/io/image_decode.h"
 
 namespace uf::pipeline {
 namespace {
@@ -18,7 +19,10 @@ struct Collected {
   std::vector<double> ms;
   std::vector<std::optional<SE3>> T_enu_world_at_pose;
   std::vector<ScoredKeyframe> scored;  // the keyframes with a LiDAR degeneracy (registered scans)
+  std::vector<std::string> camera_warnings;  // the first frames that failed to decode
 };
+
+constexpr std::int64_t kMaxKeptDecodeErrors = 5;  // undecodable frames whose reason is kept as a warning
 
 // Moves the keyframes that left the odometry's window into the trajectory (and the mapper), in time order.
 Status CollectFinished(const OdometryStageInput& in, OdometryStageOutput& out, Collected& collected,
@@ -174,6 +178,17 @@ Expected<OdometryStageOutput> RunOdometryStage(const OdometryStageInput& in, Sta
     } else if (const auto* wheel = std::get_if<WheelSample>(&m.data); wheel && m.stream == sensors.wheel) {
       status = odometry.AddWheel(*wheel);
     } else if (auto* frame = std::get_if<CameraFrame>(&m.data);
+               frame && in.camera_factors && m.stream == sensors.camera) {
+      if (Status decoded = DecodeCameraFrame(*frame); !decoded.ok()) {
+        if (++out.camera_undecodable <= kMaxKeptDecodeErrors)
+          collected.camera_warnings.push_back("frame at " + StampText(frame->stamp) + ": " +
+                                              decoded.message() + "; skipped");
+        return Status();
+      }
+      status = odometry.AddCameraFrame(*frame);
+      for (estimator::FrameTrackStats& stats : odometry.TakeTrackStats())
+        out.tracked_frames.push_back(std::move(stats));
+    } else if (auto* frame = std::get_if<CameraFrame>(&m.data);
                frame && in.mapper && in.mapper->UsesCamera(m.stream)) {
       in.mapper->AddCameraFrame(m.stream, std::move(*frame));
       return Status();
@@ -233,6 +248,12 @@ Expected<OdometryStageOutput> RunOdometryStage(const OdometryStageInput& in, Sta
   summary.timing = SummarizeTimings(collected.ms);
   summary.reader_warnings = in.stream->warnings();
   summary.odometry_warnings = odometry.warnings();
+  for (std::string& warning : collected.camera_warnings)
+    summary.odometry_warnings.push_back(std::move(warning));
+  if (out.camera_undecodable > kMaxKeptDecodeErrors)
+    summary.odometry_warnings.push_back(std::to_string(out.camera_undecodable) +
+                                        " camera frames failed to decode in all (the first " +
+                                        std::to_string(kMaxKeptDecodeErrors) + " are listed)");
   summary.sensor_factors = odometry.sensor_factors();
   out.georef = odometry.georeference();
   // trajectory.tum's world W is ENU now; the map stays in the estimator's: T_M_W = T_M_world T_world_enu.

@@ -32,7 +32,8 @@ struct OdometryStageInput {
   mapping::KeyframeMapper* mapper = nullptr;  // none with --no-map (and in WIO)
   DatasetSensors sensors;
   RunFrames frames;
-  bool gnss_factors = false;  // the fixes go to the estimator (a G mode)
+  bool gnss_factors = false;    // the fixes go to the estimator (a G mode)
+  bool camera_factors = false;  // the frames of sensors.camera go to the estimator, decoded (a V mode)
   // run --calibrate-online: the calibration branch (holds the run for the locks, re-stamps the scans, hands
   // over the locked rotation)
   CalibrationBranch* calibration = nullptr;
@@ -75,6 +76,9 @@ struct OdometryStageOutput {
   RunFrames frames;
   std::int64_t keyframes_mapped = 0;
   OdometrySummary summary;
+  // V modes: the visual front end's statistics per frame tracked, and how many frames failed to decode.
+  std::vector<estimator::FrameTrackStats> tracked_frames;
+  std::int64_t camera_undecodable = 0;
 };
 
 // Errors: the stream's or the estimator's, a run without a single pose, a file that cannot be written.

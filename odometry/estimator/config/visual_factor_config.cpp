@@ -1,0 +1,35 @@
+#include "odometry/estimator/config/visual_factor_config.h"
+
+#include <cmath>
+
+#include "odometry/estimator/config/field_rules.h"
+
+namespace uf::estimator {
+namespace {
+
+template <typename T>
+Status Bad(const char* field, const char* rule, T value) {
+  return FieldMustBe("visual", field, rule, value);
+}
+
+}  // namespace
+
+Status VisualFactorConfig::Validate() const {
+  if (Status s = ValidateFeatureTrackerConfig(tracker); !s.ok())
+    return Status::Error("visual.tracker." + s.message());
+  if (!Positive(pixel_sigma_px)) return Bad("pixel_sigma_px", "finite and > 0", pixel_sigma_px);
+  if (!Positive(huber_sigmas)) return Bad("huber_sigmas", "finite and > 0", huber_sigmas);
+  if (!(std::isfinite(min_parallax_deg) && min_parallax_deg >= 0 && min_parallax_deg < 90))
+    return Bad("min_parallax_deg", "in [0, 90)", min_parallax_deg);
+  if (!Positive(min_depth_m)) return Bad("min_depth_m", "finite and > 0", min_depth_m);
+  if (!(std::isfinite(max_depth_m) && max_depth_m > min_depth_m))
+    return Bad("max_depth_m", "finite and > min_depth_m", max_depth_m);
+  if (!Positive(max_reprojection_px))
+    return Bad("max_reprojection_px", "finite and > 0", max_reprojection_px);
+  if (!(std::abs(time_offset_s) <= 1.0)) return Bad("time_offset_s", "in [-1, 1]", time_offset_s);
+  if (!Positive(time_offset_sigma_s))
+    return Bad("time_offset_sigma_s", "finite and > 0", time_offset_sigma_s);
+  return {};
+}
+
+}  // namespace uf::estimator

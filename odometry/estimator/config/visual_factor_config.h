@@ -1,0 +1,38 @@
+// Options of the visual factors in a window (providers/visual_provider.h; docs/METHOD.md "Visual
+// reprojection factor" and "Visual-inertial odometry"): the front end, the noise and robust loss of a
+// reprojection, when a feature becomes a landmark, when it is dropped as an outlier, and the camera time
+// offset t_d. Validate names the first bad field ("visual.<field>: must be ..., got <value>"; the window
+// prefixes "wio.").
+#pragma once
+
+#include "odometry/estimator/config/feature_tracker_config.h"
+#include "odometry/types/status.h"
+
+namespace uf::estimator {
+
+struct VisualFactorConfig {
+  FeatureTrackerConfig tracker;  // its min_track_length: observations before a feature becomes a landmark
+  // Reprojection noise, pixels: KLT on a sharp 8-bit image is good to a few tenths; 1 px leaves room for
+  // the undistortion and the rolling and global shutter's timing (VINS-Mono uses 1.5 px).
+  double pixel_sigma_px = 1.0;
+  // Huber loss on the residual in sigmas: a reprojection beyond this counts linearly.
+  double huber_sigmas = 2.0;
+  // Triangulation (visual/triangulation.h): the rays must span this angle, the point lie this far in front
+  // of every camera and not farther than max_depth_m from its anchor (farther points constrain rotation
+  // only, and their inverse depth is near zero where the linearization is poor).
+  double min_parallax_deg = 1.0;
+  double min_depth_m = 0.5;
+  double max_depth_m = 150;
+  // After each solve a landmark with an observation reprojecting worse than this, or a depth that left
+  // [min_depth_m, max_depth_m], is dropped with its factors (a moving object, a bad track).
+  double max_reprojection_px = 3.0;
+  // The camera time offset t_d (camera stamp + t_d = IMU time): the value to start from, and whether the
+  // window estimates it (free, with a prior of time_offset_sigma_s about the start value).
+  double time_offset_s = 0;
+  bool estimate_time_offset = false;
+  double time_offset_sigma_s = 0.05;
+
+  Status Validate() const;
+};
+
+}  // namespace uf::estimator

@@ -1,0 +1,129 @@
+// The camera's part of the window (docs/METHOD.md "Visual-inertial odometry"): it tracks the frames (the
+// front end, visual/feature_tracker.h), gives the window the stamps of its nodes (a node per frame, at the
+// frame's stamp + t_d), turns features seen from enough nodes into landmarks (inverse depth in the first
+// observing node, the anchor, by triangulation) and links each observation to the anchor by a
+// ReprojectionFactor (factors/reprojection_factor.h) under a Huber loss. It owns the blocks the factors
+// share: the camera time offset t_d (free when configured, with its prior) and T_body_camera (constant).
+//
+// Landmarks live until their anchor leaves the window: the window then marginalizes their inverse depths
+// with the anchor (AnchoredBlocks), so what they said about the remaining nodes stays in the prior. The
+// oldest node is always the anchor of every landmark it observes, since anchors are first observations.
+// After each solve, a landmark reprojecting worse than max_reprojection_px anywhere, or whose depth left
+// [min_depth_m, max_depth_m], is dropped with its factors (a moving object, a bad track) and never used
+// again.
+//
+// Node ids are the window's; Reset forgets every landmark (the window restarts with new ids).
+#pragma once
+
+#include <deque>
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "odometry/estimator/config/visual_factor_config.h"
+#include "odometry/estimator/factors/reprojection_factor.h"
+#include "odometry/estimator/providers/sensor_factor_stats.h"
+#include "odometry/estimator/state/window_node.h"
+#include "odometry/estimator/visual/feature_tracker.h"
+#include "odometry/estimator/window/factor_graph.h"
+#include "odometry/types/camera_model.h"
+#include "odometry/types/se3.h"
+
+namespace uf::estimator {
+
+// The pose block (T_world_body) of the window's node `id`.
+using PoseBlockOf = std::function<double*(long id)>;
+
+class VisualProvider {
+ public:
+  // Fails for a bad config or camera (the front end's checks).
+  static Expected<std::unique_ptr<VisualProvider>> Create(const VisualFactorConfig& config,
+                                                          const CameraModel& camera,
+                                                          const SE3& T_body_camera);
+  VisualProvider(const VisualProvider&) = delete;  // the graph refers to its blocks
+  VisualProvider& operator=(const VisualProvider&) = delete;
+
+  // Tracks a frame; its features wait for the node at stamp + t_d. A frame the front end refuses (not after
+  // the last one, another size) returns the reason and changes nothing.
+  Expected<FrameTrackStats> AddFrame(Stamp stamp, const Image& image);
+  // The node stamp of the first waiting frame after `after` (all when none), or nullopt.
+  std::optional<Stamp> NextNodeStamp(std::optional<Stamp> after) const;
+
+  // Registers t_d and the extrinsic with the graph, with t_d's prior when it is free (again after the
+  // graph was cleared).
+  void Attach(FactorGraph& graph);
+  // The waiting frame at node stamp `stamp` becomes node `id`'s observations (frames before it are
+  // dropped); nothing when there is none.
+  void Observe(long id, Stamp stamp);
+  // Before a solve: features seen from min_track_length nodes become landmarks when they triangulate, and
+  // every new observation of a landmark gets its factor.
+  void Link(FactorGraph& graph, const PoseBlockOf& pose_of);
+  // After a solve: drops the outlier landmarks (see above); returns how many.
+  int DropOutliers(FactorGraph& graph);
+  // The inverse-depth blocks of the landmarks anchored in node `id`, to marginalize with it.
+  std::vector<double*> AnchoredBlocks(long id) const;
+  // Node `id` has left the window: its landmarks are forgotten.
+  void ForgetNode(long id);
+  // Appends the blocks a solve moves: every landmark's inverse depth, and t_d when it is free.
+  void AppendFreeBlocks(std::vector<double*>& free);
+  // Forgets every landmark and observation (the graph is cleared by the caller); waiting frames stay.
+  void Reset();
+  // Drops the waiting frames whose node stamp is before `oldest`.
+  void Trim(Stamp oldest);
+
+  // A landmark in the graph as it stands: its feature id, anchor node, the anchor's normalized ray and its
+  // inverse-depth block.
+  struct LandmarkView {
+    long id = 0;
+    long anchor = 0;
+    Eigen::Vector2d normalized = Eigen::Vector2d::Zero();
+    double* inverse_depth = nullptr;
+  };
+  std::vector<LandmarkView> Landmarks();
+
+  double time_offset_s() const { return time_offset_; }
+  // The mean reprojection error of the factors at the last DropOutliers (before the drops), pixels.
+  double mean_reprojection_px() const { return mean_reprojection_px_; }
+  int landmarks_in_graph() const;
+  // Its part of the window's report: factors added, landmarks that did not triangulate, outliers.
+  void Report(SensorFactorStats& stats) const;
+
+ private:
+  struct Observation {
+    long node = 0;
+    FeatureObservation feature;
+    double td0 = 0;  // node stamp - frame stamp, s (the factor's t_d0)
+  };
+  struct Landmark {
+    std::vector<Observation> observations;  // node order; the first is the anchor
+    double inverse_depth = 0;               // the block, 1/m
+    bool in_graph = false;
+    bool rejected = false;  // an outlier: no factors, observations ignored
+    int linked = 0;         // observations with a factor (the anchor counts)
+  };
+  struct WaitingFrame {
+    Stamp camera_stamp = 0;
+    double td0 = 0;
+    std::vector<TrackedFeature> features;
+  };
+
+  VisualProvider(const VisualFactorConfig& config, FeatureTracker tracker, double focal_px,
+                 const SE3& T_body_camera);
+  bool StartLandmark(FactorGraph& graph, Landmark& landmark, const PoseBlockOf& pose_of);
+  void AddFactor(FactorGraph& graph, long id, Landmark& landmark, std::size_t k, const PoseBlockOf& pose_of);
+  SE3 CameraPose(const double* pose_block) const;
+
+  VisualFactorConfig config_;
+  FeatureTracker tracker_;
+  double sqrt_information_;                // focal / pixel sigma
+  PoseArray extrinsic_;                    // T_body_camera, pose layout (constant)
+  double time_offset_;                     // t_d, s
+  std::map<Stamp, WaitingFrame> waiting_;  // by node stamp
+  std::map<long, Landmark> landmarks_;     // by feature id; std::map keeps the blocks' addresses
+  int added_ = 0, untriangulated_ = 0, rejected_ = 0;
+  double mean_reprojection_px_ = 0;
+};
+
+}  // namespace uf::estimator
