@@ -59,6 +59,10 @@ TEST_F(CliRunVisual, VisualInertialModeTracksTheCameraAndReportsItsFactors) {
   EXPECT_EQ(DataLines(run + "/tracks.csv"), 61u);  // every frame, 0 to 6 s at 10 Hz
   for (const char* plot : {"track_features", "track_ratio", "track_degeneracy", "timing_per_node"})
     EXPECT_TRUE(fs::exists(run + "/plots/" + plot + ".png")) << plot;
+  // The overlays of every 50th frame (the default --overlay-every): frames 0 and 50.
+  EXPECT_TRUE(fs::exists(run + "/plots/tracks_1700000000000000000.png"));
+  EXPECT_TRUE(fs::exists(run + "/plots/tracks_1700000005000000000.png"));
+  EXPECT_FALSE(fs::exists(run + "/plots/tracks_1700000000100000000.png"));
   const std::string report = testing::ReadText(run + "/report.md");
   EXPECT_NE(report.find("WIO initialized: static"), std::string::npos) << report;
   EXPECT_NE(report.find("visual factors: "), std::string::npos) << report;

@@ -27,7 +27,9 @@ struct InertialOdometryConfig {
   // The inertial initialization waits for this many nodes (1 s at 0.1 s): the static alignment needs the
   // IMU at rest over them, the wheel-aided one enough motion to separate gravity from acceleration.
   int init_window_nodes = 10;
-  int max_iterations = 5;           // dense Levenberg-Marquardt iterations per solve (one solve per node)
+  // Dense Levenberg-Marquardt iterations per solve (one solve per node), and its wall-time budget. With the
+  // camera the window uses visual.max_iterations and visual.max_solver_time_s instead.
+  int max_iterations = 5;
   double max_solver_time_s = 0.05;  // per solve, s
   bool marginalize = true;          // oldest nodes into a Gaussian prior (else dropped with their factors)
   MarginalizationConfig marginalization;

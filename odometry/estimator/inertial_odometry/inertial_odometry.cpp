@@ -143,18 +143,18 @@ Status InertialOdometry::AddWheel(const WheelSample& sample) {
 
 Status InertialOdometry::AddCameraFrame(const CameraFrame& frame) {
   if (!impl_->visual) return {};
-  Expected<FrameTrackStats> stats = impl_->visual->AddFrame(frame.stamp, frame.image);
-  if (!stats) {
-    impl_->warnings.push_back(stats.status().message() + "; frame skipped");
+  Expected<TrackedFrame> tracked = impl_->visual->AddFrame(frame.stamp, frame.image);
+  if (!tracked) {
+    impl_->warnings.push_back(tracked.status().message() + "; frame skipped");
     return {};
   }
-  impl_->tracked_frames.push_back(std::move(*stats));
+  impl_->tracked_frames.push_back(std::move(*tracked));
   impl_->ProcessReady(/*flush=*/false);
   return {};
 }
 
-std::vector<FrameTrackStats> InertialOdometry::TakeTrackStats() {
-  std::vector<FrameTrackStats> out = std::move(impl_->tracked_frames);
+std::vector<TrackedFrame> InertialOdometry::TakeTrackedFrames() {
+  std::vector<TrackedFrame> out = std::move(impl_->tracked_frames);
   impl_->tracked_frames.clear();
   return out;
 }

@@ -74,8 +74,8 @@ class InertialOdometry {
   // is tracked at once, and its node is added when the IMU (and the wheel) cover the frame's stamp + t_d. A
   // frame the front end refuses (out of order, wrong size) is skipped with a warning.
   Status AddCameraFrame(const CameraFrame& frame);
-  // The front end's statistics per frame since the last call.
-  std::vector<FrameTrackStats> TakeTrackStats();
+  // The front end's result per frame since the last call (features and statistics).
+  std::vector<TrackedFrame> TakeTrackedFrames();
   // Keyframes of the nodes that have left the window (final) since the last call: stamp, T_world_body
   // (body = IMU), velocity (world), biases; no scan.
   std::vector<Keyframe> TakeFinished();

@@ -52,7 +52,7 @@ struct InertialOdometry::Impl {
   std::vector<Keyframe> finished;
   std::vector<std::string> warnings;
   std::vector<InertialOdometryStats> processed;
-  std::vector<FrameTrackStats> tracked_frames;  // the front end's, per frame since the last take
+  std::vector<TrackedFrame> tracked_frames;  // the front end's, per frame since the last take
 
   // Flow (inertial_odometry.cpp).
   void ProcessReady(bool flush);

@@ -67,8 +67,8 @@ bool InertialOdometry::Impl::Solve(int* iterations, int* outliers) {
   if (gnss && gnss->aligned()) request.free.push_back(gnss->alignment_block());
   request.use_prior = graph.prior() != nullptr;
   request.solver = WindowSolver::kDense;
-  request.max_iterations = config.max_iterations;
-  request.max_time_s = config.max_solver_time_s;
+  request.max_iterations = visual ? config.visual.max_iterations : config.max_iterations;
+  request.max_time_s = visual ? config.visual.max_solver_time_s : config.max_solver_time_s;
   const WindowSolveResult result = graph.Solve(request);
   *iterations += result.iterations;
   if (visual && result.usable) *outliers += visual->DropOutliers(graph);

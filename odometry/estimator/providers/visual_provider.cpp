@@ -36,12 +36,12 @@ VisualProvider::VisualProvider(const VisualFactorConfig& config, FeatureTracker 
       extrinsic_(PoseBlock(T_body_camera)),
       time_offset_(config.time_offset_s) {}
 
-Expected<FrameTrackStats> VisualProvider::AddFrame(Stamp stamp, const Image& image) {
+Expected<TrackedFrame> VisualProvider::AddFrame(Stamp stamp, const Image& image) {
   Expected<TrackedFrame> tracked = tracker_.Track(stamp, image);
   if (!tracked) return tracked.status();
   const Stamp node_stamp = stamp + FromSeconds(time_offset_);
-  waiting_[node_stamp] = {stamp, ToSeconds(node_stamp - stamp), std::move(tracked->features)};
-  return tracked->stats;
+  waiting_[node_stamp] = {stamp, ToSeconds(node_stamp - stamp), tracked->features};
+  return tracked;
 }
 
 std::optional<Stamp> VisualProvider::NextNodeStamp(std::optional<Stamp> after) const {

@@ -45,9 +45,10 @@ class VisualProvider {
   VisualProvider(const VisualProvider&) = delete;  // the graph refers to its blocks
   VisualProvider& operator=(const VisualProvider&) = delete;
 
-  // Tracks a frame; its features wait for the node at stamp + t_d. A frame the front end refuses (not after
-  // the last one, another size) returns the reason and changes nothing.
-  Expected<FrameTrackStats> AddFrame(Stamp stamp, const Image& image);
+  // Tracks a frame; its features wait for the node at stamp + t_d. Returns the front end's result (features
+  // and statistics); a frame the front end refuses (not after the last one, another size) returns the
+  // reason and changes nothing.
+  Expected<TrackedFrame> AddFrame(Stamp stamp, const Image& image);
   // The node stamp of the first waiting frame after `after` (all when none), or nullopt.
   std::optional<Stamp> NextNodeStamp(std::optional<Stamp> after) const;
 

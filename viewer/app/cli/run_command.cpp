@@ -23,6 +23,7 @@ struct RunArguments {
   bool no_map = false, no_splat = false, no_mesh = false, calibrate_online = false;
   double map_voxel_m = 0.05;
   double calibration_hold_s = 15.0;
+  int overlay_every = 50;
 };
 
 // The options as the pipeline takes them, with the sections of --config.
@@ -41,6 +42,7 @@ Expected<RunRequest> MakeRequest(const RunArguments& a) {
   r.splat_device = a.device;
   r.calibrate_online = a.calibrate_online;
   r.calibration_hold_s = a.calibration_hold_s;
+  r.overlay_every = a.overlay_every;
   if (a.config.empty()) return r;
   Expected<ConfigFile> loaded = LoadConfigFile(a.config);
   if (!loaded) return loaded.status();
@@ -162,6 +164,11 @@ Subcommand AddRunCommand(CLI::App& app) {
                   "held in memory, for the time offset and the rotation to lock before it starts; 0: it "
                   "starts at once and each applies from its lock on")
       ->check(CLI::Range(0.0, 600.0))
+      ->capture_default_str();
+  run->add_option("--overlay-every", a->overlay_every,
+                  "Modes with the camera (vio, vwio, ...): an overlay of the tracks on every N-th frame in "
+                  "plots/tracks_<stamp ns>.png (0: none)")
+      ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   run->add_option("--device", a->device,
                   "Vulkan device of the splat and views stages: index or part of its name (default: a GPU if "

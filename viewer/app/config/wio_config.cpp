@@ -49,6 +49,10 @@ Schema<estimator::VisualFactorConfig> VisualSchema() {
   s.Key("estimate_time_offset", &V::estimate_time_offset, "", "estimate t_d in the window");
   s.Key("time_offset_sigma_s", &V::time_offset_sigma_s, "s",
         "prior of the estimated t_d about its start value");
+  s.Key("max_iterations", &V::max_iterations, "LM iterations",
+        "per solve with the camera (in place of wio.max_iterations)");
+  s.Key("max_solver_time_s", &V::max_solver_time_s, "s",
+        "wall-time budget per solve with the camera (in place of wio.max_solver_time_s)");
   s.Nest("tracker", &V::tracker, TrackerSchema());
   return s;
 }

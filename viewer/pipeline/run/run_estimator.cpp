@@ -29,9 +29,9 @@ class WindowEstimator final : public RunEstimator {
     else
       return {};
   }
-  std::vector<estimator::FrameTrackStats> TakeTrackStats() override {
-    if constexpr (requires(Odometry & o) { o.TakeTrackStats(); })
-      return odometry_.TakeTrackStats();
+  std::vector<estimator::TrackedFrame> TakeTrackedFrames() override {
+    if constexpr (requires(Odometry & o) { o.TakeTrackedFrames(); })
+      return odometry_.TakeTrackedFrames();
     else
       return {};
   }

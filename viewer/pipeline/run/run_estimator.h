@@ -40,8 +40,8 @@ class RunEstimator {
   virtual Status AddGnss(const GnssFix& fix) = 0;
   // A decoded frame of the tracked camera (the inertial window with the camera; ignored otherwise).
   virtual Status AddCameraFrame(const CameraFrame& frame) = 0;
-  // The visual front end's statistics per frame since the last call (none without the camera).
-  virtual std::vector<estimator::FrameTrackStats> TakeTrackStats() = 0;
+  // The visual front end's result per frame since the last call (none without the camera).
+  virtual std::vector<estimator::TrackedFrame> TakeTrackedFrames() = 0;
   // The keyframes that left the window since the last call (the LiDAR window's carry the deskewed scan).
   virtual std::vector<Keyframe> TakeFinished() = 0;
   // The steps processed since the last call.

@@ -47,6 +47,7 @@ struct RunRequest {
   std::string splat_device;  // --device: the splat and views stages' Vulkan device ("": the default)
   bool calibrate_online = false;  // --calibrate-online (LIO): the calibration branch (calibration_branch.h)
   double calibration_hold_s = 15.0;  // --calibration-hold: the window waits this long for the locks
+  int overlay_every = 50;            // --overlay-every: V modes, an overlay of the tracks every N-th frame
   // The sections of --config (the defaults without one).
   app::DatasetConfig dataset_config;
   estimator::LidarOdometryConfig lo_config;

@@ -109,6 +109,8 @@ std::vector<Stage> RunStageList(RunPlan& plan, const fs::path& out, StageOutputs
                                 .frames = plan.frames,
                                 .gnss_factors = plan.mode.gnss,
                                 .camera_factors = plan.mode.camera,
+                                .overlay_every = r.overlay_every,
+                                .min_track_length = plan.wio_config.visual.tracker.min_track_length,
                                 .calibration = plan.calibration.get(),
                                 .paced_messages = o.dataset ? o.dataset->paced_messages : 0,
                                 .out = out};

@@ -20,6 +20,7 @@ Status WriteRunTracks(const RunPlan& plan, const OdometryStageOutput& odometry,
     tracks.degeneracy.push_back(
         estimator::ScoreCameraFrame(stats.tracked, stats.grid_occupancy, stats.epipolar_error_px));
   tracks.stereo.resize(tracks.frames.size());
+  tracks.overlays = odometry.overlays;
   Expected<std::vector<std::string>> written = WriteTrackOutputs(out, tracks);
   if (!written) return written.status();
   for (const std::string& file : *written) context.AddOutput(file);

@@ -1,5 +1,6 @@
-// The visual front end's files of a run with the camera in the estimator (V modes): tracks.csv and the
-// track plots, as `ultrafusion track` writes them (track/track_job.h), from the frames the estimator tracked.
+// The visual front end's files of a run with the camera in the estimator (V modes): tracks.csv, the track
+// plots and the overlays (plots/tracks_<stamp ns>.png), as `ultrafusion track` writes them
+// (track/track_job.h), from the frames the estimator tracked.
 #pragma once
 
 #include <filesystem>

@@ -5,6 +5,7 @@
 #include "odometry/io/for_each_measurement.h"
 #include "odometry/io/geo_trajectory_file.h"
 #include "odometry/io/image_decode.h"
+#include "viewer/pipeline/track/track_overlay.h"
 
 namespace uf::pipeline {
 namespace {
@@ -68,6 +69,21 @@ void ApplyLockedExtrinsic(CalibrationBranch& calibration, Stamp stamp, RunEstima
   const SE3 delta = out.frames.T_estimator_lidar() * T_imu_lidar->inverse();
   for (SE3& pose : out.estimated.poses) pose = pose * delta;
   out.frames.SetImuFromLidar(*T_imu_lidar);
+}
+
+// The front end's statistics of a frame, and its overlay when it is an overlay_every-th one.
+Status KeepTracked(const OdometryStageInput& in, std::vector<estimator::TrackedFrame> tracked,
+                   const Image& image, OdometryStageOutput& out) {
+  for (estimator::TrackedFrame& frame : tracked) {
+    const std::size_t index = out.tracked_frames.size();
+    out.tracked_frames.push_back(frame.stats);
+    if (in.overlay_every <= 0 || index % static_cast<std::size_t>(in.overlay_every) != 0) continue;
+    Expected<std::vector<std::uint8_t>> png =
+        EncodePng(RenderTrackOverlay(image, frame, in.min_track_length), "track overlay");
+    if (!png) return png.status();
+    out.overlays.emplace_back(frame.stamp, std::move(*png));
+  }
+  return {};
 }
 
 // T_enu_world applied to every pose: T_enu_F = T_enu_world T_world_F.
@@ -186,8 +202,7 @@ Expected<OdometryStageOutput> RunOdometryStage(const OdometryStageInput& in, Sta
         return Status();
       }
       status = odometry.AddCameraFrame(*frame);
-      for (estimator::FrameTrackStats& stats : odometry.TakeTrackStats())
-        out.tracked_frames.push_back(std::move(stats));
+      if (status.ok()) status = KeepTracked(in, odometry.TakeTrackedFrames(), frame->image, out);
     } else if (auto* frame = std::get_if<CameraFrame>(&m.data);
                frame && in.mapper && in.mapper->UsesCamera(m.stream)) {
       in.mapper->AddCameraFrame(m.stream, std::move(*frame));

@@ -34,6 +34,8 @@ struct OdometryStageInput {
   RunFrames frames;
   bool gnss_factors = false;    // the fixes go to the estimator (a G mode)
   bool camera_factors = false;  // the frames of sensors.camera go to the estimator, decoded (a V mode)
+  int overlay_every = 0;        // V modes: an overlay of the tracks on every N-th frame (0: none)
+  int min_track_length = 4;     // of the overlay's colours: the length the estimator needs
   // run --calibrate-online: the calibration branch (holds the run for the locks, re-stamps the scans, hands
   // over the locked rotation)
   CalibrationBranch* calibration = nullptr;
@@ -76,8 +78,10 @@ struct OdometryStageOutput {
   RunFrames frames;
   std::int64_t keyframes_mapped = 0;
   OdometrySummary summary;
-  // V modes: the visual front end's statistics per frame tracked, and how many frames failed to decode.
+  // V modes: the visual front end's statistics per frame tracked, the overlays (PNG bytes by stamp) and how
+  // many frames failed to decode.
   std::vector<estimator::FrameTrackStats> tracked_frames;
+  std::vector<std::pair<Stamp, std::vector<std::uint8_t>>> overlays;
   std::int64_t camera_undecodable = 0;
 };
 
