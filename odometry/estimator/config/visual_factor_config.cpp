@@ -30,6 +30,7 @@ Status VisualFactorConfig::Validate() const {
   if (!Positive(time_offset_sigma_s))
     return Bad("time_offset_sigma_s", "finite and > 0", time_offset_sigma_s);
   if (max_iterations < 1) return Bad("max_iterations", ">= 1", max_iterations);
+  if (!Positive(max_static_flow_px)) return Bad("max_static_flow_px", "finite and > 0", max_static_flow_px);
   if (!Positive(max_solver_time_s)) return Bad("max_solver_time_s", "finite and > 0", max_solver_time_s);
   return {};
 }

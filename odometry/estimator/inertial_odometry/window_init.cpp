@@ -8,13 +8,19 @@
 namespace uf::estimator {
 
 // Once init_window_nodes nodes wait: their poses dead-reckoned from the wheel, then the static alignment,
-// else the moving one (init/inertial_alignment.h). A failed window drops its oldest node and waits for the
+// else the moving one (init/inertial_alignment.h); without the wheel, the static one once the camera sees
+// the rest. A failed window drops its oldest node and waits for the
 // next; the first failure is logged.
 void InertialOdometry::Impl::TryInitialize() {
   if (static_cast<int>(init_stamps.size()) < config.init_window_nodes) return;
   Expected<std::vector<SE3>> poses = DeadReckon(init_stamps);
   Status failure = poses ? Status() : poses.status();
-  if (poses) {
+  // Without the wheel only the static alignment runs, and the IMU alone takes a constant velocity for rest:
+  // the camera must see the rest too.
+  if (failure.ok() && visual && !config.use_wheel)
+    if (std::optional<std::string> moving = visual->NotStillReason(init_stamps))
+      failure = Status::Error(*moving + "; VIO starts at rest only (no visual-inertial alignment yet)");
+  if (failure.ok()) {
     Expected<InertialAlignment> alignment =
         AlignStaticOrMoving(imu, init_stamps, *poses, config.init, config.imu.gravity, config.use_wheel);
     failure = alignment ? Start(*alignment, *poses) : alignment.status();

@@ -7,6 +7,7 @@
 
 #include "odometry/estimator/factors/wheel_factor.h"
 #include "odometry/estimator/visual/triangulation.h"
+#include "odometry/types/printf_text.h"
 
 namespace uf::estimator {
 namespace {
@@ -188,6 +189,25 @@ void VisualProvider::AppendFreeBlocks(std::vector<double*>& free) {
 }
 
 void VisualProvider::Reset() { landmarks_.clear(); }
+
+std::optional<std::string> VisualProvider::NotStillReason(const std::vector<Stamp>& node_stamps) const {
+  for (Stamp stamp : node_stamps) {
+    const auto frame = waiting_.find(stamp);
+    if (frame == waiting_.end()) continue;
+    double sum = 0;
+    int tracked = 0;
+    for (const TrackedFeature& f : frame->second.features)
+      if (f.length > 1) {
+        sum += (f.pixel - f.previous_pixel).norm();
+        ++tracked;
+      }
+    if (tracked > 0 && sum / tracked > config_.max_static_flow_px)
+      return PrintfText("the camera moves (features %.2f px per frame at ", sum / tracked) +
+             StampText(frame->second.camera_stamp) +
+             PrintfText(", above visual.max_static_flow_px %.2f)", config_.max_static_flow_px);
+  }
+  return std::nullopt;
+}
 
 void VisualProvider::Trim(Stamp oldest) { waiting_.erase(waiting_.begin(), waiting_.lower_bound(oldest)); }
 

@@ -73,6 +73,9 @@ class VisualProvider {
   void Reset();
   // Drops the waiting frames whose node stamp is before `oldest`.
   void Trim(Stamp oldest);
+  // Why the camera is not still over the waiting frames at these node stamps (a frame whose tracked
+  // features moved more than max_static_flow_px on average since the previous frame), or nullopt.
+  std::optional<std::string> NotStillReason(const std::vector<Stamp>& node_stamps) const;
 
   // A landmark in the graph as it stands: its feature id, anchor node, the anchor's normalized ray and its
   // inverse-depth block.

@@ -208,6 +208,7 @@ inline estimator::InertialOdometryConfig NonDefaultWio() {
   c.visual.time_offset_sigma_s = 0.02;
   c.visual.max_iterations = 12;
   c.visual.max_solver_time_s = 0.2;
+  c.visual.max_static_flow_px = 1;
   c.visual.tracker.max_features = 200;
   c.visual.tracker.min_distance_px = 20;
   c.visual.tracker.quality_level = 0.02;

@@ -282,6 +282,7 @@ inline void ExpectSameWio(const estimator::InertialOdometryConfig& a,
   EXPECT_FIELD(visual.time_offset_sigma_s);
   EXPECT_FIELD(visual.max_iterations);
   EXPECT_FIELD(visual.max_solver_time_s);
+  EXPECT_FIELD(visual.max_static_flow_px);
   EXPECT_FIELD(visual.tracker.max_features);
   EXPECT_FIELD(visual.tracker.min_distance_px);
   EXPECT_FIELD(visual.tracker.quality_level);

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <fstream>
 #include <functional>
 #include <limits>
 
@@ -18,13 +19,14 @@
 namespace uf::estimator {
 namespace {
 
-// The urban drive (1 s at rest, then off, ~7.5 m/s cruising) with the IMU and the forward camera only.
+// The urban drive (1 s at rest, then off, ~7.5 m/s cruising) or `trajectory` (TUM) with the IMU and the
+// forward camera only.
 std::filesystem::path Simulate(const uf::testing::TempDir& dir, double duration_s,
-                               double camera_delay_s = 0) {
+                               const std::string& trajectory = "") {
   sim::SimulationConfig config;
   config.duration_s = duration_s;
+  config.trajectory.file = trajectory;
   config.lidar.enabled = config.wheel.enabled = config.gnss.enabled = false;
-  config.camera.placement.stamp_delay_s = camera_delay_s;
   const std::filesystem::path out = dir.path() / "sequence";
   auto summary = sim::GenerateSequence(config, out);
   EXPECT_TRUE(summary.ok()) << summary.error();
@@ -85,6 +87,7 @@ VioRun RunVio(const std::filesystem::path& folder, bool estimate_time_offset = f
   run.warnings = vio->warnings();
   run.initialization = vio->initialization();
   run.factors = vio->sensor_factors();
+  if (run.estimate.empty()) return run;  // never initialized
   const testing::TruthFigures figures = testing::AgainstTruth(folder, run.estimate);
   run.ate_m = figures.ate_m;
   run.drift = figures.drift;
@@ -113,6 +116,21 @@ TEST(VisualInertialOdometry, StaticStartTracksTheTruth) {
   EXPECT_LT(run.drift.t_pct, 3.6);
   EXPECT_LT(run.drift.r_deg_per_100m, 0.75);
   EXPECT_LT(run.ate_m, 1.5);
+}
+
+TEST(VisualInertialOdometry, AMovingStartWaitsAndSaysWhy) {
+  // 5 m/s along the street from the first instant: the IMU alone takes a constant velocity for rest, the
+  // camera does not.
+  uf::testing::TempDir dir;
+  std::ofstream tum(dir.File("moving.tum"));
+  for (int k = 0; k <= 40; ++k) tum << 100 + 0.1 * k << " " << 0.5 * k << " 0 0 0 0 0 1\n";
+  tum.close();
+  const VioRun run = RunVio(Simulate(dir, 3.0, dir.File("moving.tum")));
+  EXPECT_TRUE(run.initialization.empty()) << run.initialization;
+  EXPECT_TRUE(run.estimate.empty());
+  const std::string text = Joined(run.warnings);
+  EXPECT_NE(text.find("the camera moves (features "), std::string::npos) << text;
+  EXPECT_NE(text.find("VIO starts at rest only"), std::string::npos) << text;
 }
 
 TEST(VisualInertialOdometry, ConfigValidateNamesTheField) {

@@ -53,6 +53,8 @@ Schema<estimator::VisualFactorConfig> VisualSchema() {
         "per solve with the camera (in place of wio.max_iterations)");
   s.Key("max_solver_time_s", &V::max_solver_time_s, "s",
         "wall-time budget per solve with the camera (in place of wio.max_solver_time_s)");
+  s.Key("max_static_flow_px", &V::max_static_flow_px, "px per frame",
+        "vio's static start: the tracked features' mean motion must stay below this (the camera is still)");
   s.Nest("tracker", &V::tracker, TrackerSchema());
   return s;
 }

@@ -24,6 +24,7 @@ struct Collected {
 };
 
 constexpr std::int64_t kMaxKeptDecodeErrors = 5;  // undecodable frames whose reason is kept as a warning
+constexpr std::size_t kWarningsInFailure = 3;     // warnings quoted when the odometry produced no pose
 
 // Moves the keyframes that left the odometry's window into the trajectory (and the mapper), in time order.
 Status CollectFinished(const OdometryStageInput& in, OdometryStageOutput& out, Collected& collected,
@@ -273,10 +274,15 @@ Expected<OdometryStageOutput> RunOdometryStage(const OdometryStageInput& in, Sta
   out.georef = odometry.georeference();
   // trajectory.tum's world W is ENU now; the map stays in the estimator's: T_M_W = T_M_world T_world_enu.
   if (out.georef) out.frames.T_map_world = in.frames.T_map_world * out.georef->T_enu_world.inverse();
-  if (out.estimated.empty())
+  if (out.estimated.empty()) {
+    // The report of a failed stage has no warnings section: the reasons go into the message.
+    std::string reasons;
+    for (std::size_t i = 0; i < summary.odometry_warnings.size() && i < kWarningsInFailure; ++i)
+      reasons += (i == 0 ? ": " : "; ") + summary.odometry_warnings[i];
     return Status::Error(in.stream->description().path.string() + ": the odometry produced no pose (" +
                          std::to_string(collected.ms.size()) + " " + summary.step + "s, " +
-                         std::to_string(summary.odometry_warnings.size()) + " warnings)");
+                         std::to_string(summary.odometry_warnings.size()) + " warnings" + reasons + ")");
+  }
   if (Status s = WriteOdometryFiles(in, out, collected, summary, context); !s.ok()) return s;
   return out;
 }
