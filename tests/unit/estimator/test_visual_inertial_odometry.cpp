@@ -22,11 +22,13 @@ namespace {
 // The urban drive (1 s at rest, then off, ~7.5 m/s cruising) or `trajectory` (TUM) with the IMU and the
 // forward camera only.
 std::filesystem::path Simulate(const uf::testing::TempDir& dir, double duration_s,
-                               const std::string& trajectory = "") {
+                               const std::string& trajectory = "",
+                               const std::function<void(sim::SimulationConfig&)>& adjust = nullptr) {
   sim::SimulationConfig config;
   config.duration_s = duration_s;
   config.trajectory.file = trajectory;
   config.lidar.enabled = config.wheel.enabled = config.gnss.enabled = false;
+  if (adjust) adjust(config);
   const std::filesystem::path out = dir.path() / "sequence";
   auto summary = sim::GenerateSequence(config, out);
   EXPECT_TRUE(summary.ok()) << summary.error();
@@ -131,6 +133,22 @@ TEST(VisualInertialOdometry, AMovingStartWaitsAndSaysWhy) {
   const std::string text = Joined(run.warnings);
   EXPECT_NE(text.find("the camera moves (features "), std::string::npos) << text;
   EXPECT_NE(text.find("VIO starts at rest only"), std::string::npos) << text;
+}
+
+TEST(VisualInertialOdometry, BlackFramesLeaveTheImuToCarryTheWindow) {
+  // Frames 8-10 s almost black (exposure x 0.001, as a lens cap or an unlit tunnel): no track survives, no
+  // landmark is made, and the IMU alone carries the window until the image returns.
+  const Stamp t0 = 1'700'000'000'000'000'000;  // the simulator's default start
+  uf::testing::TempDir dir;
+  const VioRun run = RunVio(Simulate(dir, 14.0, "", [&](sim::SimulationConfig& c) {
+    c.camera.model.exposure_changes.push_back({{t0 + 8'000'000'000, t0 + 10'000'000'000}, 0.001});
+  }));
+  EXPECT_EQ(run.initialization.rfind("static", 0), 0u) << run.initialization;
+  EXPECT_EQ(run.frames, 141);            // every frame tracked, the black ones too (with their warning)
+  EXPECT_GE(run.estimate.size(), 130u);  // a node per frame: no restart, no gap
+  // Measured 0.28 m (0.19 m with the frames unharmed); 2 s of the IMU alone at 8 m/s adds tens of
+  // centimetres, a broken window metres.
+  EXPECT_LT(run.ate_m, 0.6);
 }
 
 TEST(VisualInertialOdometry, ConfigValidateNamesTheField) {

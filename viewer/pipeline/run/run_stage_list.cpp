@@ -116,6 +116,7 @@ std::vector<Stage> RunStageList(RunPlan& plan, const fs::path& out, StageOutputs
                                 .out = out};
     if (Status s = Keep(o.odometry, RunOdometryStage(in, c)); !s.ok()) return s;
     if (Status s = WriteRunTracks(plan, *o.odometry, out, c); !s.ok()) return s;
+    if (Status s = WriteCameraCalibrationEstimate(plan, *o.odometry, out, c); !s.ok()) return s;
     const std::optional<OnlineCalibrationSummary>& calibration = o.odometry->summary.online_calibration;
     if (!o.odometry->georef && !(calibration && calibration->rotation_applied_at)) return Status();
     // trajectory.tum is in ENU: run.json gets the map's new T_M_W, which the splat stage reads; or the

@@ -1,6 +1,8 @@
 #include "viewer/pipeline/run/run_tracks.h"
 
 #include "odometry/estimator/schedule/camera_degeneracy.h"
+#include "odometry/io/calibration_file.h"
+#include "odometry/types/printf_text.h"
 #include "viewer/pipeline/track/track_job.h"
 
 namespace uf::pipeline {
@@ -24,6 +26,36 @@ Status WriteRunTracks(const RunPlan& plan, const OdometryStageOutput& odometry,
   Expected<std::vector<std::string>> written = WriteTrackOutputs(out, tracks);
   if (!written) return written.status();
   for (const std::string& file : *written) context.AddOutput(file);
+  return {};
+}
+
+Status WriteCameraCalibrationEstimate(const RunPlan& plan, const OdometryStageOutput& odometry,
+                                      const std::filesystem::path& out, StageContext& context) {
+  if (!plan.mode.camera || !plan.wio_config.visual.estimate_time_offset) return {};
+  const DatasetDescription& description = plan.stream->description();
+  const StreamInfo& camera = description.streams[static_cast<std::size_t>(plan.sensors.camera)];
+  const double t_d = odometry.summary.sensor_factors.camera_time_offset_s;
+  Calibration calibration;
+  calibration.sensors.push_back({.name = description.streams[static_cast<std::size_t>(plan.sensors.imu)].name,
+                                 .kind = SensorKind::kImu,
+                                 .T_body_sensor = SE3(),
+                                 .time_offset = 0,
+                                 .camera_model = nullptr});
+  calibration.sensors.push_back(
+      {.name = camera.name,
+       .kind = SensorKind::kCamera,
+       .T_body_sensor = plan.wio_config.T_body_camera,
+       .time_offset = plan.stream->time_offset(plan.sensors.camera) + FromSeconds(t_d),
+       .camera_model = camera.camera_model});
+  const std::string header =
+      "Estimated by ultrafusion run (" + ModeName(plan.mode) +
+      PrintfText(
+          "): the camera time offset t_d = %.4f s (camera stamp + t_d = IMU time) as the window "
+          "ended, added to the offset the run read with; T_body_sensor the given one (not estimated).",
+          t_d);
+  if (Status s = WriteCalibrationFile(out / "calibration_estimated.yaml", calibration, header); !s.ok())
+    return s;
+  context.AddOutput("calibration_estimated.yaml");
   return {};
 }
 
