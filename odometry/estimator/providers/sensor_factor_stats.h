@@ -24,8 +24,9 @@ struct SensorFactorStats {
     double horizontal_median_m = 0, horizontal_p95_m = 0, mean_d2 = 0;
   } gnss_innovations;
   std::string gnss_alignment;
-  // Camera (VIO): reprojection factors added, landmarks that did not triangulate (skipped), landmarks
-  // dropped as outliers (rejected); the camera time offset t_d at the end (camera stamp + t_d = IMU time).
+  // Camera (VIO): reprojection factors added, features seen from enough nodes that left the window without
+  // triangulating (skipped), landmarks dropped as outliers (rejected); the camera time offset t_d at the end
+  // (camera stamp + t_d = IMU time).
   FactorCount visual;
   double camera_time_offset_s =
       0;  // how the world -> ENU alignment started, or why not yet ("" without GNSS)

@@ -68,8 +68,7 @@ void VisualProvider::Observe(long id, Stamp stamp) {
   std::map<long, const TrackedFeature*> seen;
   for (const TrackedFeature& feature : frame->second.features) seen[feature.id] = &feature;
   for (auto it = landmarks_.begin(); it != landmarks_.end();)
-    it = !it->second.in_graph && !it->second.rejected && !seen.count(it->first) ? landmarks_.erase(it)
-                                                                                : std::next(it);
+    it = !it->second.in_graph && !it->second.rejected && !seen.count(it->first) ? Forget(it) : std::next(it);
   for (const auto& [feature_id, feature] : seen) {
     Landmark& landmark = landmarks_[feature_id];
     if (landmark.rejected) continue;
@@ -123,10 +122,8 @@ void VisualProvider::Link(FactorGraph& graph, const PoseBlockOf& pose_of) {
     if (landmark.rejected) continue;
     if (!landmark.in_graph) {
       if (landmark.observations.size() < needed) continue;
-      if (!StartLandmark(graph, landmark, pose_of)) {
-        ++untriangulated_;
-        continue;
-      }
+      landmark.untriangulated = !StartLandmark(graph, landmark, pose_of);
+      if (landmark.untriangulated) continue;
     }
     for (std::size_t k = static_cast<std::size_t>(landmark.linked); k < landmark.observations.size(); ++k)
       AddFactor(graph, id, landmark, k, pose_of);
@@ -176,9 +173,15 @@ std::vector<double*> VisualProvider::AnchoredBlocks(long id) const {
   return blocks;
 }
 
+std::map<long, VisualProvider::Landmark>::iterator VisualProvider::Forget(
+    std::map<long, Landmark>::iterator landmark) {
+  if (landmark->second.untriangulated) ++untriangulated_;
+  return landmarks_.erase(landmark);
+}
+
 void VisualProvider::ForgetNode(long id) {
   for (auto it = landmarks_.begin(); it != landmarks_.end();)
-    it = !it->second.observations.empty() && it->second.observations.front().node <= id ? landmarks_.erase(it)
+    it = !it->second.observations.empty() && it->second.observations.front().node <= id ? Forget(it)
                                                                                         : std::next(it);
 }
 

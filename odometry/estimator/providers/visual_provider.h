@@ -91,7 +91,8 @@ class VisualProvider {
   // The mean reprojection error of the factors at the last DropOutliers (before the drops), pixels.
   double mean_reprojection_px() const { return mean_reprojection_px_; }
   int landmarks_in_graph() const;
-  // Its part of the window's report: factors added, landmarks that did not triangulate, outliers.
+  // Its part of the window's report: factors added, landmarks forgotten without having triangulated (the
+  // parallax, depth or reprojection out of range while they were in the window), outliers.
   void Report(SensorFactorStats& stats) const;
 
  private:
@@ -105,6 +106,7 @@ class VisualProvider {
     double inverse_depth = 0;               // the block, 1/m
     bool in_graph = false;
     bool rejected = false;  // an outlier: no factors, observations ignored
+    bool untriangulated = false;  // had enough observations and failed to triangulate (so far)
     int linked = 0;         // observations with a factor (the anchor counts)
   };
   struct WaitingFrame {
@@ -116,6 +118,8 @@ class VisualProvider {
   VisualProvider(const VisualFactorConfig& config, FeatureTracker tracker, double focal_px,
                  const SE3& T_body_camera);
   bool StartLandmark(FactorGraph& graph, Landmark& landmark, const PoseBlockOf& pose_of);
+  // Erases the landmark, counting it when it never triangulated.
+  std::map<long, Landmark>::iterator Forget(std::map<long, Landmark>::iterator landmark);
   void AddFactor(FactorGraph& graph, long id, Landmark& landmark, std::size_t k, const PoseBlockOf& pose_of);
   SE3 CameraPose(const double* pose_block) const;
 

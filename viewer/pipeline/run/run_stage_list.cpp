@@ -201,8 +201,8 @@ void Summarize(const RunPlan& plan, StageOutputs& o, RunSummary& summary) {
     }
     if (plan.mode.camera)
       summary.notes.push_back(
-          PrintfText("visual factors: %.0f reprojections added, %.0f landmarks that did not "
-                     "triangulate, %.0f dropped as outliers; camera time offset t_d %.4f s",
+          PrintfText("visual factors: %.0f reprojections added, %.0f tracks long enough that never "
+                     "triangulated, %.0f landmarks dropped as outliers; camera time offset t_d %.4f s",
                      factors.visual.added, factors.visual.skipped, factors.visual.rejected,
                      factors.camera_time_offset_s) +
           (plan.wio_config.visual.estimate_time_offset ? " (estimated)" : " (fixed)"));
