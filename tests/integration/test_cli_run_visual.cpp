@@ -60,7 +60,8 @@ TEST_F(CliRunVisual, VisualInertialModeTracksTheCameraAndReportsItsFactors) {
   EXPECT_NE(result.output.find("run: vio (visual-inertial odometry on imu, cam0), "), std::string::npos)
       << result.output;
   EXPECT_EQ(DataLines(run + "/tracks.csv"), 61u);  // every frame, 0 to 6 s at 10 Hz
-  for (const char* plot : {"track_features", "track_ratio", "track_degeneracy", "timing_per_node"})
+  for (const char* plot :
+       {"track_features", "track_ratio", "track_degeneracy", "timing_per_node", "visual_landmarks"})
     EXPECT_TRUE(fs::exists(run + "/plots/" + plot + ".png")) << plot;
   // The overlays of every 50th frame (the default --overlay-every): frames 0 and 50.
   EXPECT_TRUE(fs::exists(run + "/plots/tracks_1700000000000000000.png"));
@@ -69,6 +70,9 @@ TEST_F(CliRunVisual, VisualInertialModeTracksTheCameraAndReportsItsFactors) {
   const std::string report = testing::ReadText(run + "/report.md");
   EXPECT_NE(report.find("WIO initialized: static"), std::string::npos) << report;
   EXPECT_NE(report.find("visual factors: "), std::string::npos) << report;
+  EXPECT_NE(report.find("## Camera in the window\n\nLandmarks per node after its solve: mean "),
+            std::string::npos)
+      << report;
   EXPECT_NE(report.find("camera time offset t_d 0.0000 s (fixed)"), std::string::npos) << report;
   EXPECT_NE(report.find("  visual:\n    pixel_sigma_px: 1"), std::string::npos) << report;  // wio.visual
   // Against the simulator's truth: ~25 m of driving. Measured 0.035 m; the IMU alone drifts metres.

@@ -11,8 +11,8 @@ namespace {
 template <typename Odometry>
 class WindowEstimator final : public RunEstimator {
  public:
-  WindowEstimator(Odometry odometry, std::string step)
-      : odometry_(std::move(odometry)), step_(std::move(step)) {}
+  WindowEstimator(Odometry odometry, std::string step, bool camera)
+      : odometry_(std::move(odometry)), step_(std::move(step)), camera_(camera) {}
 
   Status AddScan(const LidarScan& scan) override {
     if constexpr (requires(Odometry & o) { o.AddScan(scan); })
@@ -38,7 +38,11 @@ class WindowEstimator final : public RunEstimator {
   std::vector<Keyframe> TakeFinished() override { return odometry_.TakeFinished(); }
   std::vector<StepTime> TakeStepTimes() override {
     std::vector<StepTime> times;
-    for (const auto& stats : odometry_.TakeProcessedStats()) times.push_back({stats.stamp, stats.solve_ms});
+    for (const auto& stats : odometry_.TakeProcessedStats()) {
+      StepTime& step = times.emplace_back(StepTime{stats.stamp, stats.solve_ms});
+      if constexpr (requires { stats.landmarks; })
+        if (camera_) step.landmarks = stats.landmarks, step.reprojection_px = stats.reprojection_px;
+    }
     return times;
   }
   std::vector<estimator::TrackEvent> TakeEvents() override {
@@ -64,14 +68,15 @@ class WindowEstimator final : public RunEstimator {
  private:
   Odometry odometry_;
   std::string step_;
+  bool camera_;  // the window's camera factors are on
 };
 
 template <typename Odometry, typename Config>
-Expected<std::unique_ptr<RunEstimator>> Make(const Config& config, const char* step) {
+Expected<std::unique_ptr<RunEstimator>> Make(const Config& config, const char* step, bool camera) {
   Expected<Odometry> odometry = Odometry::Create(config);
   if (!odometry) return odometry.status();
   return std::unique_ptr<RunEstimator>(
-      std::make_unique<WindowEstimator<Odometry>>(std::move(*odometry), step));
+      std::make_unique<WindowEstimator<Odometry>>(std::move(*odometry), step, camera));
 }
 
 }  // namespace
@@ -79,8 +84,8 @@ Expected<std::unique_ptr<RunEstimator>> Make(const Config& config, const char* s
 Expected<std::unique_ptr<RunEstimator>> CreateRunEstimator(const EstimatorMode& mode,
                                                            const estimator::LidarOdometryConfig& lo,
                                                            const estimator::InertialOdometryConfig& wio) {
-  if (mode.core == OdometryMode::kWio) return Make<estimator::InertialOdometry>(wio, "node");
-  return Make<estimator::LidarOdometry>(lo, "scan");
+  if (mode.core == OdometryMode::kWio) return Make<estimator::InertialOdometry>(wio, "node", mode.camera);
+  return Make<estimator::LidarOdometry>(lo, "scan", false);
 }
 
 }  // namespace uf::pipeline

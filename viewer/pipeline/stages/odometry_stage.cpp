@@ -2,6 +2,7 @@
 
 #include <deque>
 
+#include "odometry/eval/series_plot.h"
 #include "odometry/io/for_each_measurement.h"
 #include "odometry/io/geo_trajectory_file.h"
 #include "odometry/io/image_decode.h"
@@ -21,6 +22,7 @@ struct Collected {
   std::vector<std::optional<SE3>> T_enu_world_at_pose;
   std::vector<ScoredKeyframe> scored;  // the keyframes with a LiDAR degeneracy (registered scans)
   std::vector<std::string> camera_warnings;  // the first frames that failed to decode
+  std::vector<StepTime> visual;              // the steps with the camera's figures (V modes)
 };
 
 constexpr std::int64_t kMaxKeptDecodeErrors = 5;  // undecodable frames whose reason is kept as a warning
@@ -50,6 +52,7 @@ Status CollectFinished(const OdometryStageInput& in, OdometryStageOutput& out, C
   for (const StepTime& step : in.odometry->TakeStepTimes()) {
     collected.stamps.push_back(step.stamp);
     collected.ms.push_back(step.ms);
+    if (step.landmarks >= 0) collected.visual.push_back(step);
   }
   for (estimator::TrackEvent& event : in.odometry->TakeEvents())
     out.summary.track_events.push_back(std::move(event));
@@ -124,6 +127,38 @@ Status WriteGeoTrajectory(const std::filesystem::path& folder, const Trajectory&
   return {};
 }
 
+// V modes: the landmarks per node (mean, and the fewest once the first landmark formed), their mean
+// reprojection error, and plots/visual_landmarks.png (landmarks per node over time).
+Status WriteVisualSummary(const std::vector<StepTime>& steps, const std::filesystem::path& out,
+                          OdometrySummary& summary, StageContext& context) {
+  if (steps.empty()) return {};
+  std::vector<double> seconds, landmarks;
+  double reprojection = 0;
+  int with_landmarks = 0;
+  for (const StepTime& step : steps) {
+    seconds.push_back(ToSeconds(step.stamp - steps.front().stamp));
+    landmarks.push_back(step.landmarks);
+    if (step.landmarks > 0) {
+      reprojection += step.reprojection_px;
+      ++with_landmarks;
+      summary.visual.fewest_landmarks = summary.visual.fewest_landmarks < 0
+                                            ? step.landmarks
+                                            : std::min(summary.visual.fewest_landmarks, step.landmarks);
+    }
+    summary.visual.mean_landmarks += step.landmarks / static_cast<double>(steps.size());
+  }
+  summary.visual.nodes_with_landmarks = with_landmarks;
+  summary.visual.mean_reprojection_px = with_landmarks > 0 ? reprojection / with_landmarks : 0;
+  summary.visual.plot = "plots/visual_landmarks.png";
+  if (Status s = WriteSeriesPlot((out / summary.visual.plot).string(), seconds, landmarks, "landmarks",
+                                 std::nullopt, "Landmarks in the window after each node's solve",
+                                 "time since the first node (s)", "landmarks");
+      !s.ok())
+    return s;
+  context.AddOutput(summary.visual.plot);
+  return {};
+}
+
 // trajectory.tum, trajectory_kitti.txt (in ENU, with the geographic files, when the estimator georeferenced
 // the run), timing.json and the timing plot.
 Status WriteOdometryFiles(const OdometryStageInput& in, const OdometryStageOutput& out,
@@ -155,6 +190,7 @@ Status WriteOdometryFiles(const OdometryStageInput& in, const OdometryStageOutpu
   std::error_code error;
   fs::create_directories(in.out / "plots", error);
   if (error) return Status::Error((in.out / "plots").string() + ": cannot create: " + error.message());
+  if (Status s = WriteVisualSummary(collected.visual, in.out, summary, context); !s.ok()) return s;
   const std::string plot = "plots/timing_per_" + summary.step + ".png";
   if (Status s = WriteTimingPlot(in.out / plot, collected.stamps, collected.ms, summary.step); !s.ok())
     return s;
