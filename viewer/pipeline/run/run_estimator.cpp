@@ -40,8 +40,12 @@ class WindowEstimator final : public RunEstimator {
     std::vector<StepTime> times;
     for (const auto& stats : odometry_.TakeProcessedStats()) {
       StepTime& step = times.emplace_back(StepTime{stats.stamp, stats.solve_ms});
-      if constexpr (requires { stats.landmarks; })
-        if (camera_) step.landmarks = stats.landmarks, step.reprojection_px = stats.reprojection_px;
+      if constexpr (requires { stats.landmarks; }) {
+        if (camera_) {
+          step.landmarks = stats.landmarks;
+          step.reprojection_px = stats.reprojection_px;
+        }
+      }
     }
     return times;
   }
