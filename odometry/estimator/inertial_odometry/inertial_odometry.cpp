@@ -31,7 +31,7 @@ void InertialOdometry::Impl::ProcessReady(bool flush) {
 
 std::optional<Stamp> InertialOdometry::Impl::NextNodeStamp() const {
   if (!visual) return next_stamp;
-  return visual->NextNodeStamp(*next_stamp - 1);
+  return visual->NextNodeStamp(*next_stamp);
 }
 
 void InertialOdometry::Impl::AttachProviders() {
@@ -88,7 +88,7 @@ void InertialOdometry::Impl::SolveAndSlide(InertialOdometryStats& stats) {
     return;
   }
   while (static_cast<int>(nodes.size()) > config.window_size) MarginalizeOldest(&stats.marginalize_ms);
-  if (visual) {
+  if (visual) {  // else both stay -1
     stats.landmarks = visual->landmarks_in_graph();
     stats.reprojection_px = visual->mean_reprojection_px();
   }

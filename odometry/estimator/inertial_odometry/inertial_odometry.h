@@ -50,9 +50,9 @@ struct InertialOdometryStats {
   double solve_ms = 0;        // wall time of the node: its factors, the solve and the marginalization
   double marginalize_ms = 0;  // of which the marginalization
   int iterations = 0;         // LM iterations of the node's solve
-  int landmarks = 0;          // with the camera: landmarks in the window after the solve
+  int landmarks = -1;         // with the camera: landmarks in the window after the solve (-1 without)
   int outliers = 0;           // with the camera: landmarks dropped after the solve
-  double reprojection_px = 0;  // with the camera: mean reprojection error after the solve, pixels
+  double reprojection_px = -1;  // with the camera: mean reprojection error after the solve, px (-1 without)
 };
 
 class InertialOdometry {

@@ -45,8 +45,8 @@ Expected<TrackedFrame> VisualProvider::AddFrame(Stamp stamp, const Image& image)
   return tracked;
 }
 
-std::optional<Stamp> VisualProvider::NextNodeStamp(std::optional<Stamp> after) const {
-  auto it = after ? waiting_.upper_bound(*after) : waiting_.begin();
+std::optional<Stamp> VisualProvider::NextNodeStamp(Stamp from) const {
+  const auto it = waiting_.lower_bound(from);
   if (it == waiting_.end()) return std::nullopt;
   return it->first;
 }

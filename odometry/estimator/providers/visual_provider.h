@@ -49,8 +49,8 @@ class VisualProvider {
   // and statistics); a frame the front end refuses (not after the last one, another size) returns the
   // reason and changes nothing.
   Expected<TrackedFrame> AddFrame(Stamp stamp, const Image& image);
-  // The node stamp of the first waiting frame after `after` (all when none), or nullopt.
-  std::optional<Stamp> NextNodeStamp(std::optional<Stamp> after) const;
+  // The node stamp of the first waiting frame at or after `from`, or nullopt.
+  std::optional<Stamp> NextNodeStamp(Stamp from) const;
 
   // Registers t_d and the extrinsic with the graph, with t_d's prior when it is free (again after the
   // graph was cleared).

@@ -11,8 +11,8 @@ namespace {
 template <typename Odometry>
 class WindowEstimator final : public RunEstimator {
  public:
-  WindowEstimator(Odometry odometry, std::string step, bool camera)
-      : odometry_(std::move(odometry)), step_(std::move(step)), camera_(camera) {}
+  WindowEstimator(Odometry odometry, std::string step)
+      : odometry_(std::move(odometry)), step_(std::move(step)) {}
 
   Status AddScan(const LidarScan& scan) override {
     if constexpr (requires(Odometry & o) { o.AddScan(scan); })
@@ -41,10 +41,8 @@ class WindowEstimator final : public RunEstimator {
     for (const auto& stats : odometry_.TakeProcessedStats()) {
       StepTime& step = times.emplace_back(StepTime{stats.stamp, stats.solve_ms});
       if constexpr (requires { stats.landmarks; }) {
-        if (camera_) {
-          step.landmarks = stats.landmarks;
-          step.reprojection_px = stats.reprojection_px;
-        }
+        step.landmarks = stats.landmarks;
+        step.reprojection_px = stats.reprojection_px;
       }
     }
     return times;
@@ -72,15 +70,14 @@ class WindowEstimator final : public RunEstimator {
  private:
   Odometry odometry_;
   std::string step_;
-  bool camera_;  // the window's camera factors are on
 };
 
 template <typename Odometry, typename Config>
-Expected<std::unique_ptr<RunEstimator>> Make(const Config& config, const char* step, bool camera) {
+Expected<std::unique_ptr<RunEstimator>> Make(const Config& config, const char* step) {
   Expected<Odometry> odometry = Odometry::Create(config);
   if (!odometry) return odometry.status();
   return std::unique_ptr<RunEstimator>(
-      std::make_unique<WindowEstimator<Odometry>>(std::move(*odometry), step, camera));
+      std::make_unique<WindowEstimator<Odometry>>(std::move(*odometry), step));
 }
 
 }  // namespace
@@ -88,8 +85,8 @@ Expected<std::unique_ptr<RunEstimator>> Make(const Config& config, const char* s
 Expected<std::unique_ptr<RunEstimator>> CreateRunEstimator(const EstimatorMode& mode,
                                                            const estimator::LidarOdometryConfig& lo,
                                                            const estimator::InertialOdometryConfig& wio) {
-  if (mode.core == OdometryMode::kWio) return Make<estimator::InertialOdometry>(wio, "node", mode.camera);
-  return Make<estimator::LidarOdometry>(lo, "scan", false);
+  if (mode.core == OdometryMode::kWio) return Make<estimator::InertialOdometry>(wio, "node");
+  return Make<estimator::LidarOdometry>(lo, "scan");
 }
 
 }  // namespace uf::pipeline

@@ -40,7 +40,7 @@ void Fill(Window& w) {
   for (int k = 0; k < 8; ++k) {
     const Stamp t = w.camera->begin() + 3'000'000'000 + Stamp{k} * kFramePeriod;
     ASSERT_TRUE(w.provider->AddFrame(t, w.camera->Render(t)).ok());
-    EXPECT_EQ(w.provider->NextNodeStamp(std::nullopt), t);  // t_d = 0: the node at the frame's stamp
+    EXPECT_EQ(w.provider->NextNodeStamp(w.camera->begin()), t);  // t_d = 0: the node at the frame's stamp
     w.stamps.push_back(t);
     w.poses.push_back(PoseBlock(w.camera->CameraPose(t)));
     w.graph.AddPoseBlock(w.poses.back().data());
@@ -116,7 +116,7 @@ TEST(VisualProvider, AFrameOutOfOrderIsRefused) {
   const auto again = (*provider)->AddFrame(t - kFramePeriod, camera->Render(t - kFramePeriod));
   ASSERT_FALSE(again.ok());
   EXPECT_NE(again.error().find("not after"), std::string::npos) << again.error();
-  EXPECT_EQ((*provider)->NextNodeStamp(std::nullopt), t);
+  EXPECT_EQ((*provider)->NextNodeStamp(camera->begin()), t);
   VisualFactorConfig bad;
   bad.max_depth_m = 0.1;  // below min_depth_m
   const auto refused = VisualProvider::Create(bad, camera->model(), SE3());
