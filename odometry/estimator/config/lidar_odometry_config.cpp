@@ -49,6 +49,12 @@ Status LidarOdometryConfig::Validate() const {
     if (Status s = gnss.Validate(); !s.ok()) return s;
     if (!T_body_gnss.matrix().allFinite()) return Bad("T_body_gnss", "finite", "non-finite", "lio");
   }
+  if (use_camera) {
+    if (!use_imu) return Status::Error("lio.use_camera: the camera factors need the IMU (LVIO), got LO");
+    if (Status s = visual.Validate(); !s.ok()) return Status::Error("lio." + s.message());
+    if (!camera) return Bad("camera", "a camera model with use_camera", "none", "lio");
+    if (!T_body_camera.matrix().allFinite()) return Bad("T_body_camera", "finite", "non-finite", "lio");
+  }
   if (!use_imu) return {};
   if (Status s = ValidateImuNoiseParams(imu); !s.ok()) return Status::Error("lio." + s.message());
   if (Status s = init.Validate(); !s.ok()) return s;

@@ -3,13 +3,17 @@
 // <value>"; the LIO fields are "lio.<field>").
 #pragma once
 
+#include <memory>
+
 #include "odometry/estimator/config/constant_velocity_noise.h"
 #include "odometry/estimator/config/gnss_factor_config.h"
 #include "odometry/estimator/config/imu_noise_params.h"
 #include "odometry/estimator/config/inertial_init_config.h"
 #include "odometry/estimator/config/marginalization_config.h"
+#include "odometry/estimator/config/visual_factor_config.h"
 #include "odometry/estimator/config/voxel_map_config.h"
 #include "odometry/estimator/config/wheel_factor_config.h"
+#include "odometry/types/camera_model.h"
 #include "odometry/types/se3.h"
 #include "odometry/types/status.h"
 
@@ -75,6 +79,15 @@ struct LidarOdometryConfig {
   bool use_gnss = false;
   GnssFactorConfig gnss;
   SE3 T_body_gnss;  // the antenna in the body frame (its translation is the lever arm)
+
+  // Camera factors (LVIO, LVWIO, LVWGIO; providers/visual_provider.h): each frame joins the scan node
+  // nearest its stamp + t_d, and its features get their depth from the LiDAR map (else by triangulation).
+  // Needs use_imu, the tracked camera's model and its pose in the body (IMU) frame. The window then solves
+  // with visual.max_iterations and visual.max_solver_time_s.
+  bool use_camera = false;
+  VisualFactorConfig visual;
+  std::shared_ptr<const CameraModel> camera;
+  SE3 T_body_camera;
 
   Status Validate() const;
 };

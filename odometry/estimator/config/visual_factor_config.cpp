@@ -29,6 +29,10 @@ Status VisualFactorConfig::Validate() const {
   if (!(std::abs(time_offset_s) <= 1.0)) return Bad("time_offset_s", "in [-1, 1]", time_offset_s);
   if (!Positive(time_offset_sigma_s))
     return Bad("time_offset_sigma_s", "finite and > 0", time_offset_sigma_s);
+  if (!Positive(extrinsic_rotation_sigma_deg))
+    return Bad("extrinsic_rotation_sigma_deg", "finite and > 0", extrinsic_rotation_sigma_deg);
+  if (!Positive(extrinsic_translation_sigma_m))
+    return Bad("extrinsic_translation_sigma_m", "finite and > 0", extrinsic_translation_sigma_m);
   if (max_iterations < 1) return Bad("max_iterations", ">= 1", max_iterations);
   if (!Positive(max_static_flow_px)) return Bad("max_static_flow_px", "finite and > 0", max_static_flow_px);
   if (!Positive(max_solver_time_s)) return Bad("max_solver_time_s", "finite and > 0", max_solver_time_s);

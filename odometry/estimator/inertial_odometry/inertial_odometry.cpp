@@ -113,14 +113,10 @@ InertialOdometry::~InertialOdometry() = default;
 
 Expected<InertialOdometry> InertialOdometry::Create(const InertialOdometryConfig& config) {
   if (Status status = config.Validate(); !status.ok()) return status;
-  std::unique_ptr<VisualProvider> visual;
-  if (config.use_camera) {
-    Expected<std::unique_ptr<VisualProvider>> made =
-        VisualProvider::Create(config.visual, *config.camera, config.T_body_camera);
-    if (!made) return Status::Error("wio.visual: " + made.status().message());
-    visual = std::move(*made);
-  }
-  return InertialOdometry(std::make_unique<Impl>(config, std::move(visual)));
+  Expected<std::unique_ptr<VisualProvider>> visual = VisualProvider::CreateIf(
+      config.use_camera, config.visual, config.camera.get(), config.T_body_camera, "wio");
+  if (!visual) return visual.status();
+  return InertialOdometry(std::make_unique<Impl>(config, std::move(*visual)));
 }
 
 Status InertialOdometry::AddImu(const ImuSample& sample) {
@@ -142,14 +138,9 @@ Status InertialOdometry::AddWheel(const WheelSample& sample) {
 }
 
 Status InertialOdometry::AddCameraFrame(const CameraFrame& frame) {
-  if (!impl_->visual) return {};
-  Expected<TrackedFrame> tracked = impl_->visual->AddFrame(frame.stamp, frame.image);
-  if (!tracked) {
-    impl_->warnings.push_back(tracked.status().message() + "; frame skipped");
-    return {};
-  }
-  impl_->tracked_frames.push_back(std::move(*tracked));
-  impl_->ProcessReady(/*flush=*/false);
+  if (impl_->visual &&
+      impl_->visual->AddFrame(frame.stamp, frame.image, impl_->tracked_frames, impl_->warnings))
+    impl_->ProcessReady(/*flush=*/false);
   return {};
 }
 

@@ -102,6 +102,10 @@ void LidarOdometry::Impl::ProcessScan(const LidarScan& input) {
     Reset();
   }
   while (static_cast<int>(window.size()) > config.window_size) PopOldest();
+  if (visual) {  // else both stay -1
+    stats.landmarks = visual->landmarks_in_graph();
+    stats.reprojection_px = visual->mean_reprojection_px();
+  }
   stats.solve_ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
   processed.push_back(stats);
 }
@@ -148,7 +152,10 @@ LidarOdometry::~LidarOdometry() = default;
 
 Expected<LidarOdometry> LidarOdometry::Create(const LidarOdometryConfig& config) {
   if (Status status = config.Validate(); !status.ok()) return status;
-  return LidarOdometry(std::make_unique<Impl>(config));
+  Expected<std::unique_ptr<VisualProvider>> visual = VisualProvider::CreateIf(
+      config.use_camera, config.visual, config.camera.get(), config.T_body_camera, "lio");
+  if (!visual) return visual.status();
+  return LidarOdometry(std::make_unique<Impl>(config, std::move(*visual)));
 }
 
 Status LidarOdometry::AddScan(const LidarScan& scan) { return impl_->AddScan(scan); }
@@ -162,6 +169,18 @@ Status LidarOdometry::AddGnss(const GnssFix& fix) {
   if (!impl_->gnss) return {};
   if (std::optional<std::string> skipped = impl_->gnss->Add(fix)) impl_->warnings.push_back(*skipped);
   return {};
+}
+
+Status LidarOdometry::AddCameraFrame(const CameraFrame& frame) {
+  if (impl_->visual)
+    impl_->visual->AddFrame(frame.stamp, frame.image, impl_->tracked_frames, impl_->warnings);
+  return {};
+}
+
+std::vector<TrackedFrame> LidarOdometry::TakeTrackedFrames() {
+  std::vector<TrackedFrame> out = std::move(impl_->tracked_frames);
+  impl_->tracked_frames.clear();
+  return out;
 }
 
 Status LidarOdometry::AddImu(const ImuSample& sample) {
@@ -204,6 +223,7 @@ void LidarOdometry::Finish() {
   w.ProcessReady(/*flush=*/true);
   if (w.window.size() >= 2) {
     w.LinkGnss();
+    w.LinkVisual();
     const SavedStates saved = Save(w.nodes);
     int iterations = 0;
     w.Relinearize();
@@ -225,6 +245,7 @@ SensorFactorStats LidarOdometry::sensor_factors() const {
   SensorFactorStats stats;
   if (impl_->wheel) impl_->wheel->Report(stats);
   if (impl_->gnss) impl_->gnss->Report(stats);
+  if (impl_->visual) impl_->visual->Report(stats);
   return stats;
 }
 

@@ -58,6 +58,7 @@
 #include "odometry/estimator/init/inertial_initializer.h"
 #include "odometry/estimator/lidar_odometry/track_event.h"
 #include "odometry/estimator/providers/sensor_factor_stats.h"
+#include "odometry/estimator/visual/feature_tracker.h"
 #include "odometry/types/georeference.h"
 #include "odometry/types/keyframe.h"
 #include "odometry/types/measurements.h"
@@ -74,6 +75,10 @@ struct OdometryStats {
   // Where solve_ms went, ms: scan preparation (range filter, downsampling), plane association, the new
   // scan's registration solves, the window solve, map insertion, marginalization.
   double prepare_ms = 0, associate_ms = 0, register_ms = 0, window_ms = 0, map_ms = 0, marginalize_ms = 0;
+  // LVIO: landmarks in the window after the scan's solve and their mean reprojection error, pixels; -1
+  // without the camera.
+  int landmarks = -1;
+  double reprojection_px = -1;
 };
 
 class LidarOdometry {
@@ -94,6 +99,12 @@ class LidarOdometry {
   // Feeds one wheel odometry sample (config.use_wheel; ignored otherwise). Non-finite or not-increasing
   // samples are skipped with a warning; a node interval the samples do not cover gets no wheel factor.
   Status AddWheel(const WheelSample& sample);
+  // Feeds one decoded frame of the tracked camera (config.use_camera, LVIO; ignored otherwise). It joins
+  // the scan node nearest its stamp + t_d once the window is initialized (providers/visual_provider.h). A
+  // frame the front end refuses (out of order, another size) is skipped with a warning.
+  Status AddCameraFrame(const CameraFrame& frame);
+  // The front end's result per frame since the last call (none without the camera).
+  std::vector<TrackedFrame> TakeTrackedFrames();
   // Feeds one GNSS fix (config.use_gnss; ignored otherwise). Fixes that fail the screening (status, NaN,
   // covariance) or come out of time order are skipped with a warning; accepted ones join the window once
   // its nodes cover them and the alignment has started (providers/gnss_provider.h).

@@ -5,7 +5,7 @@
 // (scan flow, restart), window_nodes.cpp (nodes, IMU, initialization), window_init.cpp (feeding the
 // initialization), window_extrinsic.cpp (a new LiDAR extrinsic), window_registration.cpp (registration,
 // acceptance, fallback guesses), window_scans.cpp (association, map, coarse map, keyframes) and
-// window_solve.cpp (solve, marginalize).
+// window_solve.cpp (solve, marginalize) and window_visual.cpp (the camera's landmarks, LVIO).
 #pragma once
 
 #include <array>
@@ -27,6 +27,7 @@
 #include "odometry/estimator/lidar_odometry/sweep_poses.h"
 #include "odometry/estimator/preintegration/imu_buffer.h"
 #include "odometry/estimator/providers/gnss_provider.h"
+#include "odometry/estimator/providers/visual_provider.h"
 #include "odometry/estimator/providers/wheel_provider.h"
 #include "odometry/estimator/state/nav_state.h"
 #include "odometry/estimator/state/pose_manifold.h"
@@ -99,12 +100,15 @@ class StageTimer {
 };
 
 struct LidarOdometry::Impl {
-  explicit Impl(const LidarOdometryConfig& c) : config(c), map(c.map), imu(c.imu, c.imu_max_gap_s) {
-    if (config.use_wheel) {
-      wheel = std::make_unique<WheelProvider>(config.wheel, config.T_body_wheel);
-      wheel->Attach(graph);
-    }
+  Impl(const LidarOdometryConfig& c, std::unique_ptr<VisualProvider> camera)
+      : config(c), map(c.map), imu(c.imu, c.imu_max_gap_s), visual(std::move(camera)) {
+    if (config.use_wheel) wheel = std::make_unique<WheelProvider>(config.wheel, config.T_body_wheel);
     if (config.use_gnss) gnss = std::make_unique<GnssProvider>(config.gnss, config.T_body_gnss.translation());
+    if (visual)
+      visual->SetMapDepth([this](const SE3& T_world_camera, const Eigen::Vector2d& xy) {
+        return MapDepth(T_world_camera, xy);
+      });
+    AttachProviders();
   }
 
   LidarOdometryConfig config;
@@ -147,6 +151,8 @@ struct LidarOdometry::Impl {
   // Optional factors.
   std::unique_ptr<WheelProvider> wheel;
   std::unique_ptr<GnssProvider> gnss;
+  std::unique_ptr<VisualProvider> visual;    // LVIO
+  std::vector<TrackedFrame> tracked_frames;  // the front end's, per frame since the last take
 
   // Nodes (window_nodes.cpp).
   Node& NodeAt(long id) { return nodes[static_cast<std::size_t>(id - first_node_id)]; }
@@ -162,6 +168,7 @@ struct LidarOdometry::Impl {
   void LinkWheel(long id);
   Status AddWheel(const WheelSample& sample);
   void LinkGnss();
+  void AttachProviders();
   Status AddImu(const ImuSample& sample);
   void TrimStreams();
   void TryInitializeInertial();
@@ -191,6 +198,12 @@ struct LidarOdometry::Impl {
   void Relinearize();
   void MarginalizeBefore(long keep_from, Stamp stamp);
   bool WheelScaleObservable();
+
+  // The camera's landmarks (window_visual.cpp).
+  void LinkVisual();
+  std::optional<double> MapDepth(const SE3& T_world_camera, const Eigen::Vector2d& xy) const;
+  std::vector<double*> AnchoredBlocks(long keep_from) const;
+  void ForgetVisualBefore(long keep_from);
 
   // Scan flow (lidar_odometry.cpp).
   Status AddScan(const LidarScan& scan);

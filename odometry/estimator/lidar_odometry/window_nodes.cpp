@@ -108,6 +108,7 @@ Status LidarOdometry::Impl::AddImu(const ImuSample& sample) {
 void LidarOdometry::Impl::TrimStreams() {
   if (nodes.empty()) return;
   if (wheel) wheel->Trim(nodes.front().stamp);
+  if (visual) visual->Trim(nodes.front().stamp);
   imu.Trim(nodes.front().stamp);
 }
 
@@ -175,7 +176,8 @@ void LidarOdometry::Impl::Reset() {
   window.clear();
   first_node_id = 0;
   graph.Clear();
-  if (wheel) wheel->Attach(graph);
+  if (visual) visual->Reset();
+  AttachProviders();
   if (gnss) gnss->Reset();
   map.Clear();
   inertial = false;

@@ -193,9 +193,11 @@ bool LidarOdometry::Impl::RegisterNewScan(ScanState& current) {
   }
   if (!why && (config.window_size > 2 || inertial)) {
     LinkGnss();  // the new nodes are registered: a fair prediction for the integrity test
+    LinkVisual();
     Relinearize();
     solved = Solve(&stats.iterations);  // the whole window, once
     if (!solved || !AllFinite(nodes)) why = solved ? "non-finite window state" : "window solver failure";
+    if (!why && visual) visual->DropOutliers(graph);
   }
   stats.residuals = current.residuals;
   current.plane_cache = {};  // the map changes next

@@ -34,12 +34,16 @@ bool LidarOdometry::Impl::Solve(int* iterations, bool new_scan_only) {
   if (wheel && wheel->scale_free() && !new_scan_only && WheelScaleObservable())
     request.free.push_back(wheel->scale_block());
   if (gnss && gnss->aligned() && !new_scan_only) request.free.push_back(gnss->alignment_block());
-  if (new_scan_only) {
+  if (visual && !new_scan_only) visual->AppendFreeBlocks(request.free);
+  if (new_scan_only) {  // the registration: the new scan's planes, and the motion factors at its nodes
     const long scan = window.back().id;
-    request.use = [scan](const Factor& f) { return f.kind != FactorKind::kLidar || f.tag == scan; };
+    request.use = [scan](const Factor& f) {
+      return f.kind == FactorKind::kLidar ? f.tag == scan : f.kind != FactorKind::kVisual;
+    };
   }
-  request.max_iterations = config.max_iterations;
-  request.max_time_s = config.max_solver_time_s;
+  const bool camera_budget = visual && !new_scan_only;
+  request.max_iterations = camera_budget ? config.visual.max_iterations : config.max_iterations;
+  request.max_time_s = camera_budget ? config.visual.max_solver_time_s : config.max_solver_time_s;
   const WindowSolveResult result = graph.Solve(request);
   *iterations += result.iterations;
   return result.usable;
@@ -115,6 +119,10 @@ void LidarOdometry::Impl::Relinearize() {
 // marginalization is off); `stamp` names the leaving scan in a warning.
 void LidarOdometry::Impl::MarginalizeBefore(long keep_from, Stamp stamp) {
   const StageTimer timer(stats.marginalize_ms);
+  // The landmarks leave with their anchors, dropped with their factors rather than marginalized
+  // (docs/METHOD.md "LiDAR-visual-inertial odometry": folded into the prior they made the estimated camera
+  // time offset run away, for no gain in accuracy).
+  graph.RemoveBlocks(AnchoredBlocks(keep_from));
   std::vector<double*> leaving;
   for (long id = first_node_id; id < keep_from && id <= LastNodeId(); ++id) {
     leaving.push_back(NodeAt(id).pose.data());
@@ -122,11 +130,11 @@ void LidarOdometry::Impl::MarginalizeBefore(long keep_from, Stamp stamp) {
   }
   if (!config.marginalize || keep_from > LastNodeId()) {
     graph.RemoveBlocks(leaving);
-    return;
-  }
-  // Without a prior the window falls back to holding its oldest pose constant: less information, no harm.
-  if (Status s = graph.Marginalize(leaving, config.marginalization); !s.ok())
+  } else if (Status s = graph.Marginalize(leaving, config.marginalization); !s.ok()) {
+    // Without a prior the window falls back to holding its oldest pose constant: less information, no harm.
     warnings.push_back("marginalization at " + StampText(stamp) + " failed, prior dropped: " + s.message());
+  }
+  ForgetVisualBefore(keep_from);
 }
 
 }  // namespace uf::estimator

@@ -1,7 +1,10 @@
 // What the optional factors did over a run so far, as the windows that use the providers report it.
 #pragma once
 
+#include <optional>
 #include <string>
+
+#include "odometry/types/se3.h"
 
 namespace uf::estimator {
 
@@ -23,13 +26,14 @@ struct SensorFactorStats {
     int tested = 0;
     double horizontal_median_m = 0, horizontal_p95_m = 0, mean_d2 = 0;
   } gnss_innovations;
-  std::string gnss_alignment;
-  // Camera (VIO): reprojection factors added, features seen from enough nodes that left the window without
-  // triangulating (skipped), landmarks dropped as outliers (rejected); the camera time offset t_d at the end
-  // (camera stamp + t_d = IMU time).
+  std::string gnss_alignment;  // how the world -> ENU alignment started, or why not yet ("" without GNSS)
+  // Camera (VIO, LVIO): reprojection factors added, features seen from enough nodes that left the window
+  // without triangulating (skipped), landmarks dropped as outliers (rejected); the camera time offset t_d at
+  // the end (camera stamp + t_d = IMU time).
   FactorCount visual;
-  double camera_time_offset_s =
-      0;  // how the world -> ENU alignment started, or why not yet ("" without GNSS)
+  double camera_time_offset_s = 0;
+  int visual_map_depths = 0;            // LVIO: landmarks whose depth came from the LiDAR map
+  std::optional<SE3> camera_extrinsic;  // T_body_camera at the end, when it was estimated
 };
 
 }  // namespace uf::estimator

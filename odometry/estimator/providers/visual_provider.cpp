@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
+#include "odometry/estimator/factors/pose_prior_factor.h"
 #include "odometry/estimator/factors/wheel_factor.h"
 #include "odometry/estimator/visual/triangulation.h"
 #include "odometry/types/printf_text.h"
@@ -12,7 +14,14 @@
 namespace uf::estimator {
 namespace {
 
+// The tags of the priors on t_d and the extrinsic; a landmark's factors carry its (non-negative) id.
 constexpr long kTimeOffsetPriorTag = -1;
+constexpr long kExtrinsicPriorTag = -2;
+// ObserveNearest: a frame farther than this from every node is dropped. The factor moves each feature to its
+// node's time along its image velocity (reprojection_factor.h), a first-order step that holds over the half
+// sweep (50 ms at 10 Hz) between a frame in mid-sweep and the scan's nodes, not over the gaps of keyframe
+// data.
+constexpr Stamp kMaxNodeDistance = 60'000'000;  // 60 ms
 
 }  // namespace
 
@@ -29,11 +38,24 @@ Expected<std::unique_ptr<VisualProvider>> VisualProvider::Create(const VisualFac
       new VisualProvider(config, std::move(*tracker), focal_px, T_body_camera));
 }
 
+Expected<std::unique_ptr<VisualProvider>> VisualProvider::CreateIf(bool use_camera,
+                                                                   const VisualFactorConfig& config,
+                                                                   const CameraModel* camera,
+                                                                   const SE3& T_body_camera,
+                                                                   const std::string& section) {
+  if (!use_camera) return std::unique_ptr<VisualProvider>();
+  if (!camera) return Status::Error(section + ".visual: no camera model");
+  Expected<std::unique_ptr<VisualProvider>> made = Create(config, *camera, T_body_camera);
+  if (!made) return Status::Error(section + ".visual: " + made.status().message());
+  return made;
+}
+
 VisualProvider::VisualProvider(const VisualFactorConfig& config, FeatureTracker tracker, double focal_px,
                                const SE3& T_body_camera)
     : config_(config),
       tracker_(std::move(tracker)),
       sqrt_information_(focal_px / config.pixel_sigma_px),
+      given_extrinsic_(T_body_camera),
       extrinsic_(PoseBlock(T_body_camera)),
       time_offset_(config.time_offset_s) {}
 
@@ -43,6 +65,17 @@ Expected<TrackedFrame> VisualProvider::AddFrame(Stamp stamp, const Image& image)
   const Stamp node_stamp = stamp + FromSeconds(time_offset_);
   waiting_[node_stamp] = {stamp, ToSeconds(node_stamp - stamp), tracked->features};
   return tracked;
+}
+
+bool VisualProvider::AddFrame(Stamp stamp, const Image& image, std::vector<TrackedFrame>& tracked,
+                              std::vector<std::string>& warnings) {
+  Expected<TrackedFrame> frame = AddFrame(stamp, image);
+  if (!frame) {
+    warnings.push_back(frame.status().message() + "; frame skipped");
+    return false;
+  }
+  tracked.push_back(std::move(*frame));
+  return true;
 }
 
 std::optional<Stamp> VisualProvider::NextNodeStamp(Stamp from) const {
@@ -58,23 +91,56 @@ void VisualProvider::Attach(FactorGraph& graph) {
     graph.Add(FactorKind::kVisual, kTimeOffsetPriorTag,
               std::make_unique<WheelScalePriorFactor>(config_.time_offset_sigma_s, config_.time_offset_s),
               nullptr, {&time_offset_});
+  if (config_.estimate_extrinsic)
+    graph.Add(FactorKind::kVisual, kExtrinsicPriorTag,
+              MakePosePriorFactor(given_extrinsic_, config_.extrinsic_translation_sigma_m,
+                                  config_.extrinsic_rotation_sigma_deg * std::numbers::pi / 180),
+              nullptr, {extrinsic_.data()});
 }
 
-// Every feature of the frame is observed by the node; a landmark (not yet in the graph) whose feature the
-// frame lost can never reach min_track_length nodes again and is forgotten.
 void VisualProvider::Observe(long id, Stamp stamp) {
   auto frame = waiting_.find(stamp);
   if (frame == waiting_.end()) return;
+  ObserveFrame(id, frame->second, frame->second.td0);
+  waiting_.erase(waiting_.begin(), std::next(frame));
+}
+
+void VisualProvider::ObserveNearest(const std::vector<NodeStamp>& nodes) {
+  if (nodes.empty()) return;
+  std::size_t k = 0;  // the node nearest the frame
+  while (!waiting_.empty() && waiting_.begin()->first <= nodes.back().stamp) {
+    const auto& [node_stamp, frame] = *waiting_.begin();
+    while (k + 1 < nodes.size() && nodes[k + 1].stamp - node_stamp < node_stamp - nodes[k].stamp) ++k;
+    if (nodes[k].id > last_observed_ && std::llabs(nodes[k].stamp - node_stamp) <= kMaxNodeDistance) {
+      ObserveFrame(nodes[k].id, frame, ToSeconds(nodes[k].stamp - frame.camera_stamp));
+      last_observed_ = nodes[k].id;
+    }
+    waiting_.erase(waiting_.begin());
+  }
+}
+
+// Every feature of the frame is observed by the node; a landmark (not yet in the graph) whose feature the
+// frame lost can never reach min_track_length nodes again and is forgotten. A feature's first frame has no
+// velocity (the front end's is since the previous frame); its second frame's, the motion between the two,
+// stands in for it, so that the anchor too moves to its node's time (reprojection_factor.h).
+void VisualProvider::ObserveFrame(long id, const WaitingFrame& frame, double td0) {
   std::map<long, const TrackedFeature*> seen;
-  for (const TrackedFeature& feature : frame->second.features) seen[feature.id] = &feature;
+  for (const TrackedFeature& feature : frame.features) seen[feature.id] = &feature;
   for (auto it = landmarks_.begin(); it != landmarks_.end();)
     it = !it->second.in_graph && !it->second.rejected && !seen.count(it->first) ? Forget(it) : std::next(it);
   for (const auto& [feature_id, feature] : seen) {
     Landmark& landmark = landmarks_[feature_id];
     if (landmark.rejected) continue;
-    landmark.observations.push_back({id, {feature->normalized, feature->velocity}, frame->second.td0});
+    if (landmark.observations.size() == 1 && landmark.first_without_velocity)
+      landmark.observations.front().feature.velocity = feature->velocity;
+    if (landmark.observations.empty()) landmark.first_without_velocity = feature->length <= 1;
+    landmark.observations.push_back({id, {feature->normalized, feature->velocity}, td0});
   }
-  waiting_.erase(waiting_.begin(), std::next(frame));
+}
+
+// The feature moved to its node's time for the current t_d, as the factor does (reprojection_factor.h).
+Eigen::Vector2d VisualProvider::AtNodeTime(const Observation& o) const {
+  return o.feature.normalized - (time_offset_ - o.td0) * o.feature.velocity;
 }
 
 SE3 VisualProvider::CameraPose(const double* pose_block) const {
@@ -94,22 +160,43 @@ void VisualProvider::AddFactor(FactorGraph& graph, long id, Landmark& landmark, 
   ++added_;
 }
 
-// Triangulates the landmark from the current camera poses of its nodes; in range, it joins the graph with a
-// factor per observation after the anchor.
+std::optional<double> VisualProvider::MapInverseDepth(const Landmark& landmark,
+                                                      const std::vector<SE3>& cameras) const {
+  const Eigen::Vector2d xy = AtNodeTime(landmark.observations.front());
+  const std::optional<double> depth = map_depth_(cameras.front(), xy);
+  if (!depth || !(*depth >= config_.min_depth_m && *depth <= config_.max_depth_m)) return std::nullopt;
+  const Eigen::Vector3d point = cameras.front() * (*depth * xy.homogeneous());
+  const double max_normalized = config_.max_reprojection_px / (sqrt_information_ * config_.pixel_sigma_px);
+  for (std::size_t k = 1; k < cameras.size(); ++k) {
+    const Eigen::Vector3d p = cameras[k].inverse() * point;
+    if (!(p.z() >= config_.min_depth_m)) return std::nullopt;
+    if (!((p.hnormalized() - AtNodeTime(landmark.observations[k])).norm() <= max_normalized))
+      return std::nullopt;
+  }
+  return 1.0 / *depth;
+}
+
+// Takes the map's depth (see the top of the header), else triangulates the landmark from the current camera
+// poses of its nodes; in range, it joins the graph with a factor per observation after the anchor.
 bool VisualProvider::StartLandmark(FactorGraph& graph, Landmark& landmark, const PoseBlockOf& pose_of) {
   std::vector<SE3> cameras;
   std::vector<Eigen::Vector2d> rays;
   for (const Observation& o : landmark.observations) {
     cameras.push_back(CameraPose(pose_of(o.node)));
-    rays.push_back(o.feature.normalized);
+    rays.push_back(AtNodeTime(o));
   }
-  Expected<Triangulation> point = Triangulate(cameras, rays, config_.min_parallax_deg, config_.min_depth_m);
-  if (!point) return false;
-  const double inverse_depth = InverseDepth(cameras.front(), point->point_world);
-  if (!(inverse_depth >= 1.0 / config_.max_depth_m) ||
-      point->max_reprojection * sqrt_information_ * config_.pixel_sigma_px > config_.max_reprojection_px)
-    return false;
-  landmark.inverse_depth = inverse_depth;
+  std::optional<double> inverse_depth = map_depth_ ? MapInverseDepth(landmark, cameras) : std::nullopt;
+  if (inverse_depth) {
+    ++map_depths_;
+  } else {
+    Expected<Triangulation> point = Triangulate(cameras, rays, config_.min_parallax_deg, config_.min_depth_m);
+    if (!point) return false;
+    inverse_depth = InverseDepth(cameras.front(), point->point_world);
+    if (!(*inverse_depth >= 1.0 / config_.max_depth_m) ||
+        point->max_reprojection * sqrt_information_ * config_.pixel_sigma_px > config_.max_reprojection_px)
+      return false;
+  }
+  landmark.inverse_depth = *inverse_depth;
   graph.AddEuclideanBlock(&landmark.inverse_depth, 1);
   landmark.in_graph = true;
   landmark.linked = 1;
@@ -136,7 +223,7 @@ int VisualProvider::DropOutliers(FactorGraph& graph) {
   double sum_px = 0;
   int count = 0;
   for (const Factor& f : graph.Entries(FactorKind::kVisual)) {
-    if (f.tag == kTimeOffsetPriorTag) continue;
+    if (f.tag < 0) continue;  // the priors
     double r[2];
     if (!f.cost->Evaluate(f.blocks.data(), r, nullptr)) r[0] = r[1] = INFINITY;
     const double px = std::hypot(r[0], r[1]) * config_.pixel_sigma_px;
@@ -189,9 +276,13 @@ void VisualProvider::AppendFreeBlocks(std::vector<double*>& free) {
   for (auto& [id, landmark] : landmarks_)
     if (landmark.in_graph) free.push_back(&landmark.inverse_depth);
   if (config_.estimate_time_offset) free.push_back(&time_offset_);
+  if (config_.estimate_extrinsic) free.push_back(extrinsic_.data());
 }
 
-void VisualProvider::Reset() { landmarks_.clear(); }
+void VisualProvider::Reset() {
+  landmarks_.clear();
+  last_observed_ = -1;
+}
 
 std::optional<std::string> VisualProvider::NotStillReason(const std::vector<Stamp>& node_stamps) const {
   for (Stamp stamp : node_stamps) {
@@ -219,7 +310,7 @@ std::vector<VisualProvider::LandmarkView> VisualProvider::Landmarks() {
   for (auto& [id, landmark] : landmarks_)
     if (landmark.in_graph) {
       const Observation& anchor = landmark.observations.front();
-      views.push_back({id, anchor.node, anchor.feature.normalized, &landmark.inverse_depth});
+      views.push_back({id, anchor.node, AtNodeTime(anchor), &landmark.inverse_depth});
     }
   return views;
 }
@@ -232,6 +323,8 @@ int VisualProvider::landmarks_in_graph() const {
 void VisualProvider::Report(SensorFactorStats& stats) const {
   stats.visual = {added_, untriangulated_, rejected_};
   stats.camera_time_offset_s = time_offset_;
+  stats.visual_map_depths = map_depths_;
+  if (config_.estimate_extrinsic) stats.camera_extrinsic = PoseFromBlock(extrinsic_.data());
 }
 
 }  // namespace uf::estimator

@@ -3,14 +3,21 @@
 // frame's stamp + t_d), turns features seen from enough nodes into landmarks (inverse depth in the first
 // observing node, the anchor, by triangulation) and links each observation to the anchor by a
 // ReprojectionFactor (factors/reprojection_factor.h) under a Huber loss. It owns the blocks the factors
-// share: the camera time offset t_d (free when configured, with its prior) and T_body_camera (constant).
+// share: the camera time offset t_d and T_body_camera (each free when configured, with its prior).
 //
 // Landmarks live until their anchor leaves the window: the window then marginalizes their inverse depths
-// with the anchor (AnchoredBlocks), so what they said about the remaining nodes stays in the prior. The
-// oldest node is always the anchor of every landmark it observes, since anchors are first observations.
+// with the anchor (AnchoredBlocks; the inertial window), so what they said about the remaining nodes stays
+// in the prior, or drops them with their factors (the LiDAR window). The oldest node is always the anchor of
+// every landmark it observes, since anchors are first observations.
 // After each solve, a landmark reprojecting worse than max_reprojection_px anywhere, or whose depth left
 // [min_depth_m, max_depth_m], is dropped with its factors (a moving object, a bad track) and never used
 // again.
+//
+// Two ways to give frames nodes: the inertial window makes a node per frame (NextNodeStamp, Observe); the
+// LiDAR window has its nodes at the scans' boundaries and hands each frame to the node nearest its stamp +
+// t_d (ObserveNearest), the factor's t_d0 then absorbing the difference. With a depth source (the LiDAR
+// map, SetMapDepth) a new landmark takes its depth from where the anchor's ray meets the map, if that
+// depth reprojects within max_reprojection_px in every observing camera; else it is triangulated.
 //
 // Node ids are the window's; Reset forgets every landmark (the window restarts with new ids).
 #pragma once
@@ -20,6 +27,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "odometry/estimator/config/visual_factor_config.h"
@@ -35,6 +43,14 @@ namespace uf::estimator {
 
 // The pose block (T_world_body) of the window's node `id`.
 using PoseBlockOf = std::function<double*(long id)>;
+// The depth (along the camera's z) at which the ray of normalized coordinates (x, y) from the camera at
+// T_world_camera meets the scene, or nullopt.
+using MapDepthOf = std::function<std::optional<double>(const SE3& T_world_camera, const Eigen::Vector2d& xy)>;
+// A node of the window: its id and stamp.
+struct NodeStamp {
+  long id = 0;
+  Stamp stamp = 0;
+};
 
 class VisualProvider {
  public:
@@ -42,6 +58,11 @@ class VisualProvider {
   static Expected<std::unique_ptr<VisualProvider>> Create(const VisualFactorConfig& config,
                                                           const CameraModel& camera,
                                                           const SE3& T_body_camera);
+  // A window's provider: none without use_camera; errors are Create's under `section` ("wio", "lio").
+  static Expected<std::unique_ptr<VisualProvider>> CreateIf(bool use_camera, const VisualFactorConfig& config,
+                                                            const CameraModel* camera,
+                                                            const SE3& T_body_camera,
+                                                            const std::string& section);
   VisualProvider(const VisualProvider&) = delete;  // the graph refers to its blocks
   VisualProvider& operator=(const VisualProvider&) = delete;
 
@@ -49,15 +70,25 @@ class VisualProvider {
   // and statistics); a frame the front end refuses (not after the last one, another size) returns the
   // reason and changes nothing.
   Expected<TrackedFrame> AddFrame(Stamp stamp, const Image& image);
+  // The same for a window: the result is appended to `tracked`, a refusal to `warnings` ("...; frame
+  // skipped"). Returns whether the frame was taken.
+  bool AddFrame(Stamp stamp, const Image& image, std::vector<TrackedFrame>& tracked,
+                std::vector<std::string>& warnings);
   // The node stamp of the first waiting frame at or after `from`, or nullopt.
   std::optional<Stamp> NextNodeStamp(Stamp from) const;
 
-  // Registers t_d and the extrinsic with the graph, with t_d's prior when it is free (again after the
+  // Registers t_d and the extrinsic with the graph, with their priors when they are free (again after the
   // graph was cleared).
   void Attach(FactorGraph& graph);
   // The waiting frame at node stamp `stamp` becomes node `id`'s observations (frames before it are
   // dropped); nothing when there is none.
   void Observe(long id, Stamp stamp);
+  // The waiting frames up to the last of `nodes` (ascending ids and stamps) become the observations of the
+  // node nearest their node stamp, if that node is within 60 ms and after the last node observed (a node
+  // observes one frame: the first); the others are dropped. Frames after the last node wait.
+  void ObserveNearest(const std::vector<NodeStamp>& nodes);
+  // New landmarks take their depth from `depth` when it answers (see above).
+  void SetMapDepth(MapDepthOf depth) { map_depth_ = std::move(depth); }
   // Before a solve: features seen from min_track_length nodes become landmarks when they triangulate, and
   // every new observation of a landmark gets its factor.
   void Link(FactorGraph& graph, const PoseBlockOf& pose_of);
@@ -67,7 +98,7 @@ class VisualProvider {
   std::vector<double*> AnchoredBlocks(long id) const;
   // Node `id` has left the window: its landmarks are forgotten.
   void ForgetNode(long id);
-  // Appends the blocks a solve moves: every landmark's inverse depth, and t_d when it is free.
+  // Appends the blocks a solve moves: every landmark's inverse depth, and t_d and the extrinsic when free.
   void AppendFreeBlocks(std::vector<double*>& free);
   // Forgets every landmark and observation (the graph is cleared by the caller); waiting frames stay.
   void Reset();
@@ -77,8 +108,8 @@ class VisualProvider {
   // features moved more than max_static_flow_px on average since the previous frame), or nullopt.
   std::optional<std::string> NotStillReason(const std::vector<Stamp>& node_stamps) const;
 
-  // A landmark in the graph as it stands: its feature id, anchor node, the anchor's normalized ray and its
-  // inverse-depth block.
+  // A landmark in the graph as it stands: its feature id, anchor node, the anchor's normalized ray (at its
+  // node's time) and its inverse-depth block.
   struct LandmarkView {
     long id = 0;
     long anchor = 0;
@@ -107,6 +138,7 @@ class VisualProvider {
     bool in_graph = false;
     bool rejected = false;  // an outlier: no factors, observations ignored
     bool untriangulated = false;  // had enough observations and failed to triangulate (so far)
+    bool first_without_velocity = false;  // the first observation is the feature's first frame
     int linked = 0;         // observations with a factor (the anchor counts)
   };
   struct WaitingFrame {
@@ -117,20 +149,27 @@ class VisualProvider {
 
   VisualProvider(const VisualFactorConfig& config, FeatureTracker tracker, double focal_px,
                  const SE3& T_body_camera);
+  void ObserveFrame(long id, const WaitingFrame& frame, double td0);
   bool StartLandmark(FactorGraph& graph, Landmark& landmark, const PoseBlockOf& pose_of);
+  // The map's inverse depth for the landmark, if it reprojects within max_reprojection_px everywhere.
+  std::optional<double> MapInverseDepth(const Landmark& landmark, const std::vector<SE3>& cameras) const;
   // Erases the landmark, counting it when it never triangulated.
   std::map<long, Landmark>::iterator Forget(std::map<long, Landmark>::iterator landmark);
   void AddFactor(FactorGraph& graph, long id, Landmark& landmark, std::size_t k, const PoseBlockOf& pose_of);
   SE3 CameraPose(const double* pose_block) const;
+  Eigen::Vector2d AtNodeTime(const Observation& o) const;
 
   VisualFactorConfig config_;
   FeatureTracker tracker_;
   double sqrt_information_;                // focal / pixel sigma
-  PoseArray extrinsic_;                    // T_body_camera, pose layout (constant)
+  SE3 given_extrinsic_;                    // T_body_camera as configured
+  PoseArray extrinsic_;                    // T_body_camera, pose layout (free with estimate_extrinsic)
   double time_offset_;                     // t_d, s
   std::map<Stamp, WaitingFrame> waiting_;  // by node stamp
   std::map<long, Landmark> landmarks_;     // by feature id; std::map keeps the blocks' addresses
-  int added_ = 0, untriangulated_ = 0, rejected_ = 0;
+  MapDepthOf map_depth_;
+  long last_observed_ = -1;  // ObserveNearest's last node
+  int added_ = 0, untriangulated_ = 0, rejected_ = 0, map_depths_ = 0;
   double mean_reprojection_px_ = 0;
 };
 

@@ -166,6 +166,34 @@ inline estimator::LidarOdometryConfig NonDefaultOdometry() {
   c.gnss.max_alignment_rms_m = 5;
   c.gnss.max_interpolation_gap_s = 0.5;
   c.gnss.max_snap_s = 0.1;
+  c.visual.pixel_sigma_px = 1.5;
+  c.visual.huber_sigmas = 3;
+  c.visual.min_parallax_deg = 2;
+  c.visual.min_depth_m = 1;
+  c.visual.max_depth_m = 80;
+  c.visual.max_reprojection_px = 4;
+  c.visual.time_offset_s = -0.01;
+  c.visual.estimate_time_offset = true;
+  c.visual.time_offset_sigma_s = 0.02;
+  c.visual.estimate_extrinsic = true;
+  c.visual.extrinsic_rotation_sigma_deg = 3;
+  c.visual.extrinsic_translation_sigma_m = 0.1;
+  c.visual.max_iterations = 12;
+  c.visual.max_solver_time_s = 0.2;
+  c.visual.max_static_flow_px = 1;
+  c.visual.tracker.max_features = 200;
+  c.visual.tracker.min_distance_px = 20;
+  c.visual.tracker.quality_level = 0.02;
+  c.visual.tracker.klt_window_px = 21;
+  c.visual.tracker.klt_pyramid_levels = 4;
+  c.visual.tracker.max_fb_error_px = 1;
+  c.visual.tracker.ransac_threshold_px = 2;
+  c.visual.tracker.ransac_confidence = 0.999;
+  c.visual.tracker.min_track_length = 5;
+  c.visual.tracker.keyframe_parallax_px = 15;
+  c.visual.tracker.grid_cells = 6;
+  c.visual.tracker.min_contrast_dn = 4;
+  c.visual.tracker.normalize_exposure = false;
   return c;
 }
 
@@ -197,31 +225,7 @@ inline estimator::InertialOdometryConfig NonDefaultWio() {
   c.init.max_chi2_per_dof = defaults.max_chi2_per_dof;
   c.wheel = lio.wheel;
   c.gnss = lio.gnss;
-  c.visual.pixel_sigma_px = 1.5;
-  c.visual.huber_sigmas = 3;
-  c.visual.min_parallax_deg = 2;
-  c.visual.min_depth_m = 1;
-  c.visual.max_depth_m = 80;
-  c.visual.max_reprojection_px = 4;
-  c.visual.time_offset_s = -0.01;
-  c.visual.estimate_time_offset = true;
-  c.visual.time_offset_sigma_s = 0.02;
-  c.visual.max_iterations = 12;
-  c.visual.max_solver_time_s = 0.2;
-  c.visual.max_static_flow_px = 1;
-  c.visual.tracker.max_features = 200;
-  c.visual.tracker.min_distance_px = 20;
-  c.visual.tracker.quality_level = 0.02;
-  c.visual.tracker.klt_window_px = 21;
-  c.visual.tracker.klt_pyramid_levels = 4;
-  c.visual.tracker.max_fb_error_px = 1;
-  c.visual.tracker.ransac_threshold_px = 2;
-  c.visual.tracker.ransac_confidence = 0.999;
-  c.visual.tracker.min_track_length = 5;
-  c.visual.tracker.keyframe_parallax_px = 15;
-  c.visual.tracker.grid_cells = 6;
-  c.visual.tracker.min_contrast_dn = 4;
-  c.visual.tracker.normalize_exposure = false;
+  c.visual = lio.visual;
   return c;
 }
 

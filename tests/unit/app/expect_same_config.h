@@ -196,7 +196,7 @@ inline void ExpectSameLo(const estimator::LidarOdometryConfig& a, const estimato
   EXPECT_FIELD(map.min_plane_rings);
 }
 
-// The parts that lio: and wio: share: imu, init (but its LIO-only keys), wheel, gnss.
+// The parts that lio: and wio: share: imu, init (but its LIO-only keys), wheel, gnss, visual.
 template <typename Config>
 inline void ExpectSameInertialParts(const Config& a, const Config& b) {
   EXPECT_FIELD(imu.accel_noise_density);
@@ -240,6 +240,34 @@ inline void ExpectSameInertialParts(const Config& a, const Config& b) {
   EXPECT_FIELD(gnss.max_alignment_rms_m);
   EXPECT_FIELD(gnss.max_interpolation_gap_s);
   EXPECT_FIELD(gnss.max_snap_s);
+  EXPECT_FIELD(visual.pixel_sigma_px);
+  EXPECT_FIELD(visual.huber_sigmas);
+  EXPECT_FIELD(visual.min_parallax_deg);
+  EXPECT_FIELD(visual.min_depth_m);
+  EXPECT_FIELD(visual.max_depth_m);
+  EXPECT_FIELD(visual.max_reprojection_px);
+  EXPECT_FIELD(visual.time_offset_s);
+  EXPECT_FIELD(visual.estimate_time_offset);
+  EXPECT_FIELD(visual.time_offset_sigma_s);
+  EXPECT_FIELD(visual.estimate_extrinsic);
+  EXPECT_FIELD(visual.extrinsic_rotation_sigma_deg);
+  EXPECT_FIELD(visual.extrinsic_translation_sigma_m);
+  EXPECT_FIELD(visual.max_iterations);
+  EXPECT_FIELD(visual.max_solver_time_s);
+  EXPECT_FIELD(visual.max_static_flow_px);
+  EXPECT_FIELD(visual.tracker.max_features);
+  EXPECT_FIELD(visual.tracker.min_distance_px);
+  EXPECT_FIELD(visual.tracker.quality_level);
+  EXPECT_FIELD(visual.tracker.klt_window_px);
+  EXPECT_FIELD(visual.tracker.klt_pyramid_levels);
+  EXPECT_FIELD(visual.tracker.max_fb_error_px);
+  EXPECT_FIELD(visual.tracker.ransac_threshold_px);
+  EXPECT_FIELD(visual.tracker.ransac_confidence);
+  EXPECT_FIELD(visual.tracker.min_track_length);
+  EXPECT_FIELD(visual.tracker.keyframe_parallax_px);
+  EXPECT_FIELD(visual.tracker.grid_cells);
+  EXPECT_FIELD(visual.tracker.min_contrast_dn);
+  EXPECT_FIELD(visual.tracker.normalize_exposure);
 }
 
 inline void ExpectSameLio(const estimator::LidarOdometryConfig& a, const estimator::LidarOdometryConfig& b) {
@@ -271,31 +299,6 @@ inline void ExpectSameWio(const estimator::InertialOdometryConfig& a,
   EXPECT_FIELD(max_speed_mps);
   EXPECT_FIELD(wheel_max_wait_s);
   ExpectSameInertialParts(a, b);
-  EXPECT_FIELD(visual.pixel_sigma_px);
-  EXPECT_FIELD(visual.huber_sigmas);
-  EXPECT_FIELD(visual.min_parallax_deg);
-  EXPECT_FIELD(visual.min_depth_m);
-  EXPECT_FIELD(visual.max_depth_m);
-  EXPECT_FIELD(visual.max_reprojection_px);
-  EXPECT_FIELD(visual.time_offset_s);
-  EXPECT_FIELD(visual.estimate_time_offset);
-  EXPECT_FIELD(visual.time_offset_sigma_s);
-  EXPECT_FIELD(visual.max_iterations);
-  EXPECT_FIELD(visual.max_solver_time_s);
-  EXPECT_FIELD(visual.max_static_flow_px);
-  EXPECT_FIELD(visual.tracker.max_features);
-  EXPECT_FIELD(visual.tracker.min_distance_px);
-  EXPECT_FIELD(visual.tracker.quality_level);
-  EXPECT_FIELD(visual.tracker.klt_window_px);
-  EXPECT_FIELD(visual.tracker.klt_pyramid_levels);
-  EXPECT_FIELD(visual.tracker.max_fb_error_px);
-  EXPECT_FIELD(visual.tracker.ransac_threshold_px);
-  EXPECT_FIELD(visual.tracker.ransac_confidence);
-  EXPECT_FIELD(visual.tracker.min_track_length);
-  EXPECT_FIELD(visual.tracker.keyframe_parallax_px);
-  EXPECT_FIELD(visual.tracker.grid_cells);
-  EXPECT_FIELD(visual.tracker.min_contrast_dn);
-  EXPECT_FIELD(visual.tracker.normalize_exposure);
 }
 
 inline void ExpectSameSplat(const SplatConfig& a, const SplatConfig& b) {

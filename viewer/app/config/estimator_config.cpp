@@ -83,6 +83,7 @@ Schema<LidarOdometryConfig> MakeLioSchema() {
   s.Nest("init", &C::init, config::InitSchema(true));
   s.Nest("wheel", &C::wheel, config::WheelSchema());
   s.Nest("gnss", &C::gnss, config::GnssSchema());
+  s.Nest("visual", &C::visual, config::VisualSchema());
   return s;
 }
 

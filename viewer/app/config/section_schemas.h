@@ -25,5 +25,6 @@ Schema<estimator::ImuNoiseParams> ImuNoiseSchema(const std::string& scale);
 Schema<estimator::InertialInitConfig> InitSchema(bool lidar);
 Schema<estimator::WheelFactorConfig> WheelSchema();
 Schema<estimator::GnssFactorConfig> GnssSchema();
+Schema<estimator::VisualFactorConfig> VisualSchema();  // the camera factors of either window
 
 }  // namespace uf::app::config

@@ -20,6 +20,10 @@ constexpr std::array kModes = {
     EstimatorMode{OdometryMode::kWio, true, false, true},
     EstimatorMode{OdometryMode::kWio, false, true, true},
     EstimatorMode{OdometryMode::kWio, true, true, true},
+    EstimatorMode{OdometryMode::kLio, false, false, true},
+    EstimatorMode{OdometryMode::kLio, true, false, true},
+    EstimatorMode{OdometryMode::kLio, false, true, true},
+    EstimatorMode{OdometryMode::kLio, true, true, true},
 };
 
 std::string Joined(const std::vector<std::string>& parts) {
@@ -67,8 +71,9 @@ std::string StreamList(const DatasetDescription& description) {
 std::string ModeName(const EstimatorMode& mode) {
   if (mode.core == OdometryMode::kWio)
     return std::string(mode.camera ? "v" : "") + (mode.wheel ? "w" : "") + (mode.gnss ? "g" : "") + "io";
-  if (mode.gnss && !mode.wheel) return mode.core == OdometryMode::kLio ? "lio+g" : "lo+g";
-  return std::string("l") + (mode.wheel ? "w" : "") + (mode.gnss ? "g" : "") +
+  const std::string visual = mode.camera ? "v" : "";
+  if (mode.gnss && !mode.wheel) return mode.core == OdometryMode::kLio ? "l" + visual + "io+g" : "lo+g";
+  return "l" + visual + (mode.wheel ? "w" : "") + (mode.gnss ? "g" : "") +
          (mode.core == OdometryMode::kLio ? "io" : "o");
 }
 

@@ -69,7 +69,8 @@ void DescribeRun(RunPlan& plan) {
   const char* inertial = !plan.mode.camera ? "wheel-inertial"
                          : plan.mode.wheel ? "visual-wheel-inertial"
                                            : "visual-inertial";
-  const char* kind = core == OdometryMode::kLio   ? "LiDAR-inertial"
+  const char* kind = core == OdometryMode::kLio
+                         ? (plan.mode.camera ? "LiDAR-visual-inertial" : "LiDAR-inertial")
                      : core == OdometryMode::kWio ? inertial
                                                   : "LiDAR-only";
   summary.mode = ModeName(plan.mode) + " (" + kind + " odometry" + factors + " on " + streams + ")";
@@ -175,6 +176,11 @@ void ConfigureEstimator(RunPlan& plan) {
                                       : sensors.T_imu_lidar->inverse() * *sensors.T_imu_wheel;
   plan.lo_config.use_gnss = mode.gnss;
   if (mode.gnss) plan.lo_config.T_body_gnss = T_imu_gnss;
+  plan.lo_config.use_camera = mode.camera;
+  if (mode.camera) {  // ChooseMode checked both
+    plan.lo_config.camera = description.streams[sensors.camera].camera_model;
+    plan.lo_config.T_body_camera = *sensors.T_imu_camera;
+  }
 }
 
 // run --calibrate-online: the calibration branch beside a LIO window (calibration_branch.h).

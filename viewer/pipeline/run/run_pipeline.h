@@ -69,6 +69,14 @@ struct RunPlan {
   estimator::LidarOdometryConfig lo_config;      // as the estimator runs it (LO, LIO)
   estimator::InertialOdometryConfig wio_config;  // as the estimator runs it (WIO)
   RunSummary summary;                            // what is known before the stages run
+
+  // The camera factors' options and T_imu_camera, of the window that runs (V modes).
+  const estimator::VisualFactorConfig& visual_config() const {
+    return frames.mode == OdometryMode::kWio ? wio_config.visual : lo_config.visual;
+  }
+  const SE3& T_imu_camera() const {
+    return frames.mode == OdometryMode::kWio ? wio_config.T_body_camera : lo_config.T_body_camera;
+  }
 };
 
 // Whether a planning error is the user's options or configuration (exit code 2) or the data (1).

@@ -3,6 +3,7 @@
 // summary.
 #include <chrono>
 #include <cstdio>
+#include <numbers>
 
 #include "odometry/types/printf_text.h"
 #include "viewer/pipeline/run/run_cameras.h"
@@ -52,6 +53,40 @@ Status Keep(std::optional<T>& slot, Expected<T> output) {
   if (!output) return output.status();
   slot = std::move(*output);
   return {};
+}
+
+// What the odometry stage reads: "LiDAR, IMU and camera streams".
+std::string OdometryInput(const EstimatorMode& mode) {
+  std::vector<std::string> streams;
+  if (mode.core != OdometryMode::kWio) streams.push_back("LiDAR");
+  if (mode.core != OdometryMode::kLo) streams.push_back("IMU");
+  if (mode.wheel) streams.push_back("wheel");
+  if (mode.camera) streams.push_back("camera");
+  if (mode.gnss) streams.push_back("GNSS");
+  std::string text;
+  for (std::size_t i = 0; i < streams.size(); ++i)
+    text += (i == 0 ? "" : i + 1 == streams.size() ? " and " : ", ") + streams[i];
+  return text + (streams.size() > 1 ? " streams" : " stream");
+}
+
+// The report's line on the camera's factors: counts, t_d, the extrinsic when estimated, the map's depths.
+std::string VisualNote(const RunPlan& plan, const estimator::SensorFactorStats& factors) {
+  const estimator::VisualFactorConfig& visual = plan.visual_config();
+  std::string note = PrintfText(
+                         "visual factors: %.0f reprojections added, %.0f tracks long enough that never "
+                         "triangulated, %.0f landmarks dropped as outliers; camera time offset t_d %.4f s",
+                         factors.visual.added, factors.visual.skipped, factors.visual.rejected,
+                         factors.camera_time_offset_s) +
+                     (visual.estimate_time_offset ? " (estimated)" : " (fixed)");
+  if (factors.camera_extrinsic) {
+    const SE3 moved = plan.T_imu_camera().inverse() * *factors.camera_extrinsic;
+    note += PrintfText("; camera extrinsic estimated: %.3f deg and %.4f m from the given one",
+                       moved.so3().angle() * 180 / std::numbers::pi, moved.translation().norm());
+  }
+  if (plan.frames.mode == OdometryMode::kLio)
+    note +=
+        "; " + std::to_string(factors.visual_map_depths) + " landmarks took their depth from the LiDAR map";
+  return note;
 }
 
 // The map stage on the odometry's keyframes, or (--from map) on the earlier trajectory and the scans.
@@ -110,7 +145,7 @@ std::vector<Stage> RunStageList(RunPlan& plan, const fs::path& out, StageOutputs
                                 .gnss_factors = plan.mode.gnss,
                                 .camera_factors = plan.mode.camera,
                                 .overlay_every = r.overlay_every,
-                                .min_track_length = plan.wio_config.visual.tracker.min_track_length,
+                                .min_track_length = plan.visual_config().tracker.min_track_length,
                                 .calibration = plan.calibration.get(),
                                 .paced_messages = o.dataset ? o.dataset->paced_messages : 0,
                                 .out = out};
@@ -151,9 +186,7 @@ std::vector<Stage> RunStageList(RunPlan& plan, const fs::path& out, StageOutputs
                                   plan.frames.T_output_body, c);
     return Status();
   };
-  const char* odometry_input = core == OdometryMode::kLio   ? "LiDAR and IMU streams"
-                               : core == OdometryMode::kWio ? "IMU and wheel streams"
-                                                            : "LiDAR stream";
+  const std::string odometry_input = OdometryInput(plan.mode);
   return {
       {"dataset", "the dataset", reuse, dataset},
       {"odometry", odometry_input, reuse, odometry},
@@ -199,13 +232,7 @@ void Summarize(const RunPlan& plan, StageOutputs& o, RunSummary& summary) {
                               " skipped (no wheel samples over the interval); estimated wheel scale " +
                               scale);
     }
-    if (plan.mode.camera)
-      summary.notes.push_back(
-          PrintfText("visual factors: %.0f reprojections added, %.0f tracks long enough that never "
-                     "triangulated, %.0f landmarks dropped as outliers; camera time offset t_d %.4f s",
-                     factors.visual.added, factors.visual.skipped, factors.visual.rejected,
-                     factors.camera_time_offset_s) +
-          (plan.wio_config.visual.estimate_time_offset ? " (estimated)" : " (fixed)"));
+    if (plan.mode.camera) summary.notes.push_back(VisualNote(plan, factors));
     if (plan.mode.gnss)
       summary.notes.push_back("GNSS factors: " + std::to_string(factors.gnss.added) + " added (" +
                               std::to_string(factors.gnss_horizontal_only) +

@@ -15,9 +15,10 @@ namespace uf::pipeline {
 Status WriteRunTracks(const RunPlan& plan, const OdometryStageOutput& odometry,
                       const std::filesystem::path& out, StageContext& context);
 
-// With wio.visual.estimate_time_offset: calibration_estimated.yaml (the calibration file format, which
-// dataset.calibration_file reads) with the IMU and the tracked camera: its time offset the one the run read
-// with plus the t_d the window ended with, its extrinsic the given one (not estimated). Nothing otherwise.
+// With visual.estimate_time_offset or visual.estimate_extrinsic (wio. or lio.): calibration_estimated.yaml
+// (the calibration file format, which dataset.calibration_file reads) with the IMU and the tracked camera:
+// its time offset the one the run read with plus the t_d the window ended with, its extrinsic the estimated
+// one (else the given one). Nothing otherwise.
 Status WriteCameraCalibrationEstimate(const RunPlan& plan, const OdometryStageOutput& odometry,
                                       const std::filesystem::path& out, StageContext& context);
 

@@ -240,6 +240,8 @@ Expected<OdometryStageOutput> RunOdometryStage(const OdometryStageInput& in, Sta
       }
       status = odometry.AddCameraFrame(*frame);
       if (status.ok()) status = KeepTracked(in, odometry.TakeTrackedFrames(), frame->image, out);
+      if (in.mapper && in.mapper->UsesCamera(m.stream))
+        in.mapper->AddCameraFrame(m.stream, std::move(*frame));
     } else if (auto* frame = std::get_if<CameraFrame>(&m.data);
                frame && in.mapper && in.mapper->UsesCamera(m.stream)) {
       in.mapper->AddCameraFrame(m.stream, std::move(*frame));

@@ -80,12 +80,16 @@ class SimulatedCamera {
 
   // The world point seen at `pixel` at time t; nullopt when the ray hits nothing.
   std::optional<Eigen::Vector3d> PointAt(Stamp t, const Eigen::Vector2d& pixel) const {
-    const SE3 T_world_camera = renderer_->CameraPose(t);
-    const Eigen::Vector3d direction = T_world_camera.so3() * model().Unproject(pixel);
-    sim::Ray ray{T_world_camera.translation().cast<float>(), direction.normalized().cast<float>()};
+    return PointAlong(renderer_->CameraPose(t), model().Unproject(pixel));
+  }
+  // The world point the ray `ray_camera` (camera frame) from a camera at T_world_camera hits, or nullopt.
+  std::optional<Eigen::Vector3d> PointAlong(const SE3& T_world_camera,
+                                            const Eigen::Vector3d& ray_camera) const {
+    const Eigen::Vector3d direction = (T_world_camera.so3() * ray_camera).normalized();
+    sim::Ray ray{T_world_camera.translation().cast<float>(), direction.cast<float>()};
     const sim::RayHit hit = caster_->Cast(ray);
     if (!hit.hit()) return std::nullopt;
-    return T_world_camera.translation() + static_cast<double>(hit.distance) * direction.normalized();
+    return T_world_camera.translation() + static_cast<double>(hit.distance) * direction;
   }
 
   // Where a world point appears at time t; nullopt behind the camera.
