@@ -46,10 +46,10 @@ struct VisualFactorConfig {
   // "Visual-inertial odometry"). A node per 0.1 s; VIO takes ~45 ms per node on 2 loaded cores.
   int max_iterations = 15;
   double max_solver_time_s = 0.1;  // s
-  // The static initialization with the camera (VIO): the IMU cannot tell rest from a constant velocity, the
-  // camera can. Rest needs the tracked features' mean image motion below this per frame on every node of
-  // the initialization window (at rest it is the tracks' noise, ~0.01 px; a car at 1 m/s moves features
-  // by pixels per frame).
+  // VIO's start: the IMU cannot tell rest from a constant velocity, the camera can. Rest (the static start)
+  // needs the tracked features' mean image motion below this per frame on every node of the initialization
+  // window (at rest it is the tracks' noise, ~0.01 px; a car at 1 m/s moves features by pixels per frame);
+  // above it the visual-inertial start (init/visual_inertial_poses.h) runs instead.
   double max_static_flow_px = 0.5;  // px per frame
 
   Status Validate() const;

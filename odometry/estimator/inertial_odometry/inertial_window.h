@@ -64,6 +64,8 @@ struct InertialOdometry::Impl {
 
   // Initialization and restarts (window_init.cpp).
   void TryInitialize();
+  Expected<InertialAlignment> Align(std::vector<SE3>& poses);
+  Expected<InertialAlignment> VisualInertialAlignment(std::vector<SE3>& poses);
   Expected<std::vector<SE3>> DeadReckon(const std::vector<Stamp>& stamps) const;
   Status Start(const InertialAlignment& alignment, const std::vector<SE3>& poses);
   double GyroBiasPriorSigma(const InertialAlignment& alignment) const;

@@ -1,4 +1,5 @@
 // Initialization of the wheel-inertial window and its restarts (see inertial_window.h).
+#include <numbers>
 #include <sstream>
 
 #include "odometry/estimator/factors/bias_prior_factor.h"
@@ -7,32 +8,21 @@
 
 namespace uf::estimator {
 
-// Once init_window_nodes nodes wait: their poses dead-reckoned from the wheel, then the static alignment,
-// else the moving one (init/inertial_alignment.h); without the wheel, the static one once the camera sees
-// the rest. A failed window drops its oldest node and waits for the
-// next; the first failure is logged.
+// Once init_window_nodes nodes wait: their poses dead-reckoned from the wheel, then the alignment (Align).
+// A failed window drops its oldest node and waits for the next; the first failure is logged.
 void InertialOdometry::Impl::TryInitialize() {
   if (static_cast<int>(init_stamps.size()) < config.init_window_nodes) return;
   Expected<std::vector<SE3>> poses = DeadReckon(init_stamps);
-  Status failure = poses ? Status() : poses.status();
-  // Without the wheel only the static alignment runs, and the IMU alone takes a constant velocity for rest:
-  // the camera must see the rest too.
-  if (failure.ok() && visual && !config.use_wheel)
-    if (std::optional<std::string> moving = visual->NotStillReason(init_stamps))
-      failure = Status::Error(*moving + "; VIO starts at rest only (no visual-inertial alignment yet)");
+  Expected<InertialAlignment> alignment = poses ? Align(*poses) : Expected<InertialAlignment>(poses.status());
+  const Status failure = alignment ? Start(*alignment, *poses) : alignment.status();
   if (failure.ok()) {
-    Expected<InertialAlignment> alignment =
-        AlignStaticOrMoving(imu, init_stamps, *poses, config.init, config.imu.gravity, config.use_wheel);
-    failure = alignment ? Start(*alignment, *poses) : alignment.status();
-    if (failure.ok()) {
-      std::ostringstream summary;
-      // LidarAidedAlignment is generic on the poses: here they are the wheel's.
-      summary << (alignment->mode == "static" ? "static" : "wheel-aided") << " at "
-              << StampText(nodes.back().stamp) << " (gravity estimate " << alignment->gravity_estimate
-              << " m/s^2, gyro bias " << alignment->gyro_bias.transpose() << ")";
-      init_summary = summary.str();
-      return;
-    }
+    std::ostringstream summary;
+    // LidarAidedAlignment is generic on the poses: here they are the wheel's or the camera's.
+    summary << (alignment->mode == "lidar-aided" ? "wheel-aided" : alignment->mode) << " at "
+            << StampText(nodes.back().stamp) << " (gravity estimate " << alignment->gravity_estimate
+            << " m/s^2, gyro bias " << alignment->gyro_bias.transpose() << ")";
+    init_summary = summary.str();
+    return;
   }
   if (last_init_failure.empty())
     warnings.push_back("WIO initialization deferred at " + StampText(init_stamps.back()) + ": " +
@@ -40,6 +30,43 @@ void InertialOdometry::Impl::TryInitialize() {
   last_init_failure = failure.message();
   init_stamps.erase(init_stamps.begin());
   TrimStreams();
+}
+
+// The alignment of the waiting nodes: the static one, else the moving one on the wheel's poses
+// (init/inertial_alignment.h). Without the wheel the IMU alone takes a constant velocity for rest: the static
+// alignment runs when the camera sees the rest too, else the visual-inertial one (mode D), which replaces
+// `poses` by the camera's and the IMU's.
+Expected<InertialAlignment> InertialOdometry::Impl::Align(std::vector<SE3>& poses) {
+  if (visual && !config.use_wheel)
+    if (std::optional<std::string> moving = visual->NotStillReason(init_stamps)) {
+      Expected<InertialAlignment> alignment = VisualInertialAlignment(poses);
+      if (!alignment) return Status::Error(*moving + "; " + alignment.status().message());
+      return alignment;
+    }
+  return AlignStaticOrMoving(imu, init_stamps, poses, config.init, config.imu.gravity, config.use_wheel);
+}
+
+// Mode D (init/visual_inertial_poses.h): the IMU's metric poses from the camera's tracks and the IMU over the
+// waiting nodes, placed at restart_pose, then the moving alignment on them for the velocities, gravity and
+// the gyro bias.
+Expected<InertialAlignment> InertialOdometry::Impl::VisualInertialAlignment(std::vector<SE3>& poses) {
+  std::vector<ImuPreintegration> preintegrations;
+  for (std::size_t k = 1; k < init_stamps.size(); ++k) {
+    Expected<ImuPreintegration> pre = imu.Preintegrate(init_stamps[k - 1], init_stamps[k], nullptr);
+    if (!pre) return pre.status();
+    preintegrations.push_back(std::move(*pre));
+  }
+  VisualInertialStartConfig start_config;
+  start_config.gravity = config.imu.gravity;
+  start_config.max_gravity_error = config.init.max_gravity_error;
+  start_config.max_tilt_sigma_rad = config.init.max_tilt_sigma_deg * std::numbers::pi / 180;
+  Expected<VisualInertialStart> start =
+      VisualInertialPoses(preintegrations, visual->Tracks(init_stamps), config.T_body_camera, start_config);
+  if (!start) return start.status();
+  for (std::size_t k = 0; k < poses.size(); ++k) poses[k] = restart_pose * start->poses[k];
+  Expected<InertialAlignment> alignment = LidarAidedAlignment(poses, std::move(preintegrations), config.init);
+  if (alignment) alignment->mode = "visual-inertial";
+  return alignment;
 }
 
 // Poses T_lo_imu of the IMU at `stamps` from the wheel alone (without the wheel: all at restart_pose, which

@@ -130,9 +130,10 @@ Expected<InertialAlignment> AlignStaticOrMoving(const ImuBuffer& imu, std::span<
   if (alignment) return alignment;
   const std::string static_failure = alignment.status().message();
   if (!allow_moving)
-    return Status::Error(static_failure +
-                         "; no moving start without the wheel's poses (the visual-inertial alignment is not "
-                         "built yet)");
+    return Status::Error(
+        static_failure +
+        "; no moving start without the wheel's poses (the visual-inertial start runs once the "
+        "camera sees the motion)");
   std::vector<ImuPreintegration> preintegrations;
   for (std::size_t k = 1; k < stamps.size(); ++k) {
     Expected<ImuPreintegration> pre = imu.Preintegrate(stamps[k - 1], stamps[k], nullptr);

@@ -39,7 +39,7 @@
 namespace uf::estimator {
 
 struct InertialAlignment {
-  std::string mode;                         // "static" or "lidar-aided"
+  std::string mode;  // "static", "lidar-aided" (LiDAR or wheel poses) or "visual-inertial" (mode D)
   SO3 R_gravity_lo;                         // world "lo" -> gravity-aligned world
   std::vector<Eigen::Vector3d> velocities;  // per node, gravity-aligned world, m/s
   Eigen::Vector3d accel_bias = Eigen::Vector3d::Zero();

@@ -303,6 +303,19 @@ std::optional<std::string> VisualProvider::NotStillReason(const std::vector<Stam
   return std::nullopt;
 }
 
+std::vector<FeatureTrack> VisualProvider::Tracks(const std::vector<Stamp>& node_stamps) const {
+  std::map<long, FeatureTrack> tracks;
+  for (std::size_t k = 0; k < node_stamps.size(); ++k) {
+    const auto frame = waiting_.find(node_stamps[k]);
+    if (frame == waiting_.end()) continue;
+    for (const TrackedFeature& f : frame->second.features)
+      tracks[f.id].observations.emplace_back(k, f.normalized);
+  }
+  std::vector<FeatureTrack> out;
+  for (auto& [id, track] : tracks) out.push_back(std::move(track));
+  return out;
+}
+
 void VisualProvider::Trim(Stamp oldest) { waiting_.erase(waiting_.begin(), waiting_.lower_bound(oldest)); }
 
 std::vector<VisualProvider::LandmarkView> VisualProvider::Landmarks() {

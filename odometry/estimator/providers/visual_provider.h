@@ -32,6 +32,7 @@
 
 #include "odometry/estimator/config/visual_factor_config.h"
 #include "odometry/estimator/factors/reprojection_factor.h"
+#include "odometry/estimator/init/visual_inertial_poses.h"
 #include "odometry/estimator/providers/sensor_factor_stats.h"
 #include "odometry/estimator/state/window_node.h"
 #include "odometry/estimator/visual/feature_tracker.h"
@@ -104,6 +105,9 @@ class VisualProvider {
   void Reset();
   // Drops the waiting frames whose node stamp is before `oldest`.
   void Trim(Stamp oldest);
+  // The features of the waiting frames at these node stamps, as tracks over their indices (for the
+  // visual-inertial start, init/visual_inertial_poses.h).
+  std::vector<FeatureTrack> Tracks(const std::vector<Stamp>& node_stamps) const;
   // Why the camera is not still over the waiting frames at these node stamps (a frame whose tracked
   // features moved more than max_static_flow_px on average since the previous frame), or nullopt.
   std::optional<std::string> NotStillReason(const std::vector<Stamp>& node_stamps) const;

@@ -204,7 +204,7 @@ Schema<estimator::VisualFactorConfig> VisualSchema() {
   s.Key("max_solver_time_s", &V::max_solver_time_s, "s",
         "wall-time budget per window solve with the camera (in place of the window's max_solver_time_s)");
   s.Key("max_static_flow_px", &V::max_static_flow_px, "px per frame",
-        "vio's static start: the tracked features' mean motion must stay below this (the camera is still)");
+        "vio's static start: the tracked features' mean motion below this (else the visual-inertial start)");
   s.Nest("tracker", &V::tracker, TrackerSchema());
   return s;
 }

@@ -1,0 +1,219 @@
+#include "odometry/estimator/init/visual_inertial_poses.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+#include <string>
+
+namespace uf::estimator {
+namespace {
+
+using Matrix7 = Eigen::Matrix<double, 7, 7>;
+using Vector7 = Eigen::Matrix<double, 7, 1>;
+
+// What the IMU alone says about node k (see the header): R_k, a_k, b_k, t_k.
+struct ImuChain {
+  std::vector<SO3> R;
+  std::vector<Eigen::Vector3d> a, b;  // b_k: the velocity gained from rest without gravity
+  std::vector<double> t;
+};
+
+ImuChain Chain(std::span<const ImuPreintegration> preintegrations) {
+  ImuChain chain{{SO3()}, {Eigen::Vector3d::Zero()}, {Eigen::Vector3d::Zero()}, {0.0}};
+  for (const ImuPreintegration& pre : preintegrations) {
+    const double T = pre.sum_dt_seconds();
+    const SO3& R = chain.R.back();
+    chain.a.push_back(chain.a.back() + chain.b.back() * T + R * pre.delta_p());
+    chain.b.push_back(chain.b.back() + R * pre.delta_v());
+    chain.R.push_back(R * pre.delta_R());
+    chain.t.push_back(chain.t.back() + T);
+  }
+  return chain;
+}
+
+// Step 1 (see the header): the camera centres c_0 = 0 .. c_last up to scale (|c_last| = 1), from the tracks
+// seen at both ends of the window with enough parallax; `tracks` counts them.
+struct Centres {
+  std::vector<Eigen::Vector3d> c;
+  int tracks = 0;
+  std::string failure;
+};
+
+// The point whose distance-weighted angular misses from the rays (r_k from c_k) are least:
+// sum |(I - r r^T)(P - c)|^2 / d^2, d the distances at `previous` (linear).
+Eigen::Vector3d Triangulate(const std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& rays,
+                            const Eigen::Vector3d& previous) {
+  Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d b = Eigen::Vector3d::Zero();
+  for (const auto& [centre, ray] : rays) {
+    const Eigen::Matrix3d M = (Eigen::Matrix3d::Identity() - ray * ray.transpose()) /
+                              std::max((previous - centre).squaredNorm(), 1e-6);
+    H += M;
+    b += M * centre;
+  }
+  return H.ldlt().solve(b);
+}
+
+Centres UpToScaleCentres(const std::vector<FeatureTrack>& tracks, const ImuChain& chain,
+                         const SE3& T_body_camera, double min_parallax_rad) {
+  const std::size_t last = chain.R.size() - 1;
+  const auto ray = [&](std::size_t k, const Eigen::Vector2d& xy) {
+    return (chain.R[k] * (T_body_camera.so3() * xy.homogeneous())).normalized().eval();
+  };
+  std::vector<const FeatureTrack*> spanning;
+  for (const FeatureTrack& track : tracks) {
+    if (track.observations.front().first != 0 || track.observations.back().first != last) continue;
+    const Eigen::Vector3d r0 = ray(0, track.observations.front().second);
+    const Eigen::Vector3d r1 = ray(last, track.observations.back().second);
+    if (std::acos(std::clamp(r0.dot(r1), -1.0, 1.0)) >= min_parallax_rad) spanning.push_back(&track);
+  }
+  Centres centres;
+  centres.tracks = static_cast<int>(spanning.size());
+  if (spanning.size() < 8) {
+    centres.failure = std::to_string(spanning.size()) + " tracks span the window with parallax, need 8";
+    return centres;
+  }
+  // The baseline's direction: (r_0 x r_last)^T c_last = 0 for every such track.
+  Eigen::MatrixXd A(spanning.size(), 3);
+  for (std::size_t f = 0; f < spanning.size(); ++f)
+    A.row(static_cast<long>(f)) = ray(0, spanning[f]->observations.front().second)
+                                      .cross(ray(last, spanning[f]->observations.back().second))
+                                      .normalized()
+                                      .transpose();
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(A, Eigen::ComputeFullV);
+  centres.c.assign(last + 1, Eigen::Vector3d::Zero());
+  centres.c[last] = svd.matrixV().col(2);
+  // Each track's point from its two end rays; the baseline's sign is the one that puts most in front.
+  std::vector<Eigen::Vector3d> points(spanning.size());
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    int in_front = 0;
+    for (std::size_t f = 0; f < spanning.size(); ++f) {
+      const Eigen::Vector3d r0 = ray(0, spanning[f]->observations.front().second);
+      const Eigen::Vector3d r1 = ray(last, spanning[f]->observations.back().second);
+      points[f] = Triangulate({{centres.c[0], r0}, {centres.c[last], r1}}, Eigen::Vector3d::Zero());
+      in_front += r0.dot(points[f]) > 0 && r1.dot(points[f] - centres.c[last]) > 0;
+    }
+    if (2 * in_front >= static_cast<int>(spanning.size())) break;
+    centres.c[last] = -centres.c[last];
+  }
+  // Resection and triangulation in turn, with every observation: each node's centre whose rays miss the
+  // points least (the rotation known: linear), then each point from all its rays; c_0 = 0 and |c_last| = 1
+  // fix the gauge.
+  constexpr int kRounds = 3;
+  for (int round = 0; round < kRounds; ++round) {
+    for (std::size_t k = 1; k <= last; ++k) {
+      Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+      Eigen::Vector3d b = Eigen::Vector3d::Zero();
+      for (std::size_t f = 0; f < spanning.size(); ++f)
+        for (const auto& [node, xy] : spanning[f]->observations) {
+          if (node != k) continue;
+          const Eigen::Vector3d r = ray(k, xy);
+          const Eigen::Matrix3d M = (Eigen::Matrix3d::Identity() - r * r.transpose()) /
+                                    std::max((points[f] - centres.c[k]).squaredNorm(), 1e-6);
+          H += M;
+          b += M * points[f];
+        }
+      centres.c[k] = H.ldlt().solve(b);
+    }
+    const double norm = centres.c[last].norm();
+    for (Eigen::Vector3d& c : centres.c) c /= norm;
+    for (std::size_t f = 0; f < spanning.size(); ++f) {
+      std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> rays;
+      for (const auto& [node, xy] : spanning[f]->observations)
+        rays.emplace_back(centres.c[node], ray(node, xy));
+      points[f] = Triangulate(rays, points[f] / norm);
+    }
+  }
+  for (std::size_t k = 1; k <= last; ++k)
+    if (!centres.c[k].allFinite()) {
+      centres.failure = "the camera centre of node " + std::to_string(k) + " is not determined";
+      return centres;
+    }
+  return centres;
+}
+
+}  // namespace
+
+Expected<VisualInertialStart> VisualInertialPoses(std::span<const ImuPreintegration> preintegrations,
+                                                  const std::vector<FeatureTrack>& tracks,
+                                                  const SE3& T_body_camera,
+                                                  const VisualInertialStartConfig& config) {
+  const ImuChain chain = Chain(preintegrations);
+  const std::size_t n = chain.R.size();
+  if (n < 3) return Status::Error("visual-inertial start: need 3 nodes at least");
+  std::vector<FeatureTrack> usable;
+  for (const FeatureTrack& track : tracks) {
+    bool inside = track.observations.size() >= 3;
+    for (const auto& [k, xy] : track.observations) inside = inside && k < n && xy.allFinite();
+    if (inside) usable.push_back(track);
+  }
+  if (static_cast<int>(usable.size()) < config.min_tracks)
+    return Status::Error("visual-inertial start: " + std::to_string(usable.size()) +
+                         " feature tracks over 3 nodes or more, need " + std::to_string(config.min_tracks));
+  // The accelerometer must see a changing motion (see the header).
+  double excursion = 0;
+  for (std::size_t k = 0; k < n; ++k)
+    excursion = std::max(excursion, (chain.b[k] - chain.t[k] / chain.t[n - 1] * chain.b[n - 1]).norm());
+  std::ostringstream why;
+  if (!(excursion >= config.min_velocity_excursion_mps)) {
+    why << "the specific force departs from a constant one by " << excursion << " m/s over the window, need "
+        << config.min_velocity_excursion_mps
+        << " (at a steady velocity or acceleration the accelerometer does not see the scale)";
+    return Status::Error("visual-inertial start: " + why.str());
+  }
+  const Centres centres = UpToScaleCentres(usable, chain, T_body_camera, config.min_parallax_rad);
+  if (!centres.failure.empty()) return Status::Error("visual-inertial start: " + centres.failure);
+  // Step 2: the IMU's positions are p_k = s c_k - R_k t_bc + t_bc (p_0 = 0) and also
+  // v_0 t_k + g t_k^2 / 2 + a_k: linear in y = [s, v_0, g].
+  const Eigen::Vector3d& t_bc = T_body_camera.translation();
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(3 * (n - 1), 7);
+  Eigen::VectorXd rhs(3 * (n - 1));
+  for (std::size_t k = 1; k < n; ++k) {
+    const long r = 3 * static_cast<long>(k - 1);
+    A.block<3, 1>(r, 0) = centres.c[k];
+    A.block<3, 3>(r, 1) = -chain.t[k] * Eigen::Matrix3d::Identity();
+    A.block<3, 3>(r, 4) = -0.5 * chain.t[k] * chain.t[k] * Eigen::Matrix3d::Identity();
+    rhs.segment<3>(r) = chain.a[k] + (chain.R[k] * t_bc) - t_bc;
+  }
+  const Vector7 y = (A.transpose() * A).ldlt().solve(A.transpose() * rhs);
+  if (!y.allFinite()) return Status::Error("visual-inertial start: singular alignment");
+  if (!(y(0) > 0))
+    return Status::Error("visual-inertial start: the scale comes out " + std::to_string(y(0)) +
+                         " (the IMU does not fit the camera's motion)");
+  VisualInertialStart start;
+  start.velocity = y.segment<3>(1);
+  start.gravity = y.segment<3>(4);
+  start.tracks = centres.tracks;
+  // The covariance of [s, v_0, g] from the fit's own residual (its variance per row).
+  const long dof = A.rows() - 7;
+  const double variance = dof > 0 ? (A * y - rhs).squaredNorm() / static_cast<double>(dof) : INFINITY;
+  const Matrix7 covariance = variance * (A.transpose() * A).ldlt().solve(Matrix7::Identity());
+  const double g_norm = start.gravity.norm();
+  const Eigen::Vector3d g_unit = start.gravity / g_norm;
+  const Eigen::Matrix3d across = Eigen::Matrix3d::Identity() - g_unit * g_unit.transpose();
+  const auto largest = [](const Eigen::Matrix3d& covariance) {
+    return std::sqrt(
+        std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(covariance).eigenvalues()(2)));
+  };
+  start.tilt_sigma_rad = largest(across * covariance.block<3, 3>(4, 4) * across) / g_norm;
+  start.velocity_sigma_mps = largest(covariance.block<3, 3>(1, 1));
+  if (!std::isfinite(g_norm) || std::abs(g_norm - config.gravity) > config.max_gravity_error * config.gravity)
+    why << "gravity " << g_norm << " m/s^2 is not within " << 100 * config.max_gravity_error << " % of "
+        << config.gravity;
+  else if (!(start.tilt_sigma_rad <= config.max_tilt_sigma_rad))
+    why << "gravity's direction known to " << start.tilt_sigma_rad * 180 / std::numbers::pi << " deg, need "
+        << config.max_tilt_sigma_rad * 180 / std::numbers::pi;
+  else if (!(start.velocity_sigma_mps <= config.max_velocity_sigma_mps))
+    why << "the velocity known to " << start.velocity_sigma_mps << " m/s, need "
+        << config.max_velocity_sigma_mps;
+  if (!why.str().empty()) return Status::Error("visual-inertial start: " + why.str());
+  for (std::size_t k = 0; k < n; ++k) {
+    const double t = chain.t[k];
+    start.poses.emplace_back(chain.R[k], t * start.velocity + 0.5 * t * t * start.gravity + chain.a[k]);
+  }
+  return start;
+}
+
+}  // namespace uf::estimator
