@@ -64,7 +64,7 @@ struct InertialOdometryConfig {
 
   // Camera factors (VIO, VWIO; providers/visual_provider.h): a node at every frame (its stamp + t_d)
   // instead of the grid, and reprojection factors between them. Needs the tracked camera's model and its
-  // pose in the body (IMU) frame. Without the wheel the initialization is static only.
+  // pose in the body (IMU) frame. Without the wheel the start is static or visual-inertial (mode D).
   bool use_camera = false;
   VisualFactorConfig visual;
   std::shared_ptr<const CameraModel> camera;

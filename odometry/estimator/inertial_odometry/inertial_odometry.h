@@ -18,7 +18,9 @@
 //   their stamps). The static alignment (IMU at rest, wheel not moving), else with the wheel the moving one
 //   (LidarAidedAlignment on poses dead-reckoned from the wheel: T_lo_imu = T_lo_wheel T_body_wheel^-1),
 //   gives gravity, velocities and biases; then the window is built. A failed window slides by one node.
-//   Without the wheel (VIO) only the static alignment: a VIO run must start at rest.
+//   Without the wheel (VIO): the static alignment when the camera sees the rest too, else the visual-inertial
+//   start (mode D, init/visual_inertial_poses.h: the poses from the camera's tracks and the IMU, then the
+//   moving alignment on them).
 // - Solve: after each node, dense Levenberg-Marquardt on every node, the wheel scale, the landmarks' inverse
 //   depths and t_d when free (max_iterations); then the camera's outliers are dropped. When the window holds
 //   more than window_size nodes, the oldest leaves into the marginalization prior and becomes a keyframe.
