@@ -152,14 +152,15 @@ std::string FormatReliability(const pipeline::OdometrySummary& o) {
   return md;
 }
 
-// V modes: the camera's landmarks per node and their reprojection error.
-std::string FormatVisual(const pipeline::OdometrySummary::Visual& v) {
+// V modes: the camera's landmarks per step (node or scan) and their reprojection error.
+std::string FormatVisual(const pipeline::OdometrySummary::Visual& v, const std::string& step) {
   std::string md = "\n## Camera in the window\n\n";
-  md += "Landmarks per node after its solve: mean " + FormatValue("%.1f", v.mean_landmarks) + ", fewest " +
-        std::to_string(v.fewest_landmarks) + " over the " + std::to_string(v.nodes_with_landmarks) +
-        " nodes that had any; mean reprojection error there " + FormatValue("%.3f", v.mean_reprojection_px) +
+  md += "Landmarks per " + step + " after its solve: mean " + FormatValue("%.1f", v.mean_landmarks) +
+        ", fewest " + std::to_string(v.fewest_landmarks) + " over the " +
+        std::to_string(v.nodes_with_landmarks) + " " + step +
+        "s that had any; mean reprojection error there " + FormatValue("%.3f", v.mean_reprojection_px) +
         " px. Per frame: `tracks.csv`.\n";
-  md += "\n![landmarks per node](" + v.plot + ")\n";
+  md += "\n![landmarks per " + step + "](" + v.plot + ")\n";
   return md;
 }
 
@@ -212,7 +213,7 @@ std::string FormatRunReport(const pipeline::RunSummary& r) {
   md += "| " + FormatValue("%.2f", o.timing.mean) + " | " + FormatValue("%.2f", o.timing.median) + " | " +
         FormatValue("%.2f", o.timing.p95) + " | " + FormatValue("%.2f", o.timing.max) + " |\n";
   if (!o.timing_plot.empty()) md += "\n![time per " + o.step + "](" + o.timing_plot + ")\n";
-  if (!o.visual.plot.empty()) md += FormatVisual(o.visual);
+  if (!o.visual.plot.empty()) md += FormatVisual(o.visual, o.step);
   if (r.map) md += "\n## Map\n\n" + r.map->summary + "\n\nFiles: " + r.map->files + "\n";
   if (r.splat) {
     const SplatSummary splat = Summarize(*r.splat);

@@ -127,8 +127,8 @@ Status WriteGeoTrajectory(const std::filesystem::path& folder, const Trajectory&
   return {};
 }
 
-// V modes: the landmarks per node (mean, and the fewest once the first landmark formed), their mean
-// reprojection error, and plots/visual_landmarks.png (landmarks per node over time).
+// V modes: the landmarks per step (node or scan: mean, and the fewest once the first landmark formed), their
+// mean reprojection error, and plots/visual_landmarks.png (landmarks per step over time).
 Status WriteVisualSummary(const std::vector<StepTime>& steps, const std::filesystem::path& out,
                           OdometrySummary& summary, StageContext& context) {
   if (steps.empty()) return {};
@@ -150,9 +150,10 @@ Status WriteVisualSummary(const std::vector<StepTime>& steps, const std::filesys
   summary.visual.nodes_with_landmarks = with_landmarks;
   summary.visual.mean_reprojection_px = with_landmarks > 0 ? reprojection / with_landmarks : 0;
   summary.visual.plot = "plots/visual_landmarks.png";
-  if (Status s = WriteSeriesPlot((out / summary.visual.plot).string(), seconds, landmarks, "landmarks",
-                                 std::nullopt, "Landmarks in the window after each node's solve",
-                                 "time since the first node (s)", "landmarks");
+  if (Status s =
+          WriteSeriesPlot((out / summary.visual.plot).string(), seconds, landmarks, "landmarks", std::nullopt,
+                          "Landmarks in the window after each " + summary.step + "'s solve",
+                          "time since the first " + summary.step + " (s)", "landmarks");
       !s.ok())
     return s;
   context.AddOutput(summary.visual.plot);

@@ -56,12 +56,12 @@ struct OdometrySummary {
   std::vector<estimator::TrackEvent> track_events;  // rejections, fallback guesses, restarts
   estimator::SensorFactorStats sensor_factors;      // wheel (and GNSS) factors added and skipped
   std::string timing_plot;                          // "plots/timing_per_scan.png" once written
-  // V modes: the camera's landmarks per node after its solve (the fewest over the nodes that had any: -1
-  // none), their mean reprojection error there, and the plot of the landmarks over time.
+  // V modes: the camera's landmarks per step (node or scan) after its solve (the fewest over the steps that
+  // had any: -1 none), their mean reprojection error there, and the plot of the landmarks over time.
   struct Visual {
     double mean_landmarks = 0;
     int fewest_landmarks = -1;
-    int nodes_with_landmarks = 0;
+    int nodes_with_landmarks = 0;  // steps
     double mean_reprojection_px = 0;
     std::string plot;  // "plots/visual_landmarks.png" once written
   } visual;
