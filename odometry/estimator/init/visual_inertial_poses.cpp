@@ -13,6 +13,10 @@ namespace {
 using Matrix7 = Eigen::Matrix<double, 7, 7>;
 using Vector7 = Eigen::Matrix<double, 7, 1>;
 
+// The baseline's direction rests on the tracks seen at both ends of the window: at least this many.
+constexpr std::size_t kMinSpanningTracks = 8;
+constexpr int kResectionRounds = 3;  // resection and triangulation in turn
+
 // What the IMU alone says about node k (see the header): R_k, a_k, b_k, t_k.
 struct ImuChain {
   std::vector<SO3> R;
@@ -71,8 +75,9 @@ Centres UpToScaleCentres(const std::vector<FeatureTrack>& tracks, const ImuChain
   }
   Centres centres;
   centres.tracks = static_cast<int>(spanning.size());
-  if (spanning.size() < 8) {
-    centres.failure = std::to_string(spanning.size()) + " tracks span the window with parallax, need 8";
+  if (spanning.size() < kMinSpanningTracks) {
+    centres.failure = std::to_string(spanning.size()) + " tracks span the window with parallax, need " +
+                      std::to_string(kMinSpanningTracks);
     return centres;
   }
   // The baseline's direction: (r_0 x r_last)^T c_last = 0 for every such track.
@@ -101,8 +106,7 @@ Centres UpToScaleCentres(const std::vector<FeatureTrack>& tracks, const ImuChain
   // Resection and triangulation in turn, with every observation: each node's centre whose rays miss the
   // points least (the rotation known: linear), then each point from all its rays; c_0 = 0 and |c_last| = 1
   // fix the gauge.
-  constexpr int kRounds = 3;
-  for (int round = 0; round < kRounds; ++round) {
+  for (int round = 0; round < kResectionRounds; ++round) {
     for (std::size_t k = 1; k <= last; ++k) {
       Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
       Eigen::Vector3d b = Eigen::Vector3d::Zero();

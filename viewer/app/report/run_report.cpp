@@ -157,7 +157,7 @@ std::string FormatVisual(const pipeline::OdometrySummary::Visual& v, const std::
   std::string md = "\n## Camera in the window\n\n";
   md += "Landmarks per " + step + " after its solve: mean " + FormatValue("%.1f", v.mean_landmarks) +
         ", fewest " + std::to_string(v.fewest_landmarks) + " over the " +
-        std::to_string(v.nodes_with_landmarks) + " " + step +
+        std::to_string(v.steps_with_landmarks) + " " + step +
         "s that had any; mean reprojection error there " + FormatValue("%.3f", v.mean_reprojection_px) +
         " px. Per frame: `tracks.csv`.\n";
   md += "\n![landmarks per " + step + "](" + v.plot + ")\n";

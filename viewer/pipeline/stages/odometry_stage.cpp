@@ -147,7 +147,7 @@ Status WriteVisualSummary(const std::vector<StepTime>& steps, const std::filesys
     }
     summary.visual.mean_landmarks += step.landmarks / static_cast<double>(steps.size());
   }
-  summary.visual.nodes_with_landmarks = with_landmarks;
+  summary.visual.steps_with_landmarks = with_landmarks;
   summary.visual.mean_reprojection_px = with_landmarks > 0 ? reprojection / with_landmarks : 0;
   summary.visual.plot = "plots/visual_landmarks.png";
   if (Status s =

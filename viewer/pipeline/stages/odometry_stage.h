@@ -61,7 +61,7 @@ struct OdometrySummary {
   struct Visual {
     double mean_landmarks = 0;
     int fewest_landmarks = -1;
-    int nodes_with_landmarks = 0;  // steps
+    int steps_with_landmarks = 0;
     double mean_reprojection_px = 0;
     std::string plot;  // "plots/visual_landmarks.png" once written
   } visual;
