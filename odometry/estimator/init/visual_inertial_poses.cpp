@@ -45,15 +45,28 @@ struct Centres {
   std::string failure;
 };
 
-// The point whose distance-weighted angular misses from the rays (r_k from c_k) are least:
-// sum |(I - r r^T)(P - c)|^2 / d^2, d the distances at `previous` (linear).
-Eigen::Vector3d Triangulate(const std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>>& rays,
-                            const Eigen::Vector3d& previous) {
+// A ray's weight in the linear fits below: (I - r r^T) / d^2, whose quadratic form is the squared miss of a
+// point at distance d from the ray, divided by d^2 (an angle).
+Eigen::Matrix3d AngularWeight(const Eigen::Vector3d& ray, double squared_distance) {
+  return (Eigen::Matrix3d::Identity() - ray * ray.transpose()) / std::max(squared_distance, 1e-6);
+}
+
+// One observation of a track: its node and its unit ray in "lo".
+struct NodeRay {
+  std::size_t node = 0;
+  Eigen::Vector3d ray;
+};
+
+// The point whose angular misses from the rays (from `centres`) are least, the distances taken at
+// `previous` (linear).
+Eigen::Vector3d ClosestPointToRays(const std::vector<NodeRay>& rays,
+                                   const std::vector<Eigen::Vector3d>& centres,
+                                   const Eigen::Vector3d& previous) {
   Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
   Eigen::Vector3d b = Eigen::Vector3d::Zero();
-  for (const auto& [centre, ray] : rays) {
-    const Eigen::Matrix3d M = (Eigen::Matrix3d::Identity() - ray * ray.transpose()) /
-                              std::max((previous - centre).squaredNorm(), 1e-6);
+  for (const NodeRay& r : rays) {
+    const Eigen::Vector3d& centre = centres[r.node];
+    const Eigen::Matrix3d M = AngularWeight(r.ray, (previous - centre).squaredNorm());
     H += M;
     b += M * centre;
   }
@@ -63,15 +76,14 @@ Eigen::Vector3d Triangulate(const std::vector<std::pair<Eigen::Vector3d, Eigen::
 Centres UpToScaleCentres(const std::vector<FeatureTrack>& tracks, const ImuChain& chain,
                          const SE3& T_body_camera, double min_parallax_rad) {
   const std::size_t last = chain.R.size() - 1;
-  const auto ray = [&](std::size_t k, const Eigen::Vector2d& xy) {
-    return (chain.R[k] * (T_body_camera.so3() * xy.homogeneous())).normalized().eval();
-  };
-  std::vector<const FeatureTrack*> spanning;
+  std::vector<std::vector<NodeRay>> spanning;  // the rays of the tracks seen at both ends, with parallax
   for (const FeatureTrack& track : tracks) {
     if (track.observations.front().first != 0 || track.observations.back().first != last) continue;
-    const Eigen::Vector3d r0 = ray(0, track.observations.front().second);
-    const Eigen::Vector3d r1 = ray(last, track.observations.back().second);
-    if (std::acos(std::clamp(r0.dot(r1), -1.0, 1.0)) >= min_parallax_rad) spanning.push_back(&track);
+    std::vector<NodeRay> rays;
+    for (const auto& [k, xy] : track.observations)
+      rays.push_back({k, (chain.R[k] * (T_body_camera.so3() * xy.homogeneous())).normalized()});
+    if (std::acos(std::clamp(rays.front().ray.dot(rays.back().ray), -1.0, 1.0)) >= min_parallax_rad)
+      spanning.push_back(std::move(rays));
   }
   Centres centres;
   centres.tracks = static_cast<int>(spanning.size());
@@ -83,10 +95,8 @@ Centres UpToScaleCentres(const std::vector<FeatureTrack>& tracks, const ImuChain
   // The baseline's direction: (r_0 x r_last)^T c_last = 0 for every such track.
   Eigen::MatrixXd A(spanning.size(), 3);
   for (std::size_t f = 0; f < spanning.size(); ++f)
-    A.row(static_cast<long>(f)) = ray(0, spanning[f]->observations.front().second)
-                                      .cross(ray(last, spanning[f]->observations.back().second))
-                                      .normalized()
-                                      .transpose();
+    A.row(static_cast<long>(f)) =
+        spanning[f].front().ray.cross(spanning[f].back().ray).normalized().transpose();
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(A, Eigen::ComputeFullV);
   centres.c.assign(last + 1, Eigen::Vector3d::Zero());
   centres.c[last] = svd.matrixV().col(2);
@@ -95,10 +105,10 @@ Centres UpToScaleCentres(const std::vector<FeatureTrack>& tracks, const ImuChain
   for (int attempt = 0; attempt < 2; ++attempt) {
     int in_front = 0;
     for (std::size_t f = 0; f < spanning.size(); ++f) {
-      const Eigen::Vector3d r0 = ray(0, spanning[f]->observations.front().second);
-      const Eigen::Vector3d r1 = ray(last, spanning[f]->observations.back().second);
-      points[f] = Triangulate({{centres.c[0], r0}, {centres.c[last], r1}}, Eigen::Vector3d::Zero());
-      in_front += r0.dot(points[f]) > 0 && r1.dot(points[f] - centres.c[last]) > 0;
+      const NodeRay& first = spanning[f].front();
+      const NodeRay& end = spanning[f].back();
+      points[f] = ClosestPointToRays({first, end}, centres.c, Eigen::Vector3d::Zero());
+      in_front += first.ray.dot(points[f]) > 0 && end.ray.dot(points[f] - centres.c[last]) > 0;
     }
     if (2 * in_front >= static_cast<int>(spanning.size())) break;
     centres.c[last] = -centres.c[last];
@@ -107,28 +117,19 @@ Centres UpToScaleCentres(const std::vector<FeatureTrack>& tracks, const ImuChain
   // points least (the rotation known: linear), then each point from all its rays; c_0 = 0 and |c_last| = 1
   // fix the gauge.
   for (int round = 0; round < kResectionRounds; ++round) {
-    for (std::size_t k = 1; k <= last; ++k) {
-      Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
-      Eigen::Vector3d b = Eigen::Vector3d::Zero();
-      for (std::size_t f = 0; f < spanning.size(); ++f)
-        for (const auto& [node, xy] : spanning[f]->observations) {
-          if (node != k) continue;
-          const Eigen::Vector3d r = ray(k, xy);
-          const Eigen::Matrix3d M = (Eigen::Matrix3d::Identity() - r * r.transpose()) /
-                                    std::max((points[f] - centres.c[k]).squaredNorm(), 1e-6);
-          H += M;
-          b += M * points[f];
-        }
-      centres.c[k] = H.ldlt().solve(b);
-    }
+    std::vector<Eigen::Matrix3d> H(last + 1, Eigen::Matrix3d::Zero());
+    std::vector<Eigen::Vector3d> b(last + 1, Eigen::Vector3d::Zero());
+    for (std::size_t f = 0; f < spanning.size(); ++f)
+      for (const NodeRay& r : spanning[f]) {
+        const Eigen::Matrix3d M = AngularWeight(r.ray, (points[f] - centres.c[r.node]).squaredNorm());
+        H[r.node] += M;
+        b[r.node] += M * points[f];
+      }
+    for (std::size_t k = 1; k <= last; ++k) centres.c[k] = H[k].ldlt().solve(b[k]);
     const double norm = centres.c[last].norm();
     for (Eigen::Vector3d& c : centres.c) c /= norm;
-    for (std::size_t f = 0; f < spanning.size(); ++f) {
-      std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> rays;
-      for (const auto& [node, xy] : spanning[f]->observations)
-        rays.emplace_back(centres.c[node], ray(node, xy));
-      points[f] = Triangulate(rays, points[f] / norm);
-    }
+    for (std::size_t f = 0; f < spanning.size(); ++f)
+      points[f] = ClosestPointToRays(spanning[f], centres.c, points[f] / norm);
   }
   for (std::size_t k = 1; k <= last; ++k)
     if (!centres.c[k].allFinite()) {

@@ -138,6 +138,11 @@ void VisualProvider::ObserveFrame(long id, const WaitingFrame& frame, double td0
   }
 }
 
+// max_reprojection_px in normalized units: over the focal length (sqrt_information_ = focal / pixel_sigma).
+double VisualProvider::MaxReprojectionNormalized() const {
+  return config_.max_reprojection_px / (sqrt_information_ * config_.pixel_sigma_px);
+}
+
 // The feature moved to its node's time for the current t_d, as the factor does (reprojection_factor.h).
 Eigen::Vector2d VisualProvider::AtNodeTime(const Observation& o) const {
   return o.feature.normalized - (time_offset_ - o.td0) * o.feature.velocity;
@@ -166,7 +171,7 @@ std::optional<double> VisualProvider::MapInverseDepth(const Landmark& landmark,
   const std::optional<double> depth = map_depth_(cameras.front(), xy);
   if (!depth || !(*depth >= config_.min_depth_m && *depth <= config_.max_depth_m)) return std::nullopt;
   const Eigen::Vector3d point = cameras.front() * (*depth * xy.homogeneous());
-  const double max_normalized = config_.max_reprojection_px / (sqrt_information_ * config_.pixel_sigma_px);
+  const double max_normalized = MaxReprojectionNormalized();
   for (std::size_t k = 1; k < cameras.size(); ++k) {
     const Eigen::Vector3d p = cameras[k].inverse() * point;
     if (!(p.z() >= config_.min_depth_m)) return std::nullopt;
@@ -193,7 +198,7 @@ bool VisualProvider::StartLandmark(FactorGraph& graph, Landmark& landmark, const
     if (!point) return false;
     inverse_depth = InverseDepth(cameras.front(), point->point_world);
     if (!(*inverse_depth >= 1.0 / config_.max_depth_m) ||
-        point->max_reprojection * sqrt_information_ * config_.pixel_sigma_px > config_.max_reprojection_px)
+        point->max_reprojection > MaxReprojectionNormalized())
       return false;
   }
   landmark.inverse_depth = *inverse_depth;

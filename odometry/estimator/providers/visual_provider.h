@@ -162,6 +162,7 @@ class VisualProvider {
   void AddFactor(FactorGraph& graph, long id, Landmark& landmark, std::size_t k, const PoseBlockOf& pose_of);
   SE3 CameraPose(const double* pose_block) const;
   Eigen::Vector2d AtNodeTime(const Observation& o) const;
+  double MaxReprojectionNormalized() const;
 
   VisualFactorConfig config_;
   FeatureTracker tracker_;

@@ -26,7 +26,7 @@ namespace uf::pipeline {
 struct StepTime {
   Stamp stamp = 0;
   double ms = 0;
-  // With the camera (the inertial window's V modes): landmarks in the window after the step's solve and
+  // With the camera (the V modes of either window): landmarks in the window after the step's solve and
   // their mean reprojection error, pixels; -1 without.
   int landmarks = -1;
   double reprojection_px = -1;
