@@ -33,6 +33,17 @@ struct LidarDegeneracy {
   double score = 1.0;  // D in [0, 1]: 0 pins every direction, 1 leaves one free
 };
 
+// How well the wheel's motion over the node interval ending at the keyframe agreed with the IMU's prediction
+// of it (docs/METHOD.md "Factor-wise reliability scheduling", wheel score), and whether its factor joined the
+// window.
+struct WheelConsistency {
+  double speed_error_mps = 0;       // |u - u_0|: u = (dp_wheel - dp_imu) / dt in the wheel's plane, u_0
+                                    // its recent level (schedule/wheel_consistency.h)
+  double yaw_rate_error_rad_s = 0;  // |dpsi_wheel - dpsi_imu| / dt, about the wheel's vertical
+  double score = 0;                 // D in [0, 1]: 0 agrees, 1 contradicts
+  bool active = true;               // the interval's wheel factor joined the window
+};
+
 struct Keyframe {
   Stamp stamp = 0;
   SE3 T_world_body;                                     // body (IMU in LIO, LiDAR in LO) to world
@@ -44,6 +55,7 @@ struct Keyframe {
   std::vector<CameraFrame> images;    // frames taken near stamp, any cameras of the rig
   Reliability reliability;
   std::optional<LidarDegeneracy> lidar_degeneracy;  // LiDAR window: of its registration (none if rejected)
+  std::optional<WheelConsistency> wheel_consistency;  // with wheel scheduling: of the interval ending here
 };
 
 }  // namespace uf

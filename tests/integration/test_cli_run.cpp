@@ -123,7 +123,26 @@ TEST_F(CliRun, AutoModeRunsLidarInertialOdometryWithWheelAndGnssFactorsInTheImuF
             std::string::npos)
       << result.output;
   const std::string report = testing::ReadText(run + "/report.md");
-  EXPECT_NE(report.find("wheel factors: 40 added, 0 skipped"), std::string::npos) << report;
+  EXPECT_NE(
+      report.find("wheel factors: 40 added, 0 skipped (no wheel samples over the interval), 0 left out"),
+      std::string::npos)
+      << report;
+  // The wheel's reliability scheduling scored the interval ending at each mapped scan (an ideal encoder:
+  // none left out): a wheel row beside each LiDAR row of reliability.csv, and the report's section.
+  std::istringstream reliability(testing::ReadText(run + "/reliability.csv"));
+  std::string line;
+  std::getline(reliability, line);
+  int wheel_rows = 0, lidar_rows = 0;
+  while (std::getline(reliability, line)) {
+    wheel_rows += line.find(",wheel,") != std::string::npos;
+    lidar_rows += line.find(",lidar,") != std::string::npos;
+  }
+  EXPECT_GE(wheel_rows, 35);
+  EXPECT_LE(wheel_rows, lidar_rows + 1);
+  EXPECT_NE(report.find("## Reliability (wheel)"), std::string::npos) << report;
+  EXPECT_NE(report.find("0 of " + std::to_string(wheel_rows) + " scored intervals left out."),
+            std::string::npos)
+      << report;
   // 4 s from rest: the antenna moves less than the 10 m the ENU alignment needs, so no GNSS factor yet, no
   // georeference, and the trajectory stays in the estimator's world.
   EXPECT_NE(report.find("GNSS factors: 0 added"), std::string::npos) << report;
@@ -190,7 +209,22 @@ TEST_F(CliRun, WheelInertialModeRunsOnTheImuAndTheWheelAlone) {
   EXPECT_TRUE(fs::exists(run + "/plots/timing_per_node.png"));
   const std::string report = testing::ReadText(run + "/report.md");
   EXPECT_NE(report.find("WIO initialized: static"), std::string::npos) << report;  // 1 s at rest first
-  EXPECT_NE(report.find("wheel factors: 40 added, 0 skipped"), std::string::npos) << report;
+  EXPECT_NE(
+      report.find("wheel factors: 40 added, 0 skipped (no wheel samples over the interval), 0 left out"),
+      std::string::npos)
+      << report;
+  // The wheel's reliability scheduling scored every interval after the start (an ideal encoder: none left
+  // out), in reliability.csv, its plot and the report.
+  EXPECT_NE(report.find("## Reliability (wheel)"), std::string::npos) << report;
+  EXPECT_NE(report.find("0 of 40 scored intervals left out."), std::string::npos) << report;
+  EXPECT_TRUE(fs::exists(run + "/plots/reliability_wheel.png"));
+  std::istringstream reliability(testing::ReadText(run + "/reliability.csv"));
+  std::string line;
+  std::getline(reliability, line);
+  EXPECT_NE(line.find(",speed_error_mps,yaw_rate_error_rad_s"), std::string::npos) << line;
+  int wheel_rows = 0;
+  while (std::getline(reliability, line)) wheel_rows += line.find(",wheel,") != std::string::npos;
+  EXPECT_EQ(wheel_rows, 40);
   EXPECT_NE(report.find("wio:\n  node_interval_s: 0.1"), std::string::npos) << report;  // the wio: section
   EXPECT_EQ(report.find("\nlo:\n"), std::string::npos) << report;                       // and no lo:
   // Against the simulator's truth (the IMU frame, as WIO writes it): the wheel and the IMU over 3 s of

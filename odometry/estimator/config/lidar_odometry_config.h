@@ -70,8 +70,10 @@ struct LidarOdometryConfig {
   // corridor start lags further (simulated corridor 60 s: ATE 0.109 -> 0.231 m; the estimate falls behind
   // while the vehicle pulls away either way, 0.5 m and 1.3 m at 5 s; docs/METHOD.md "Wheel factor"), which
   // needs its own look.
-  WheelFactorConfig wheel = {
-      .nonholonomic_velocity_density = 0.2, .suspension_tilt_sigma = 0.0, .tilt_per_acceleration = 0.0};
+  WheelFactorConfig wheel = {.nonholonomic_velocity_density = 0.2,
+                             .suspension_tilt_sigma = 0.0,
+                             .tilt_per_acceleration = 0.0,
+                             .schedule = {}};
   SE3 T_body_wheel;  // the wheel (base) frame in the body frame, from the calibration like T_body_lidar
 
   // GNSS position factors (LIO+G, LWGIO; providers/gnss_provider.h). Needs use_imu: the factor's 4-dof

@@ -30,6 +30,21 @@ Status WheelFactorConfig::Validate() const {
   if (!Positive(max_gap_s)) return Bad("max_gap_s", "finite and > 0", max_gap_s);
   if (!(std::abs(time_offset_s) <= 1.0)) return Bad("time_offset_s", "in [-1, 1]", time_offset_s);
   if (!Positive(scale_prior_sigma)) return Bad("scale_prior_sigma", "finite and > 0", scale_prior_sigma);
+  const WheelScheduleConfig& w = schedule;
+  if (!Positive(w.speed_tolerance_mps))
+    return Bad("schedule.speed_tolerance_mps", "finite and > 0", w.speed_tolerance_mps);
+  if (!Positive(w.yaw_rate_tolerance_rad_s))
+    return Bad("schedule.yaw_rate_tolerance_rad_s", "finite and > 0", w.yaw_rate_tolerance_rad_s);
+  if (!(std::isfinite(w.drift_mps_per_s) && w.drift_mps_per_s >= 0))
+    return Bad("schedule.drift_mps_per_s", "finite and >= 0", w.drift_mps_per_s);
+  if (!(std::isfinite(w.baseline_time_s) && w.baseline_time_s >= 0))
+    return Bad("schedule.baseline_time_s", "finite and >= 0", w.baseline_time_s);
+  if (!(w.speed_weight >= 0 && w.speed_weight <= 1))
+    return Bad("schedule.speed_weight", "in [0, 1]", w.speed_weight);
+  if (!(w.threshold > 0 && w.threshold < 1)) return Bad("schedule.threshold", "in (0, 1)", w.threshold);
+  if (!(w.release_margin >= 0 && w.release_margin < w.threshold))
+    return Bad("schedule.release_margin", "in [0, threshold)", w.release_margin);
+  if (w.release_keyframes < 1) return Bad("schedule.release_keyframes", ">= 1", w.release_keyframes);
   return {};
 }
 

@@ -26,6 +26,38 @@ inline constexpr double kSuspensionTiltTime_s = 0.16;
 // second or more; shorter ones the suspension (~1 Hz) does not follow.
 inline constexpr double kTiltManoeuvreTime_s = 1.0;
 
+// Reliability scheduling of the wheel (docs/METHOD.md "Factor-wise reliability scheduling";
+// schedule/wheel_consistency.h, schedule/activation_gate.h): each node interval's wheel motion is scored
+// against the IMU's prediction of it before its factor joins the window, and the factor is left out while
+// the gate is shut. Only where the IMU predicted the node (LIO and WIO windows, not the LO fallback).
+struct WheelScheduleConfig {
+  bool enabled = true;
+  // D = speed_weight min(1, e_v / speed_tolerance_mps) + (1 - speed_weight) min(1, e_psi / ...). A 30 %
+  // slip at 8 m/s disagrees by 2.4 m/s; the noise of a 0.1 s interval (wheel speed, the predicted
+  // velocity) is a few cm/s, of the yaw rate up to 0.15 rad/s with a noisy encoder.
+  double speed_tolerance_mps = 0.5;
+  double yaw_rate_tolerance_rad_s = 1.0;  // the wheel's yaw is noisier than its speed, the gyro's is not
+  double speed_weight = 0.5;
+  // While the wheel is out, the IMU alone carries the speed (in WIO) and its prediction drifts: the speed
+  // tolerance grows by this per second since the gate shut, so that the wheel is admitted again once the
+  // slip ends instead of being held out by the drift (simulated urban WIO: the predicted speed was 0.1-0.3
+  // m/s off 1-3 s after a 7 s slip). A slip that lasts far longer is admitted again when the tolerance
+  // has grown to several times its disagreement.
+  double drift_mps_per_s = 0.1;
+  // The speed disagreement of the admitted intervals, averaged over about this long, is what the window's
+  // own velocity error accounts for (u_0 in schedule/wheel_consistency.h); 0 compares with the IMU as is.
+  // Short, because that error can change fast: in the simulated LiDAR-degenerate corridor the window's
+  // velocity lags the pull-away by up to 0.7 m/s, growing ~1 m/s per second; averaged over 1 s the
+  // wheel was left out on clean data (LWIO ATE 0.135 -> 0.261 m), over 0.3 s never. A slip's onset is a
+  // step the average does not follow (it only takes admitted intervals).
+  double baseline_time_s = 0.3;
+  // Shut at D > threshold (0.25: a speed disagreement of half its tolerance alone), open again after
+  // release_keyframes intervals at D <= threshold - release_margin.
+  double threshold = 0.25;
+  double release_margin = 0.1;
+  int release_keyframes = 3;
+};
+
 struct WheelFactorConfig {
   // Forward speed (v_x). Encoder counts integrate without drift, so this covers what they do not see: tyre
   // deformation, uneven ground and small slip. 0.05 gives 5 cm over 1 s, ~0.6 % of the distance at 8 m/s;
@@ -81,6 +113,8 @@ struct WheelFactorConfig {
   // rolling radius differs from its nominal value, and keeps s near 1 while the motion does not observe it
   // (standing still).
   double scale_prior_sigma = 0.05;
+
+  WheelScheduleConfig schedule;
 
   // Ok, or the first bad field with its value ("lio.wheel.<field>: must be ..., got ...").
   Status Validate() const;

@@ -33,7 +33,10 @@ void InertialOdometry::Impl::LinkNode(long id, ImuPreintegration imu_preintegrat
   graph.Add(FactorKind::kImu, id, std::make_unique<ImuFactor>(std::move(imu_preintegration)), nullptr,
             {from.pose.data(), from.speed_bias.data(), to.pose.data(), to.speed_bias.data()});
   if (!config.use_wheel) return;
-  if (Status s = wheel.Link(graph, id, from.pose.data(), to.pose.data(), from.stamp, to.stamp); !s.ok())
+  // The new node holds the IMU's prediction: the wheel's interval is scored against it (scheduling).
+  if (Status s = wheel.Link(graph, id, from.pose.data(), to.pose.data(), from.stamp, to.stamp,
+                            /*imu_predicted=*/true);
+      !s.ok())
     warnings.push_back("wheel factor at " + StampText(to.stamp) + " skipped: " + s.message());
 }
 
@@ -107,6 +110,7 @@ void InertialOdometry::Impl::ReleaseOldest() {
   keyframe.velocity = state.velocity;
   keyframe.bias_acc = state.accel_bias;
   keyframe.bias_gyro = state.gyro_bias;
+  if (config.use_wheel) keyframe.wheel_consistency = wheel.TakeConsistency(first_node_id);
   finished.push_back(std::move(keyframe));
   nodes.pop_front();
   ++first_node_id;

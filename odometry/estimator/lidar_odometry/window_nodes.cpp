@@ -45,7 +45,8 @@ long LidarOdometry::Impl::AddNode(Stamp stamp) {
                          "; bridged with the constant-velocity prior");
     }
   }
-  if (!imu_factor) node.pose = PoseBlock(Extrapolate(stamp));
+  const bool imu_predicted = imu_factor != nullptr;
+  if (!imu_predicted) node.pose = PoseBlock(Extrapolate(stamp));
   nodes.push_back(node);
   const long id = LastNodeId();
   graph.AddPoseBlock(NodeAt(id).pose.data());
@@ -55,15 +56,16 @@ long LidarOdometry::Impl::AddNode(Stamp stamp) {
   } else if (nodes.size() >= 3) {
     AddMotionPrior(id);
   }
-  if (wheel && nodes.size() >= 2) LinkWheel(id);
+  if (wheel && nodes.size() >= 2) LinkWheel(id, imu_predicted);
   return id;
 }
 
 // The wheel factor between nodes id - 1 and id; without wheel samples over the interval the nodes go on
-// without it (a warning).
-void LidarOdometry::Impl::LinkWheel(long id) {
+// without it (a warning). imu_predicted: node id holds the IMU's prediction, which the wheel's scheduling
+// scores it against.
+void LidarOdometry::Impl::LinkWheel(long id, bool imu_predicted) {
   if (Status s = wheel->Link(graph, id, NodeAt(id - 1).pose.data(), NodeAt(id).pose.data(),
-                             NodeAt(id - 1).stamp, NodeAt(id).stamp);
+                             NodeAt(id - 1).stamp, NodeAt(id).stamp, imu_predicted);
       !s.ok())
     warnings.push_back("wheel factor at " + StampText(NodeAt(id).stamp) + " skipped: " + s.message());
 }

@@ -169,6 +169,7 @@ void LidarOdometry::Impl::Release(ScanState& scan) {
   });
   if (scan.information)
     keyframe.lidar_degeneracy = AnalyzeLidarInformation(*scan.information, scan.residuals);
+  if (wheel) keyframe.wheel_consistency = wheel->TakeConsistency(scan.end_node);
   finished.push_back(std::move(keyframe));
 }
 

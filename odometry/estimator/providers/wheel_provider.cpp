@@ -4,7 +4,8 @@
 #include <limits>
 
 #include "odometry/estimator/factors/wheel_factor.h"
-#include "odometry/estimator/preintegration/wheel_preintegration.h"
+#include "odometry/estimator/schedule/wheel_consistency.h"
+#include "odometry/estimator/state/nav_state.h"
 
 namespace uf::estimator {
 namespace {
@@ -14,7 +15,11 @@ constexpr long kScalePriorTag = -1;
 }  // namespace
 
 WheelProvider::WheelProvider(const WheelFactorConfig& config, const SE3& T_body_wheel)
-    : config_(config), T_body_wheel_(T_body_wheel) {}
+    : config_(config),
+      T_body_wheel_(T_body_wheel),
+      gate_(ActivationRule{.threshold = config.schedule.threshold,
+                           .release_margin = config.schedule.release_margin,
+                           .release_keyframes = config.schedule.release_keyframes}) {}
 
 std::optional<std::string> WheelProvider::Add(const WheelSample& sample) {
   if (!sample.linear_velocity.allFinite() || !sample.angular_velocity.allFinite())
@@ -38,16 +43,55 @@ void WheelProvider::Attach(FactorGraph& graph) {
 }
 
 Status WheelProvider::Link(FactorGraph& graph, long tag, double* pose_from, double* pose_to, Stamp from,
-                           Stamp to) {
+                           Stamp to, bool imu_predicted) {
   Expected<WheelPreintegration> pre = WheelPreintegration::Between(samples_, from, to, config_);
   if (!pre) {
     ++skipped_;
     return pre.status();
   }
+  if (imu_predicted && !Admit(tag, *pre, pose_from, pose_to, from, to)) {
+    ++suppressed_;
+    return {};
+  }
   graph.Add(FactorKind::kWheel, tag, std::make_unique<WheelFactor>(std::move(*pre), T_body_wheel_), nullptr,
             {pose_from, pose_to, &scale_});
   ++added_;
   return {};
+}
+
+bool WheelProvider::Admit(long tag, const WheelPreintegration& pre, const double* pose_from,
+                          const double* pose_to, Stamp from, Stamp to) {
+  if (!config_.schedule.enabled) return true;
+  // The wheel's body motion at the current scale (the factor's prediction), against the IMU's.
+  const SE3 wheel = T_body_wheel_ * SE3(pre.delta_R(), pre.ScaledDeltaP(scale_)) * T_body_wheel_.inverse();
+  const SE3 imu = PoseFromBlock(pose_from).inverse() * PoseFromBlock(pose_to);
+  const WheelScheduleConfig& s = config_.schedule;
+  const double shut_s = gate_.active() || !shut_at_ ? 0.0 : ToSeconds(to - *shut_at_);
+  const double dt = ToSeconds(to - from);
+  const WheelScore score =
+      ScoreWheelMotion(wheel, imu, T_body_wheel_.so3(), dt, baseline_,
+                       {.speed_tolerance_mps = s.speed_tolerance_mps + s.drift_mps_per_s * shut_s,
+                        .yaw_rate_tolerance_rad_s = s.yaw_rate_tolerance_rad_s,
+                        .speed_weight = s.speed_weight});
+  WheelConsistency consistency = score.consistency;
+  const bool was_active = gate_.active();
+  consistency.active = gate_.Update(consistency.score);
+  if (was_active && !consistency.active) shut_at_ = to;
+  // u_0 follows the admitted intervals (an exponential average over baseline_time_s).
+  if (consistency.active) {
+    const double w = s.baseline_time_s > 0 ? std::min(1.0, dt / s.baseline_time_s) : 1.0;
+    baseline_ = s.baseline_time_s > 0 ? ((1 - w) * baseline_ + w * score.disagreement).eval()
+                                      : Eigen::Vector2d::Zero();
+  }
+  scores_[tag] = consistency;
+  return consistency.active;
+}
+
+std::optional<WheelConsistency> WheelProvider::TakeConsistency(long tag) {
+  std::optional<WheelConsistency> score;
+  if (auto it = scores_.find(tag); it != scores_.end()) score = it->second;
+  scores_.erase(scores_.begin(), scores_.upper_bound(tag));
+  return score;
 }
 
 Expected<SE3> WheelProvider::Motion(Stamp from, Stamp to) const {
@@ -57,7 +101,7 @@ Expected<SE3> WheelProvider::Motion(Stamp from, Stamp to) const {
 }
 
 void WheelProvider::Report(SensorFactorStats& stats) const {
-  stats.wheel = {added_, skipped_};
+  stats.wheel = {added_, skipped_, suppressed_};
   stats.wheel_scale = scale_;
 }
 

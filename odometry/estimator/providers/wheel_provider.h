@@ -4,13 +4,17 @@
 // in it depends on the LiDAR.
 #pragma once
 
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "odometry/estimator/config/wheel_factor_config.h"
+#include "odometry/estimator/preintegration/wheel_preintegration.h"
 #include "odometry/estimator/providers/sensor_factor_stats.h"
+#include "odometry/estimator/schedule/activation_gate.h"
 #include "odometry/estimator/window/factor_graph.h"
+#include "odometry/types/keyframe.h"
 #include "odometry/types/measurements.h"
 #include "odometry/types/se3.h"
 
@@ -31,8 +35,15 @@ class WheelProvider {
   // Registers the scale block with the graph, with its prior (again after the graph was cleared).
   void Attach(FactorGraph& graph);
   // Adds the wheel factor between the poses at `from` and `to` (tagged `tag`); an error, and no factor,
-  // when the samples do not cover the interval (see WheelPreintegration::Between).
-  Status Link(FactorGraph& graph, long tag, double* pose_from, double* pose_to, Stamp from, Stamp to);
+  // when the samples do not cover the interval (see WheelPreintegration::Between). With scheduling
+  // (config.schedule) and `imu_predicted` (pose_to holds the IMU's prediction from pose_from, a reference
+  // the wheel has not shaped), the interval is scored first (ScoreWheelMotion) and its factor left out
+  // while the gate is shut (its speed tolerance growing with the time shut, config.schedule); the score is
+  // kept for TakeConsistency.
+  Status Link(FactorGraph& graph, long tag, double* pose_from, double* pose_to, Stamp from, Stamp to,
+              bool imu_predicted = false);
+  // The score of the interval tagged `tag`, if it was scored; scores of earlier tags are dropped.
+  std::optional<WheelConsistency> TakeConsistency(long tag);
   // The body's motion over [from, to] dead-reckoned from the wheel alone at unit scale,
   // T_body(from)^-1 T_body(to) = T_body_wheel dT_wheel T_body_wheel^-1 (dT_wheel: the preintegrated
   // motion); an error when the samples do not cover the interval. For an initialization without the window.
@@ -42,15 +53,23 @@ class WheelProvider {
 
   double* scale_block() { return &scale_; }
   bool scale_free() const { return config_.estimate_scale; }
-  // Its part of the window's report: factors added and skipped, the scale.
+  // Its part of the window's report: factors added, skipped and suppressed by the schedule, the scale.
   void Report(SensorFactorStats& stats) const;
 
  private:
+  // Whether the interval's factor may join: scores it and updates the gate (true without scheduling).
+  bool Admit(long tag, const WheelPreintegration& pre, const double* pose_from, const double* pose_to,
+             Stamp from, Stamp to);
+
   WheelFactorConfig config_;
   SE3 T_body_wheel_;
   std::vector<WheelSample> samples_;  // wheel clock, increasing
   double scale_ = 1.0;
-  int added_ = 0, skipped_ = 0;
+  int added_ = 0, skipped_ = 0, suppressed_ = 0;
+  ActivationGate gate_;
+  std::optional<Stamp> shut_at_;                        // when the gate last shut
+  Eigen::Vector2d baseline_ = Eigen::Vector2d::Zero();  // u_0 (schedule/wheel_consistency.h), m/s
+  std::map<long, WheelConsistency> scores_;             // by tag, until taken
 };
 
 }  // namespace uf::estimator

@@ -151,7 +151,16 @@ inline estimator::LidarOdometryConfig NonDefaultOdometry() {
              .max_gap_s = 0.25,
              .time_offset_s = 0.01,
              .estimate_scale = false,
-             .scale_prior_sigma = 0.03};
+             .scale_prior_sigma = 0.03,
+             .schedule = {.enabled = false,
+                          .speed_tolerance_mps = 0.7,
+                          .yaw_rate_tolerance_rad_s = 0.4,
+                          .speed_weight = 0.6,
+                          .drift_mps_per_s = 0.2,
+                          .baseline_time_s = 2.0,
+                          .threshold = 0.3,
+                          .release_margin = 0.05,
+                          .release_keyframes = 5}};
   c.gnss.min_status = GnssFixStatus::kRtkFloat;
   c.gnss.fix = {0.6, 1.5, 3.0, 6.0};
   c.gnss.sbas = {0.4, 1.2, 1.5, 2.5};

@@ -222,6 +222,15 @@ inline void ExpectSameInertialParts(const Config& a, const Config& b) {
   EXPECT_FIELD(wheel.time_offset_s);
   EXPECT_FIELD(wheel.estimate_scale);
   EXPECT_FIELD(wheel.scale_prior_sigma);
+  EXPECT_FIELD(wheel.schedule.enabled);
+  EXPECT_FIELD(wheel.schedule.speed_tolerance_mps);
+  EXPECT_FIELD(wheel.schedule.yaw_rate_tolerance_rad_s);
+  EXPECT_FIELD(wheel.schedule.drift_mps_per_s);
+  EXPECT_FIELD(wheel.schedule.baseline_time_s);
+  EXPECT_FIELD(wheel.schedule.speed_weight);
+  EXPECT_FIELD(wheel.schedule.threshold);
+  EXPECT_FIELD(wheel.schedule.release_margin);
+  EXPECT_FIELD(wheel.schedule.release_keyframes);
   EXPECT_FIELD(gnss.min_status);
   for (const auto noise :
        {&estimator::GnssFactorConfig::fix, &estimator::GnssFactorConfig::sbas,

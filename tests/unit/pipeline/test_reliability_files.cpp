@@ -12,8 +12,7 @@ std::vector<ScoredKeyframe> Scored(const std::vector<double>& scores) {
   for (std::size_t i = 0; i < scores.size(); ++i) {
     ScoredKeyframe k;
     k.stamp = static_cast<Stamp>(i) * 100'000'000;
-    k.lidar.score = scores[i];
-    k.lidar.matches = 100;
+    k.lidar = LidarDegeneracy{.matches = 100, .score = scores[i]};
     scored.push_back(k);
   }
   return scored;
@@ -40,9 +39,10 @@ TEST(ReliabilityFiles, OneRowPerKeyframeAndThePlot) {
   EXPECT_EQ(*written, (std::vector<std::string>{"reliability.csv", "plots/reliability_lidar.png"}));
   EXPECT_EQ(
       uf::testing::ReadText(dir.File("reliability.csv")),
-      "stamp_ns,modality,score,active,matches,translation_isotropy,rotation_isotropy,weak_x,weak_y,weak_z\n"
-      "0,lidar,0.2500,1,100,0.00000,0.00000,0.0000,0.0000,0.0000\n"
-      "100000000,lidar,1.0000,1,100,0.00000,0.00000,0.0000,0.0000,0.0000\n");
+      "stamp_ns,modality,score,active,matches,translation_isotropy,rotation_isotropy,weak_x,weak_y,weak_z,"
+      "speed_error_mps,yaw_rate_error_rad_s\n"
+      "0,lidar,0.2500,1,100,0.00000,0.00000,0.0000,0.0000,0.0000,,\n"
+      "100000000,lidar,1.0000,1,100,0.00000,0.00000,0.0000,0.0000,0.0000,,\n");
   // Nothing scored (every scan rejected): the header alone, no plot.
   uf::testing::TempDir empty;
   written = WriteReliabilityFiles(empty.path(), {});

@@ -9,6 +9,7 @@ using estimator::GnssFactorConfig;
 using estimator::ImuNoiseParams;
 using estimator::InertialInitConfig;
 using estimator::WheelFactorConfig;
+using estimator::WheelScheduleConfig;
 
 Schema<estimator::GnssStatusNoise> GnssNoiseSchema(const std::string& status) {
   using N = estimator::GnssStatusNoise;
@@ -97,6 +98,29 @@ Schema<InertialInitConfig> InitSchema(bool lidar) {
   return init;
 }
 
+Schema<WheelScheduleConfig> WheelScheduleSchema() {
+  using S = WheelScheduleConfig;
+  Schema<S> s;
+  s.Key("enabled", &S::enabled, "",
+        "score each interval's wheel motion against the IMU's prediction and leave its factor out while "
+        "they disagree (reliability scheduling)");
+  s.Key("speed_tolerance_mps", &S::speed_tolerance_mps, "m/s",
+        "speed disagreement that saturates the score's speed term");
+  s.Key("yaw_rate_tolerance_rad_s", &S::yaw_rate_tolerance_rad_s, "rad/s",
+        "yaw-rate disagreement that saturates its yaw term");
+  s.Key("speed_weight", &S::speed_weight, "", "weight of the speed term (the yaw term has 1 - this)");
+  s.Key("drift_mps_per_s", &S::drift_mps_per_s, "m/s per s",
+        "while the wheel is out the speed tolerance grows by this per second (the IMU's prediction drifts)");
+  s.Key("baseline_time_s", &S::baseline_time_s, "s",
+        "the speed disagreement of the admitted intervals, averaged over this long, is taken as the "
+        "window's own velocity error (0: none)");
+  s.Key("threshold", &S::threshold, "", "the wheel factor is left out at a score above this");
+  s.Key("release_margin", &S::release_margin, "",
+        "and admitted again once the score is at most threshold - this ...");
+  s.Key("release_keyframes", &S::release_keyframes, "intervals", "... over this many intervals in a row");
+  return s;
+}
+
 Schema<WheelFactorConfig> WheelSchema() {
   using W = WheelFactorConfig;
   Schema<W> wheel;
@@ -116,6 +140,7 @@ Schema<WheelFactorConfig> WheelSchema() {
   wheel.Key("time_offset_s", &W::time_offset_s, "s", "added to the wheel stamps (fixed, |.| <= 1)");
   wheel.Key("estimate_scale", &W::estimate_scale, "", "estimate the wheel scale (false: held at 1)");
   wheel.Key("scale_prior_sigma", &W::scale_prior_sigma, "", "prior of the wheel scale, relative to 1");
+  wheel.Nest("schedule", &W::schedule, WheelScheduleSchema());
   return wheel;
 }
 

@@ -126,9 +126,23 @@ std::string FormatTracking(const std::vector<estimator::TrackEvent>& events, std
   return md;
 }
 
+// Spans of a reliability score as a table (the first 50): from, to, how many `unit`, the worst D.
+std::string FormatSpans(const std::vector<pipeline::DegenerateSpan>& spans, const std::string& unit) {
+  constexpr std::size_t kMaxListed = 50;
+  if (spans.empty()) return "";
+  std::string md = "\n| from [s] | to [s] | " + unit + " | worst D |\n|---|---|---|---|\n";
+  for (std::size_t i = 0; i < spans.size() && i < kMaxListed; ++i) {
+    const pipeline::DegenerateSpan& span = spans[i];
+    md += "| " + FormatSeconds(span.first) + " | " + FormatSeconds(span.last) + " | " +
+          std::to_string(span.keyframes) + " | " + FormatValue("%.2f", span.worst) + " |\n";
+  }
+  if (spans.size() > kMaxListed)
+    md += "\n(" + std::to_string(spans.size() - kMaxListed) + " more spans not listed)\n";
+  return md;
+}
+
 // The LiDAR's degeneracy scores (reliability.csv): how many keyframes were degenerate and where.
 std::string FormatReliability(const pipeline::OdometrySummary& o) {
-  constexpr std::size_t kMaxListed = 50;
   std::string md = "\n## Reliability (LiDAR degeneracy)\n\n";
   md +=
       "Per keyframe, the score D of its registration's point-to-plane information (0: every direction "
@@ -140,15 +154,24 @@ std::string FormatReliability(const pipeline::OdometrySummary& o) {
   md += std::to_string(degenerate) + " of " + std::to_string(o.lidar_scored) +
         " scored keyframes at D >= " + FormatValue("%.1f", pipeline::kDegenerateReported) +
         (o.lidar_degenerate.empty() ? ".\n" : ":\n");
-  if (!o.lidar_degenerate.empty()) md += "\n| from [s] | to [s] | keyframes | worst D |\n|---|---|---|---|\n";
-  for (std::size_t i = 0; i < o.lidar_degenerate.size() && i < kMaxListed; ++i) {
-    const pipeline::DegenerateSpan& span = o.lidar_degenerate[i];
-    md += "| " + FormatSeconds(span.first) + " | " + FormatSeconds(span.last) + " | " +
-          std::to_string(span.keyframes) + " | " + FormatValue("%.2f", span.worst) + " |\n";
-  }
-  if (o.lidar_degenerate.size() > kMaxListed)
-    md += "\n(" + std::to_string(o.lidar_degenerate.size() - kMaxListed) + " more spans not listed)\n";
+  md += FormatSpans(o.lidar_degenerate, "keyframes");
   if (!o.reliability_plot.empty()) md += "\n![LiDAR degeneracy](" + o.reliability_plot + ")\n";
+  return md;
+}
+
+// With wheel scheduling: where the wheel's factors were left out.
+std::string FormatWheelReliability(const pipeline::OdometrySummary& o) {
+  std::string md = "\n## Reliability (wheel)\n\n";
+  md +=
+      "Per node interval, the score D of the wheel's motion against the IMU's prediction (0: they agree; "
+      "docs/METHOD.md \"Factor-wise reliability scheduling\"), in `reliability.csv` with its inputs; the "
+      "interval's wheel factor is left out while the gate is shut (slip, wheels off the ground).\n\n";
+  int left_out = 0;
+  for (const pipeline::DegenerateSpan& span : o.wheel_suppressed) left_out += span.keyframes;
+  md += std::to_string(left_out) + " of " + std::to_string(o.wheel_scored) + " scored intervals left out" +
+        (o.wheel_suppressed.empty() ? ".\n" : ":\n");
+  md += FormatSpans(o.wheel_suppressed, "intervals");
+  if (!o.wheel_reliability_plot.empty()) md += "\n![Wheel reliability](" + o.wheel_reliability_plot + ")\n";
   return md;
 }
 
@@ -205,6 +228,7 @@ std::string FormatRunReport(const pipeline::RunSummary& r) {
   }
   md += "| wall time [s] | " + FormatValue("%.2f", r.wall_seconds) + " |\n";
   if (o.step == "scan") md += FormatTracking(o.track_events, o.scans) + FormatReliability(o);
+  if (o.wheel_scored > 0) md += FormatWheelReliability(o);
   if (o.online_calibration && o.calibration_estimates)
     md += FormatOnlineCalibration(*o.online_calibration, *o.calibration_estimates);
   md += "\n## Timing per " + o.step + " (" + (o.step == "scan" ? "AddScan" : "the node's solve") +

@@ -229,7 +229,10 @@ void Summarize(const RunPlan& plan, StageOutputs& o, RunSummary& summary) {
       std::snprintf(scale, sizeof(scale), "%.4f", factors.wheel_scale);
       summary.notes.push_back("wheel factors: " + std::to_string(factors.wheel.added) + " added, " +
                               std::to_string(factors.wheel.skipped) +
-                              " skipped (no wheel samples over the interval); estimated wheel scale " +
+                              " skipped (no wheel samples over the interval), " +
+                              std::to_string(factors.wheel.rejected) +
+                              " left out by the reliability scheduling (the wheel disagreed with the IMU); "
+                              "estimated wheel scale " +
                               scale);
     }
     if (plan.mode.camera) summary.notes.push_back(VisualNote(plan, factors));

@@ -20,7 +20,8 @@ struct Collected {
   std::vector<Stamp> stamps;
   std::vector<double> ms;
   std::vector<std::optional<SE3>> T_enu_world_at_pose;
-  std::vector<ScoredKeyframe> scored;  // the keyframes with a LiDAR degeneracy (registered scans)
+  // The keyframes with a LiDAR degeneracy (registered scans) or a wheel score (wheel scheduling).
+  std::vector<ScoredKeyframe> scored;
   std::vector<std::string> camera_warnings;  // the first frames that failed to decode
   std::vector<StepTime> visual;              // the steps with the camera's figures (V modes)
 };
@@ -38,7 +39,8 @@ Status CollectFinished(const OdometryStageInput& in, OdometryStageOutput& out, C
       continue;  // keep stamps increasing
     trajectory.stamps.push_back(k.stamp);
     trajectory.poses.push_back(k.T_world_body);
-    if (k.lidar_degeneracy) collected.scored.push_back({k.stamp, *k.lidar_degeneracy});
+    if (k.lidar_degeneracy || k.wheel_consistency)
+      collected.scored.push_back({k.stamp, k.lidar_degeneracy, k.wheel_consistency});
     if (in.frames.mode == OdometryMode::kWio) {
       const std::optional<Georeference> georef = in.odometry->georeference();
       collected.T_enu_world_at_pose.push_back(georef ? std::optional<SE3>(georef->T_enu_world)
@@ -179,13 +181,20 @@ Status WriteOdometryFiles(const OdometryStageInput& in, const OdometryStageOutpu
       !s.ok())
     return s;
   for (const char* file : {"trajectory.tum", "trajectory_kitti.txt", "timing.json"}) context.AddOutput(file);
-  if (out.frames.mode != OdometryMode::kWio) {
+  if (out.frames.mode != OdometryMode::kWio || !collected.scored.empty()) {
     Expected<std::vector<std::string>> written = WriteReliabilityFiles(in.out, collected.scored);
     if (!written) return written.status();
-    for (const std::string& file : *written) context.AddOutput(file);
+    for (const std::string& file : *written) {
+      context.AddOutput(file);
+      if (file == "plots/reliability_lidar.png") summary.reliability_plot = file;
+      if (file == "plots/reliability_wheel.png") summary.wheel_reliability_plot = file;
+    }
     summary.lidar_degenerate = DegenerateSpans(collected.scored, kDegenerateReported);
-    summary.lidar_scored = static_cast<std::int64_t>(collected.scored.size());
-    if (written->size() > 1) summary.reliability_plot = written->back();
+    summary.wheel_suppressed = SuppressedWheelSpans(collected.scored);
+    for (const ScoredKeyframe& k : collected.scored) {
+      summary.lidar_scored += k.lidar.has_value();
+      summary.wheel_scored += k.wheel.has_value();
+    }
   }
   if (collected.ms.empty()) return {};
   std::error_code error;

@@ -73,6 +73,10 @@ struct OdometrySummary {
   std::int64_t lidar_scored = 0;
   std::vector<DegenerateSpan> lidar_degenerate;
   std::string reliability_plot;
+  // With wheel scheduling: intervals scored, the spans where the wheel's factors were left out, the plot.
+  std::int64_t wheel_scored = 0;
+  std::vector<DegenerateSpan> wheel_suppressed;
+  std::string wheel_reliability_plot;
 };
 
 // The stream whose messages pace the odometry, for the progress line: the LiDAR's, or the IMU's in WIO.

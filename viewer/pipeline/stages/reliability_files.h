@@ -1,10 +1,12 @@
 // The reliability scores of a run (docs/METHOD.md "Factor-wise reliability scheduling"): reliability.csv,
-// one row per keyframe and modality with the score D, the inputs it came from and whether the modality's
-// factors were active, and plots/reliability_lidar.png (D over time). Only the LiDAR is scored so far, and
-// nothing is scheduled yet: `active` is 1 on every row.
+// one row per keyframe and modality with the score D, the inputs it came from (blank where they belong to
+// another modality) and whether the modality's factors were active, and plots/reliability_<modality>.png
+// (D over time). Scored: the LiDAR (its rows are always active: the LiDAR is not switched off, only its weak
+// directions with lo.drop_weak_directions) and, with wheel scheduling, the wheel.
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -19,19 +21,23 @@ constexpr double kDegenerateReported = 0.5;
 
 struct ScoredKeyframe {
   Stamp stamp = 0;
-  LidarDegeneracy lidar;
+  std::optional<LidarDegeneracy> lidar;
+  std::optional<WheelConsistency> wheel;
 };
 
 // Where the LiDAR was degenerate (D >= threshold) as time intervals, for the report: [first, last] stamps
-// of each run of consecutive keyframes at or above it.
+// of each run of consecutive LiDAR-scored keyframes at or above it.
 struct DegenerateSpan {
   Stamp first = 0, last = 0;
   int keyframes = 0;
   double worst = 0;  // the highest D in it
 };
 std::vector<DegenerateSpan> DegenerateSpans(const std::vector<ScoredKeyframe>& scored, double threshold);
+// Where the wheel's factors were left out (inactive), likewise, with the highest score in each span.
+std::vector<DegenerateSpan> SuppressedWheelSpans(const std::vector<ScoredKeyframe>& scored);
 
-// Writes folder/reliability.csv and folder/plots/reliability_lidar.png (the plot only with a keyframe);
+// Writes folder/reliability.csv and folder/plots/reliability_lidar.png and reliability_wheel.png (each plot
+// only with a keyframe scored for it);
 // returns the files written, relative to folder. Errors: a file that cannot be written (nothing half
 // written is left behind).
 Expected<std::vector<std::string>> WriteReliabilityFiles(const std::filesystem::path& folder,

@@ -1,0 +1,94 @@
+// The wheel's reliability scheduling (docs/METHOD.md "Factor-wise reliability scheduling"): the activation
+// gate's hysteresis on constructed score sequences, and the wheel score against hand-computed motions.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "odometry/estimator/schedule/activation_gate.h"
+#include "odometry/estimator/schedule/wheel_consistency.h"
+
+namespace uf::estimator {
+namespace {
+
+std::vector<bool> Gate(const ActivationRule& rule, const std::vector<double>& scores, int count = 10) {
+  ActivationGate gate(rule);
+  std::vector<bool> active;
+  for (double score : scores) active.push_back(gate.Update(score, count));
+  return active;
+}
+
+TEST(ActivationGate, ShutsAtTheFirstScoreAboveTauAndOpensAfterCalmKeyframes) {
+  const ActivationRule rule{.threshold = 0.5, .release_margin = 0.1, .release_keyframes = 3};
+  EXPECT_EQ(Gate(rule, {0.1, 0.5, 0.51, 0.3, 0.4, 0.3, 0.2, 0.45, 0.1}),
+            (std::vector<bool>{true, true, false, false, false, true, true, true, true}));
+  // 0.4 is the release level (tau - margin): it counts; a keyframe above it starts the count again.
+  EXPECT_EQ(Gate(rule, {0.9, 0.4, 0.4, 0.41, 0.4, 0.4, 0.4}),
+            (std::vector<bool>{false, false, false, false, false, false, true}));
+  // Not finite: not trusted.
+  EXPECT_EQ(Gate(rule, {std::nan("")}), (std::vector<bool>{false}));
+}
+
+TEST(ActivationGate, DoesNotChatterOnAScoreOscillatingAboutTau) {
+  const ActivationRule rule{.threshold = 0.5, .release_margin = 0.1, .release_keyframes = 3};
+  std::vector<double> scores;
+  for (int k = 0; k < 200; ++k) scores.push_back(0.5 + 0.05 * std::sin(0.9 * k));  // within +-0.05 of tau
+  const std::vector<bool> active = Gate(rule, scores);
+  int switches = 0;
+  for (std::size_t k = 1; k < active.size(); ++k) switches += active[k] != active[k - 1];
+  EXPECT_EQ(switches, 1);  // shut once, never opened: the score never reaches the release level
+  EXPECT_FALSE(active.back());
+  // Without hysteresis (no margin, one keyframe) the same score switches at almost every crossing.
+  const std::vector<bool> bare =
+      Gate({.threshold = 0.5, .release_margin = 0.0, .release_keyframes = 1}, scores);
+  int bare_switches = 0;
+  for (std::size_t k = 1; k < bare.size(); ++k) bare_switches += bare[k] != bare[k - 1];
+  EXPECT_GT(bare_switches, 50);
+}
+
+TEST(ActivationGate, TooFewObservationsShutIt) {
+  const ActivationRule rule{.threshold = 0.5, .release_margin = 0.1, .release_keyframes = 2, .min_count = 20};
+  ActivationGate gate(rule);
+  EXPECT_TRUE(gate.Update(0.1, 25));
+  EXPECT_FALSE(gate.Update(0.1, 19));
+  EXPECT_FALSE(gate.Update(0.1, 25));
+  EXPECT_TRUE(gate.Update(0.1, 25));
+}
+
+// Body motions over 0.1 s: the IMU's 1.0 m forward and 0.02 rad of yaw; a level wheel frame 0.3 m behind.
+TEST(WheelScore, MeasuresTheDisagreementInTheWheelsPlaneAndAboutItsVertical) {
+  const SO3 level;
+  const SE3 imu(SO3::Exp(Eigen::Vector3d(0, 0, 0.02)), Eigen::Vector3d(1.0, 0, 0));
+  const WheelScoreWeights weights{
+      .speed_tolerance_mps = 0.5, .yaw_rate_tolerance_rad_s = 1.0, .speed_weight = 0.5};
+  // The wheel says 1.03 m and 0.01 m to the left, 0.05 rad of yaw, and 0.2 m up (not its plane: ignored),
+  // with roll (not its axis: ignored).
+  const SE3 wheel(SO3::Exp(Eigen::Vector3d(0.03, 0, 0.05)), Eigen::Vector3d(1.03, 0.01, 0.2));
+  const Eigen::Vector2d none = Eigen::Vector2d::Zero();
+  const WheelScore score = ScoreWheelMotion(wheel, imu, level, 0.1, none, weights);
+  const WheelConsistency& c = score.consistency;
+  EXPECT_TRUE(score.disagreement.isApprox(Eigen::Vector2d(0.3, 0.1), 1e-12)) << score.disagreement;
+  EXPECT_NEAR(c.speed_error_mps, std::hypot(0.03, 0.01) / 0.1, 1e-12);
+  EXPECT_NEAR(c.yaw_rate_error_rad_s, 0.3, 1e-9);
+  EXPECT_NEAR(c.score, 0.5 * (std::hypot(0.03, 0.01) / 0.1) / 0.5 + 0.5 * 0.3, 1e-9);
+  EXPECT_TRUE(c.active);
+  // Agreeing motions score 0; a 30 % slip at 10 m/s saturates the speed term.
+  EXPECT_NEAR(ScoreWheelMotion(imu, imu, level, 0.1, none, weights).consistency.score, 0.0, 1e-12);
+  const SE3 slipping(imu.so3(), 1.3 * imu.translation());
+  EXPECT_NEAR(ScoreWheelMotion(slipping, imu, level, 0.1, none, weights).consistency.score, 0.5, 1e-12);
+  // The disagreement the window has lately shown (its own velocity error) is taken out: with u_0 = (0.3,
+  // 0.1) m/s the same motions leave only the yaw term.
+  const Eigen::Vector2d usual(0.3, 0.1);
+  EXPECT_NEAR(ScoreWheelMotion(wheel, imu, level, 0.1, usual, weights).consistency.speed_error_mps, 0.0,
+              1e-12);
+  // A wheel frame turned 90 degrees about x: its plane is the body's x-z, its vertical the body's -y.
+  const SO3 turned = SO3::Exp(Eigen::Vector3d(M_PI / 2, 0, 0));
+  const WheelConsistency t = ScoreWheelMotion(wheel, imu, turned, 0.1, none, weights).consistency;
+  EXPECT_NEAR(t.speed_error_mps, std::hypot(0.03, 0.2) / 0.1, 1e-9);
+  EXPECT_NEAR(t.yaw_rate_error_rad_s, 0.0, 1e-9);
+  // No interval: no trust.
+  EXPECT_EQ(ScoreWheelMotion(wheel, imu, level, 0.0, none, weights).consistency.score, 1.0);
+}
+
+}  // namespace
+}  // namespace uf::estimator
