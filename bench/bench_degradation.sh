@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # bench_degradation: the wheel cases of the degradation suite (docs/METHOD.md "Factor-wise reliability
 # scheduling"). Simulated sequences whose wheels slip (`sim.wheel.slips`: the wheels turn 30 % too fast for
-# 7 s, then 25 % too slow for 4 s) beside the same sequences without slip, a noisy encoder in both
+# 7 s, then 25 % too slow for 4 s) or leave the ground (`sim.wheel.floats`: the reading frozen for 2 s
+# while the vehicle pulls away, and for 4 s while cruising),
+# beside the same sequences without either, a noisy encoder in all
 # (0.3 rad/s per wheel sample), no camera or GNSS. Each runs with the wheel's reliability scheduling on
 # (the default) and off (`lio|wio.wheel.schedule.enabled: false`, the ablation), the solves' time budget
 # lifted, in WIO and LWIO on `urban` and in LWIO on `corridor` (where the LiDAR leaves the axis to the
@@ -34,13 +36,13 @@ sed 's/^lio:$/lio:\n  wheel:\n    schedule:\n      enabled: false/' "$on" >"$off
 printf '\nwio:\n  max_solver_time_s: 10\n' >>"$on"
 printf '\nwio:\n  max_solver_time_s: 10\n  wheel:\n    schedule:\n      enabled: false\n' >>"$off"
 
-# A sequence: scene, seed, slips ("[]" for none), out.
+# A sequence: scene, seed, slips ("[]" for none), floats ("[]" for none), out.
 simulate() {
   "$bin" sim --scene "$1" --seed "$2" --duration "$duration" --no-camera --no-gnss --print-config |
     sed -e 's/^    wheel_speed_noise_std: 0$/    wheel_speed_noise_std: 0.3/' \
-        -e "s/^    slips: \[\]/    slips: $3/" >"$4.yaml"
-  rm -rf "$4"
-  "$bin" sim --config "$4.yaml" --out "$4" >"$4.sim.log" 2>&1
+        -e "s/^    slips: \[\]/    slips: $3/" -e "s/^    floats: \[\]/    floats: $4/" >"$5.yaml"
+  rm -rf "$5"
+  "$bin" sim --config "$5.yaml" --out "$5" >"$5.sim.log" 2>&1
 }
 ate() { sed -n 's/.*ATE (SE3-aligned RMSE): \([0-9.]*\) m.*/\1/p' "$1" | head -1; }
 run() {  # dataset, mode, config, out: "ATE suppressed-intervals"
@@ -52,6 +54,7 @@ run() {  # dataset, mode, config, out: "ATE suppressed-intervals"
 }
 
 slips="[{window: [15, 22], ratio: 0.3}, {window: [38, 42], ratio: -0.25}]"
+floats="[[3, 5], [20, 24]]"
 echo "bench_degradation: ${duration} s, seeds $seeds, load average $(cut -d' ' -f1-3 /proc/loadavg)"
 json="$work/suite.json"
 echo "[" >"$json"
@@ -62,9 +65,10 @@ first=1
 } | tee "$work/suite.md"
 for seed in $seeds; do
   for scene in urban corridor; do
-    for kind in clean slip; do
+        for kind in clean slip float; do
       data="$work/$scene-$kind-s$seed"
-      simulate "$scene" "$seed" "$([[ $kind == slip ]] && echo "$slips" || echo "[]")" "$data" ||
+      simulate "$scene" "$seed" "$([[ $kind == slip ]] && echo "$slips" || echo "[]")" \
+        "$([[ $kind == float ]] && echo "$floats" || echo "[]")" "$data" ||
         { echo "$scene-$kind $seed: sim failed, see $data.sim.log"; continue; }
       modes="lwio"
       [[ $scene == urban ]] && modes="wio lwio"

@@ -39,9 +39,21 @@ struct LidarDegeneracy {
 struct WheelConsistency {
   double speed_error_mps = 0;       // |u - u_0|: u = (dp_wheel - dp_imu) / dt in the wheel's plane, u_0
                                     // its recent level (schedule/wheel_consistency.h)
+  double speed_change_error_mps = 0;  // c: the wheel's speed change against the IMU's, over a short window
   double yaw_rate_error_rad_s = 0;  // |dpsi_wheel - dpsi_imu| / dt, about the wheel's vertical
   double score = 0;                 // D in [0, 1]: 0 agrees, 1 contradicts
   bool active = true;               // the interval's wheel factor joined the window
+};
+
+// A GNSS fix as the reliability scheduling sees it (docs/METHOD.md "Factor-wise reliability scheduling",
+// GNSS score; schedule/gnss_score.h), and whether the innovation test let its factor in.
+struct GnssCheck {
+  Stamp stamp = 0;                 // the fix's
+  double fix_quality = 0;          // q_fix in [0, 1] from its status
+  double covariance_trace_m2 = 0;  // tr(Sigma) of the fix
+  double innovation_d2 = 0;        // squared Mahalanobis innovation against the window's prediction (3 dof)
+  double score = 0;                // D in [0, 1]
+  bool active = true;              // its factor joined the window (with all axes or horizontally)
 };
 
 struct Keyframe {
@@ -56,6 +68,7 @@ struct Keyframe {
   Reliability reliability;
   std::optional<LidarDegeneracy> lidar_degeneracy;  // LiDAR window: of its registration (none if rejected)
   std::optional<WheelConsistency> wheel_consistency;  // with wheel scheduling: of the interval ending here
+  std::vector<GnssCheck> gnss_checks;  // the fixes the innovation test saw since the previous keyframe
 };
 
 }  // namespace uf

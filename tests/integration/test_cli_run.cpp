@@ -221,7 +221,8 @@ TEST_F(CliRun, WheelInertialModeRunsOnTheImuAndTheWheelAlone) {
   std::istringstream reliability(testing::ReadText(run + "/reliability.csv"));
   std::string line;
   std::getline(reliability, line);
-  EXPECT_NE(line.find(",speed_error_mps,yaw_rate_error_rad_s"), std::string::npos) << line;
+  EXPECT_NE(line.find(",speed_error_mps,speed_change_error_mps,yaw_rate_error_rad_s,"), std::string::npos)
+      << line;
   int wheel_rows = 0;
   while (std::getline(reliability, line)) wheel_rows += line.find(",wheel,") != std::string::npos;
   EXPECT_EQ(wheel_rows, 40);

@@ -37,6 +37,11 @@ Status WheelFactorConfig::Validate() const {
     return Bad("schedule.yaw_rate_tolerance_rad_s", "finite and > 0", w.yaw_rate_tolerance_rad_s);
   if (!(std::isfinite(w.drift_mps_per_s) && w.drift_mps_per_s >= 0))
     return Bad("schedule.drift_mps_per_s", "finite and >= 0", w.drift_mps_per_s);
+  if (!Positive(w.max_shut_s)) return Bad("schedule.max_shut_s", "finite and > 0", w.max_shut_s);
+  if (!(std::isfinite(w.change_window_s) && w.change_window_s >= 0))
+    return Bad("schedule.change_window_s", "finite and >= 0", w.change_window_s);
+  if (!Positive(w.change_tolerance_mps))
+    return Bad("schedule.change_tolerance_mps", "finite and > 0", w.change_tolerance_mps);
   if (!(std::isfinite(w.baseline_time_s) && w.baseline_time_s >= 0))
     return Bad("schedule.baseline_time_s", "finite and >= 0", w.baseline_time_s);
   if (!(w.speed_weight >= 0 && w.speed_weight <= 1))

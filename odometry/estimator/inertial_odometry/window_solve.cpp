@@ -35,7 +35,7 @@ void InertialOdometry::Impl::LinkNode(long id, ImuPreintegration imu_preintegrat
   if (!config.use_wheel) return;
   // The new node holds the IMU's prediction: the wheel's interval is scored against it (scheduling).
   if (Status s = wheel.Link(graph, id, from.pose.data(), to.pose.data(), from.stamp, to.stamp,
-                            /*imu_predicted=*/true);
+                            /*imu_predicted=*/true, from.speed_bias.data(), to.speed_bias.data());
       !s.ok())
     warnings.push_back("wheel factor at " + StampText(to.stamp) + " skipped: " + s.message());
 }
@@ -111,6 +111,7 @@ void InertialOdometry::Impl::ReleaseOldest() {
   keyframe.bias_acc = state.accel_bias;
   keyframe.bias_gyro = state.gyro_bias;
   if (config.use_wheel) keyframe.wheel_consistency = wheel.TakeConsistency(first_node_id);
+  if (gnss) keyframe.gnss_checks = gnss->TakeChecks(state.stamp);
   finished.push_back(std::move(keyframe));
   nodes.pop_front();
   ++first_node_id;

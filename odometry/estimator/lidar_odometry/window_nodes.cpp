@@ -65,7 +65,8 @@ long LidarOdometry::Impl::AddNode(Stamp stamp) {
 // scores it against.
 void LidarOdometry::Impl::LinkWheel(long id, bool imu_predicted) {
   if (Status s = wheel->Link(graph, id, NodeAt(id - 1).pose.data(), NodeAt(id).pose.data(),
-                             NodeAt(id - 1).stamp, NodeAt(id).stamp, imu_predicted);
+                             NodeAt(id - 1).stamp, NodeAt(id).stamp, imu_predicted,
+                             NodeAt(id - 1).speed_bias.data(), NodeAt(id).speed_bias.data());
       !s.ok())
     warnings.push_back("wheel factor at " + StampText(NodeAt(id).stamp) + " skipped: " + s.message());
 }

@@ -170,6 +170,7 @@ void LidarOdometry::Impl::Release(ScanState& scan) {
   if (scan.information)
     keyframe.lidar_degeneracy = AnalyzeLidarInformation(*scan.information, scan.residuals);
   if (wheel) keyframe.wheel_consistency = wheel->TakeConsistency(scan.end_node);
+  if (gnss) keyframe.gnss_checks = gnss->TakeChecks(NodeAt(scan.end_node).stamp);
   finished.push_back(std::move(keyframe));
 }
 

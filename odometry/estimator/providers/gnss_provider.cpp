@@ -7,6 +7,7 @@
 
 #include "odometry/estimator/gnss/fix_screening.h"
 #include "odometry/estimator/gnss/integrity_check.h"
+#include "odometry/estimator/schedule/gnss_score.h"
 #include "odometry/estimator/state/nav_state.h"
 
 namespace uf::estimator {
@@ -60,7 +61,7 @@ std::optional<std::string> GnssProvider::Add(const GnssFix& fix) {
   }
   has_last_ = true;
   last_stamp_ = fix.stamp;
-  queue_.push_back({fix.stamp, *enu, FixCovariance(fix, config_)});
+  queue_.push_back({fix.stamp, *enu, FixCovariance(fix, config_), fix.status});
   return std::nullopt;
 }
 
@@ -138,6 +139,8 @@ void GnssProvider::AddFactor(FactorGraph& graph, std::span<const NodeView> nodes
     horizontal_innovations_.push_back(check.innovation.head<2>().norm());
     d2_sum_ += check.d2;
   }
+  checks_.push_back(ScoreGnssFix(fix.stamp, fix.status, fix.covariance.trace(), check.d2,
+                                 config_.integrity_gate, check.horizontal_accepted));
   if (!check.horizontal_accepted) {
     ++counts_.rejected;
     std::ostringstream why;
@@ -168,6 +171,18 @@ void GnssProvider::AddFactor(FactorGraph& graph, std::span<const NodeView> nodes
   graph.Add(FactorKind::kGnss, kGnssTag, std::move(cost), nullptr, std::move(blocks), /*anchors=*/true);
   ++counts_.added;
   last_accepted_antenna_ = antenna;
+}
+
+std::vector<GnssCheck> GnssProvider::TakeChecks(Stamp until) {
+  std::vector<GnssCheck> taken;
+  std::erase_if(checks_, [&](const GnssCheck& c) {
+    if (c.stamp > until) return false;
+    taken.push_back(c);
+    return true;
+  });
+  std::sort(taken.begin(), taken.end(),
+            [](const GnssCheck& a, const GnssCheck& b) { return a.stamp < b.stamp; });
+  return taken;
 }
 
 void GnssProvider::Reset() {

@@ -35,6 +35,7 @@
 #include "odometry/estimator/state/window_node.h"
 #include "odometry/estimator/window/factor_graph.h"
 #include "odometry/types/georeference.h"
+#include "odometry/types/keyframe.h"
 #include "odometry/types/measurements.h"
 
 namespace uf::estimator {
@@ -67,12 +68,16 @@ class GnssProvider {
   // Its part of the window's report: factors added, fixes skipped (screened out, out of order, no node
   // near), rejected by the innovation test; how the alignment started.
   void Report(SensorFactorStats& stats) const;
+  // The fixes the innovation test saw with stamps up to `until`, scored (ScoreGnssFix), in stamp order;
+  // they are handed out once.
+  std::vector<GnssCheck> TakeChecks(Stamp until);
 
  private:
   struct QueuedFix {
     Stamp stamp = 0;
     Eigen::Vector3d enu;
     Eigen::Matrix3d covariance;
+    GnssFixStatus status = GnssFixStatus::kNoFix;
   };
   void TryStartAlignment(FactorGraph& graph, std::span<const NodeView> nodes,
                          std::vector<std::string>& warnings);
@@ -98,6 +103,7 @@ class GnssProvider {
   int horizontal_only_ = 0;  // of counts_.added: fixes whose height failed the innovation test
   std::vector<double> horizontal_innovations_;  // m, every fix tested
   double d2_sum_ = 0;
+  std::vector<GnssCheck> checks_;  // scored, not taken yet
   std::string
       alignment_summary_;  // "started at ... from 8 fixes over 14.2 m, RMS 0.8 m, yaw ...", or why not
 };

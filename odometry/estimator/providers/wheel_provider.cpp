@@ -43,13 +43,14 @@ void WheelProvider::Attach(FactorGraph& graph) {
 }
 
 Status WheelProvider::Link(FactorGraph& graph, long tag, double* pose_from, double* pose_to, Stamp from,
-                           Stamp to, bool imu_predicted) {
+                           Stamp to, bool imu_predicted, const double* speed_bias_from,
+                           const double* speed_bias_to) {
   Expected<WheelPreintegration> pre = WheelPreintegration::Between(samples_, from, to, config_);
   if (!pre) {
     ++skipped_;
     return pre.status();
   }
-  if (imu_predicted && !Admit(tag, *pre, pose_from, pose_to, from, to)) {
+  if (imu_predicted && !Admit(tag, *pre, pose_from, pose_to, from, to, speed_bias_from, speed_bias_to)) {
     ++suppressed_;
     return {};
   }
@@ -59,23 +60,65 @@ Status WheelProvider::Link(FactorGraph& graph, long tag, double* pose_from, doub
   return {};
 }
 
+std::optional<Eigen::Vector3d> WheelProvider::WheelVelocity(Stamp t, const SO3& R_world_body) const {
+  if (samples_.empty()) return std::nullopt;
+  const Stamp wheel_clock = t - FromSeconds(config_.time_offset_s);
+  auto it = std::lower_bound(samples_.begin(), samples_.end(), wheel_clock,
+                             [](const WheelSample& s, Stamp x) { return s.stamp < x; });
+  if (it == samples_.end() ||
+      (it != samples_.begin() && wheel_clock - (it - 1)->stamp < it->stamp - wheel_clock))
+    --it;
+  const SO3& R_bw = T_body_wheel_.so3();
+  const Eigen::Vector3d w_body = R_bw * it->angular_velocity;
+  const Eigen::Vector3d v_body =
+      R_bw * (scale_ * it->linear_velocity) - w_body.cross(T_body_wheel_.translation());
+  return (R_world_body * v_body).eval();
+}
+
+double WheelProvider::SpeedChangeDisagreement(const SE3& T_from, const SE3& T_to, Stamp from, Stamp to,
+                                              const double* speed_bias_from, const double* speed_bias_to) {
+  const double window_s = config_.schedule.change_window_s;
+  if (!(window_s > 0) || speed_bias_from == nullptr || speed_bias_to == nullptr) return 0.0;
+  const std::optional<Eigen::Vector3d> wheel_from = WheelVelocity(from, T_from.so3());
+  const std::optional<Eigen::Vector3d> wheel_to = WheelVelocity(to, T_to.so3());
+  if (!wheel_from || !wheel_to) return 0.0;
+  // The IMU's change: v_to holds its prediction from v_from, g dt + R dV, whatever v_from is.
+  const Eigen::Vector3d imu_change =
+      Eigen::Map<const Eigen::Vector3d>(speed_bias_to) - Eigen::Map<const Eigen::Vector3d>(speed_bias_from);
+  changes_.emplace_back(to, (*wheel_to - *wheel_from) - imu_change);
+  while (!changes_.empty() && changes_.front().first <= to - FromSeconds(window_s)) changes_.pop_front();
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (const auto& [stamp, change] : changes_) sum += change;
+  return (T_body_wheel_.so3().inverse() * (T_to.so3().inverse() * sum)).head<2>().norm();
+}
+
 bool WheelProvider::Admit(long tag, const WheelPreintegration& pre, const double* pose_from,
-                          const double* pose_to, Stamp from, Stamp to) {
+                          const double* pose_to, Stamp from, Stamp to, const double* speed_bias_from,
+                          const double* speed_bias_to) {
   if (!config_.schedule.enabled) return true;
   // The wheel's body motion at the current scale (the factor's prediction), against the IMU's.
   const SE3 wheel = T_body_wheel_ * SE3(pre.delta_R(), pre.ScaledDeltaP(scale_)) * T_body_wheel_.inverse();
-  const SE3 imu = PoseFromBlock(pose_from).inverse() * PoseFromBlock(pose_to);
+  const SE3 T_from = PoseFromBlock(pose_from), T_to = PoseFromBlock(pose_to);
+  const SE3 imu = T_from.inverse() * T_to;
+  const double change = SpeedChangeDisagreement(T_from, T_to, from, to, speed_bias_from, speed_bias_to);
   const WheelScheduleConfig& s = config_.schedule;
   const double shut_s = gate_.active() || !shut_at_ ? 0.0 : ToSeconds(to - *shut_at_);
   const double dt = ToSeconds(to - from);
   const WheelScore score =
-      ScoreWheelMotion(wheel, imu, T_body_wheel_.so3(), dt, baseline_,
+      ScoreWheelMotion(wheel, imu, T_body_wheel_.so3(), dt, baseline_, change,
                        {.speed_tolerance_mps = s.speed_tolerance_mps + s.drift_mps_per_s * shut_s,
                         .yaw_rate_tolerance_rad_s = s.yaw_rate_tolerance_rad_s,
-                        .speed_weight = s.speed_weight});
+                        .speed_weight = s.speed_weight,
+                        .change_tolerance_mps = s.change_tolerance_mps});
   WheelConsistency consistency = score.consistency;
   const bool was_active = gate_.active();
-  consistency.active = gate_.Update(consistency.score);
+  if (!was_active && shut_s >= s.max_shut_s) {  // held out long enough: taken back, its level the new u_0
+    gate_.Open();
+    baseline_ = score.disagreement;
+    consistency.active = true;
+  } else {
+    consistency.active = gate_.Update(consistency.score);
+  }
   if (was_active && !consistency.active) shut_at_ = to;
   // u_0 follows the admitted intervals (an exponential average over baseline_time_s).
   if (consistency.active) {

@@ -4,6 +4,7 @@
 // in it depends on the LiDAR.
 #pragma once
 
+#include <deque>
 #include <map>
 #include <optional>
 #include <string>
@@ -40,8 +41,11 @@ class WheelProvider {
   // the wheel has not shaped), the interval is scored first (ScoreWheelMotion) and its factor left out
   // while the gate is shut (its speed tolerance growing with the time shut, config.schedule); the score is
   // kept for TakeConsistency.
+  // speed_bias_from / _to (the nodes' velocity and bias blocks; may be null) give the IMU's velocity change
+  // over the interval, which the score's change window compares with the wheel's.
   Status Link(FactorGraph& graph, long tag, double* pose_from, double* pose_to, Stamp from, Stamp to,
-              bool imu_predicted = false);
+              bool imu_predicted = false, const double* speed_bias_from = nullptr,
+              const double* speed_bias_to = nullptr);
   // The score of the interval tagged `tag`, if it was scored; scores of earlier tags are dropped.
   std::optional<WheelConsistency> TakeConsistency(long tag);
   // The body's motion over [from, to] dead-reckoned from the wheel alone at unit scale,
@@ -59,7 +63,14 @@ class WheelProvider {
  private:
   // Whether the interval's factor may join: scores it and updates the gate (true without scheduling).
   bool Admit(long tag, const WheelPreintegration& pre, const double* pose_from, const double* pose_to,
-             Stamp from, Stamp to);
+             Stamp from, Stamp to, const double* speed_bias_from, const double* speed_bias_to);
+  // c of ScoreWheelMotion: the interval's (wheel - IMU) velocity change joins those of the last
+  // change_window_s; the norm of their sum in the wheel's plane at `to` (0 without velocities).
+  double SpeedChangeDisagreement(const SE3& T_from, const SE3& T_to, Stamp from, Stamp to,
+                                 const double* speed_bias_from, const double* speed_bias_to);
+  // The body's velocity (world) by the wheel sample nearest `t` (estimator clock), at the current scale:
+  // v_body = v_wheel - w x t_body_wheel, turned by the body's attitude. None without samples.
+  std::optional<Eigen::Vector3d> WheelVelocity(Stamp t, const SO3& R_world_body) const;
 
   WheelFactorConfig config_;
   SE3 T_body_wheel_;
@@ -70,6 +81,7 @@ class WheelProvider {
   std::optional<Stamp> shut_at_;                        // when the gate last shut
   Eigen::Vector2d baseline_ = Eigen::Vector2d::Zero();  // u_0 (schedule/wheel_consistency.h), m/s
   std::map<long, WheelConsistency> scores_;             // by tag, until taken
+  std::deque<std::pair<Stamp, Eigen::Vector3d>> changes_;  // (interval end, its velocity-change disagreement)
 };
 
 }  // namespace uf::estimator

@@ -23,6 +23,11 @@ class ActivationGate {
   // factors of that keyframe are active.
   bool Update(double score, int count = 0);
   bool active() const { return active_; }
+  // Opens the gate now (the caller overrides it, e.g. after the longest time shut it allows).
+  void Open() {
+    active_ = true;
+    calm_ = 0;
+  }
 
  private:
   ActivationRule rule_;

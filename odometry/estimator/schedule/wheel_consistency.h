@@ -1,9 +1,9 @@
 // The wheel's score of the reliability scheduling (docs/METHOD.md "Factor-wise reliability scheduling";
 // paper Sec. III-D, wheel slip consistency): the wheel's motion over a node interval against the IMU's
 // prediction of it, which a slipping or lifted wheel does not share:
-//   D = w_v min(1, e_v / tau_v) + (1 - w_v) min(1, e_psi / tau_psi),
+//   D = w_v min(1, max(e_v / tau_v, c / tau_c)) + (1 - w_v) min(1, e_psi / tau_psi),
 //   u     = P (dp_wheel - dp_imu) / dt     (P: onto the wheel's x-y plane, the motion it measures),
-//   e_v   = |u - u_0|,
+//   e_v   = |u - u_0|,  c: the caller's disagreement of the speed changes over a short window,
 //   e_psi = |z . (Log dR_wheel - Log dR_imu)| / dt   (z: the wheel's vertical axis in the body frame),
 // both motions of the body over the interval, T_body(from)^-1 T_body(to). The IMU predicts from the
 // window's velocity, which may itself be off (a LiDAR-degenerate corridor while the vehicle pulls away:
@@ -20,6 +20,7 @@ struct WheelScoreWeights {
   double speed_tolerance_mps = 0.5;       // tau_v: the speed disagreement that saturates its term
   double yaw_rate_tolerance_rad_s = 1.0;  // tau_psi
   double speed_weight = 0.5;              // w_v
+  double change_tolerance_mps = 1.0;      // tau_c
 };
 
 struct WheelScore {
@@ -27,8 +28,9 @@ struct WheelScore {
   Eigen::Vector2d disagreement = Eigen::Vector2d::Zero();  // u, m/s
 };
 
-// baseline: u_0 (m/s, the wheel's plane).
+// baseline: u_0 (m/s, the wheel's plane); change: c (m/s).
 WheelScore ScoreWheelMotion(const SE3& wheel_motion, const SE3& imu_motion, const SO3& R_body_wheel,
-                            double dt, const Eigen::Vector2d& baseline, const WheelScoreWeights& weights);
+                            double dt, const Eigen::Vector2d& baseline, double change,
+                            const WheelScoreWeights& weights);
 
 }  // namespace uf::estimator

@@ -157,7 +157,10 @@ inline estimator::LidarOdometryConfig NonDefaultOdometry() {
                           .yaw_rate_tolerance_rad_s = 0.4,
                           .speed_weight = 0.6,
                           .drift_mps_per_s = 0.2,
+                          .max_shut_s = 12.0,
                           .baseline_time_s = 2.0,
+                          .change_window_s = 1.5,
+                          .change_tolerance_mps = 0.8,
                           .threshold = 0.3,
                           .release_margin = 0.05,
                           .release_keyframes = 5}};

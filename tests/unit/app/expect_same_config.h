@@ -227,6 +227,9 @@ inline void ExpectSameInertialParts(const Config& a, const Config& b) {
   EXPECT_FIELD(wheel.schedule.yaw_rate_tolerance_rad_s);
   EXPECT_FIELD(wheel.schedule.drift_mps_per_s);
   EXPECT_FIELD(wheel.schedule.baseline_time_s);
+  EXPECT_FIELD(wheel.schedule.change_window_s);
+  EXPECT_FIELD(wheel.schedule.change_tolerance_mps);
+  EXPECT_FIELD(wheel.schedule.max_shut_s);
   EXPECT_FIELD(wheel.schedule.speed_weight);
   EXPECT_FIELD(wheel.schedule.threshold);
   EXPECT_FIELD(wheel.schedule.release_margin);

@@ -5,6 +5,7 @@
 // back) counted and skipped, never a NaN pose.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 
@@ -50,6 +51,7 @@ struct GeoRun {
   std::vector<std::string> warnings;
   SensorFactorStats factors;
   std::optional<Georeference> georef;
+  std::vector<GnssCheck> checks;  // the fixes the keyframes carry (reliability scores)
 };
 
 // Feeds every measurement to `window` (InertialOdometry or LidarOdometry); `edit_fix` may change or drop
@@ -72,6 +74,7 @@ GeoRun Run(Window& window, DatasetReader& reader, const std::function<bool(GnssF
     EXPECT_TRUE(k.T_world_body.matrix().allFinite()) << ToSeconds(k.stamp);
     run.estimate.stamps.push_back(k.stamp);
     run.estimate.poses.push_back(k.T_world_body);
+    run.checks.insert(run.checks.end(), k.gnss_checks.begin(), k.gnss_checks.end());
   }
   run.warnings = window.warnings();
   run.factors = window.sensor_factors();
@@ -210,6 +213,25 @@ TEST(GnssInWindow, IntegrityCheckRejectsMultipathJumpsInLwgio) {
   EXPECT_EQ(jumped, 5);
   EXPECT_EQ(run.factors.gnss.rejected, jumped) << Joined(run.warnings);
   EXPECT_EQ(Count(run.warnings, "rejected by the integrity check"), jumped);
+  // The keyframes carry each tested fix's reliability score: the jumped ones inactive with their innovation
+  // term saturated (D >= 1/3 from it alone), the RTK fixes around them near 0 (quality 1, a covariance of
+  // centimetres, an innovation within the gate).
+  int inactive = 0;
+  double worst_active = 0;
+  for (const GnssCheck& check : run.checks) {
+    EXPECT_EQ(check.fix_quality, 1.0);
+    if (check.active) {
+      worst_active = std::max(worst_active, check.score);
+    } else {
+      ++inactive;
+      EXPECT_GE(check.score, 1.0 / 3.0 - 1e-12);
+      const Stamp from = first_stamp + 10 * kNanosecondsPerSecond;
+      EXPECT_TRUE(check.stamp >= from && check.stamp < from + kNanosecondsPerSecond) << check.stamp;
+    }
+  }
+  EXPECT_EQ(inactive, jumped);
+  EXPECT_GE(run.checks.size(), 30u);  // 5 Hz fixes from the alignment's start on
+  EXPECT_LT(worst_active, 1.0 / 3.0);
   // The trajectory does not move: the same ENU error as without the jumps, to the millimetre.
   const EnuError a = ErrorInEnu(clean, folder, 6.0), b = ErrorInEnu(run, folder, 6.0);
   EXPECT_LT(b.horizontal_rmse, 0.05);

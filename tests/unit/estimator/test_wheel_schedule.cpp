@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "odometry/estimator/schedule/activation_gate.h"
+#include "odometry/estimator/schedule/gnss_score.h"
 #include "odometry/estimator/schedule/wheel_consistency.h"
 
 namespace uf::estimator {
@@ -65,7 +66,7 @@ TEST(WheelScore, MeasuresTheDisagreementInTheWheelsPlaneAndAboutItsVertical) {
   // with roll (not its axis: ignored).
   const SE3 wheel(SO3::Exp(Eigen::Vector3d(0.03, 0, 0.05)), Eigen::Vector3d(1.03, 0.01, 0.2));
   const Eigen::Vector2d none = Eigen::Vector2d::Zero();
-  const WheelScore score = ScoreWheelMotion(wheel, imu, level, 0.1, none, weights);
+  const WheelScore score = ScoreWheelMotion(wheel, imu, level, 0.1, none, 0.0, weights);
   const WheelConsistency& c = score.consistency;
   EXPECT_TRUE(score.disagreement.isApprox(Eigen::Vector2d(0.3, 0.1), 1e-12)) << score.disagreement;
   EXPECT_NEAR(c.speed_error_mps, std::hypot(0.03, 0.01) / 0.1, 1e-12);
@@ -73,21 +74,42 @@ TEST(WheelScore, MeasuresTheDisagreementInTheWheelsPlaneAndAboutItsVertical) {
   EXPECT_NEAR(c.score, 0.5 * (std::hypot(0.03, 0.01) / 0.1) / 0.5 + 0.5 * 0.3, 1e-9);
   EXPECT_TRUE(c.active);
   // Agreeing motions score 0; a 30 % slip at 10 m/s saturates the speed term.
-  EXPECT_NEAR(ScoreWheelMotion(imu, imu, level, 0.1, none, weights).consistency.score, 0.0, 1e-12);
+  EXPECT_NEAR(ScoreWheelMotion(imu, imu, level, 0.1, none, 0.0, weights).consistency.score, 0.0, 1e-12);
   const SE3 slipping(imu.so3(), 1.3 * imu.translation());
-  EXPECT_NEAR(ScoreWheelMotion(slipping, imu, level, 0.1, none, weights).consistency.score, 0.5, 1e-12);
+  EXPECT_NEAR(ScoreWheelMotion(slipping, imu, level, 0.1, none, 0.0, weights).consistency.score, 0.5, 1e-12);
   // The disagreement the window has lately shown (its own velocity error) is taken out: with u_0 = (0.3,
   // 0.1) m/s the same motions leave only the yaw term.
   const Eigen::Vector2d usual(0.3, 0.1);
-  EXPECT_NEAR(ScoreWheelMotion(wheel, imu, level, 0.1, usual, weights).consistency.speed_error_mps, 0.0,
+  EXPECT_NEAR(ScoreWheelMotion(wheel, imu, level, 0.1, usual, 0.0, weights).consistency.speed_error_mps, 0.0,
               1e-12);
+  // The disagreement of the speed changes, against its own tolerance (tau_c 1 m/s): 0.4 m/s weighs as a
+  // speed disagreement of 0.2 m/s; the larger of the two counts.
+  const WheelConsistency changed = ScoreWheelMotion(wheel, imu, level, 0.1, usual, 0.4, weights).consistency;
+  EXPECT_NEAR(changed.speed_change_error_mps, 0.4, 1e-12);
+  EXPECT_NEAR(changed.score, 0.5 * 0.4 / 1.0 + 0.5 * 0.3, 1e-9);
   // A wheel frame turned 90 degrees about x: its plane is the body's x-z, its vertical the body's -y.
   const SO3 turned = SO3::Exp(Eigen::Vector3d(M_PI / 2, 0, 0));
-  const WheelConsistency t = ScoreWheelMotion(wheel, imu, turned, 0.1, none, weights).consistency;
+  const WheelConsistency t = ScoreWheelMotion(wheel, imu, turned, 0.1, none, 0.0, weights).consistency;
   EXPECT_NEAR(t.speed_error_mps, std::hypot(0.03, 0.2) / 0.1, 1e-9);
   EXPECT_NEAR(t.yaw_rate_error_rad_s, 0.0, 1e-9);
   // No interval: no trust.
-  EXPECT_EQ(ScoreWheelMotion(wheel, imu, level, 0.0, none, weights).consistency.score, 1.0);
+  EXPECT_EQ(ScoreWheelMotion(wheel, imu, level, 0.0, none, 0.0, weights).consistency.score, 1.0);
+}
+
+// The paper's GNSS sum with equal weights, hand-computed: quality, covariance, innovation.
+TEST(GnssScore, SumsQualityCovarianceAndInnovation) {
+  const GnssCheck rtk = ScoreGnssFix(7, GnssFixStatus::kRtkFixed, 0.001, 0.0, 16.27, true);
+  EXPECT_EQ(rtk.stamp, 7);
+  EXPECT_NEAR(rtk.score, (0.0 + 0.0001 + 0.0) / 3, 1e-12);
+  const GnssCheck single = ScoreGnssFix(8, GnssFixStatus::kFix, 5.0, 8.135, 16.27, true);
+  EXPECT_NEAR(single.score, (0.75 + 0.5 + 0.5) / 3, 1e-12);
+  // Multipath far off the prediction, a wide covariance, no status: every term saturates.
+  const GnssCheck bad = ScoreGnssFix(9, GnssFixStatus::kNoFix, 40.0, 400.0, 16.27, false);
+  EXPECT_NEAR(bad.score, 1.0, 1e-12);
+  EXPECT_FALSE(bad.active);
+  // No prediction (a non-finite d^2): its term counts as saturated.
+  EXPECT_NEAR(ScoreGnssFix(9, GnssFixStatus::kSbas, 0.0, std::nan(""), 16.27, false).score, (0.5 + 0 + 1) / 3,
+              1e-12);
 }
 
 }  // namespace

@@ -1,6 +1,9 @@
 // reliability_files.h: the degenerate spans the report lists, hand-computed, and reliability.csv.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <sstream>
+
 #include "tests/support/temp_dir.h"
 #include "viewer/pipeline/stages/reliability_files.h"
 
@@ -40,14 +43,49 @@ TEST(ReliabilityFiles, OneRowPerKeyframeAndThePlot) {
   EXPECT_EQ(
       uf::testing::ReadText(dir.File("reliability.csv")),
       "stamp_ns,modality,score,active,matches,translation_isotropy,rotation_isotropy,weak_x,weak_y,weak_z,"
-      "speed_error_mps,yaw_rate_error_rad_s\n"
-      "0,lidar,0.2500,1,100,0.00000,0.00000,0.0000,0.0000,0.0000,,\n"
-      "100000000,lidar,1.0000,1,100,0.00000,0.00000,0.0000,0.0000,0.0000,,\n");
+      "speed_error_mps,speed_change_error_mps,yaw_rate_error_rad_s,fix_quality,covariance_trace_m2,"
+      "innovation_d2\n"
+      "0,lidar,0.2500,1,100,0.00000,0.00000,0.0000,0.0000,0.0000,,,,,,\n"
+      "100000000,lidar,1.0000,1,100,0.00000,0.00000,0.0000,0.0000,0.0000,,,,,,\n");
   // Nothing scored (every scan rejected): the header alone, no plot.
   uf::testing::TempDir empty;
   written = WriteReliabilityFiles(empty.path(), {});
   ASSERT_TRUE(written);
   EXPECT_EQ(written->size(), 1u);
+}
+
+// The wheel's and the GNSS fixes' rows beside the LiDAR's: every row has the header's columns, each modality
+// its own filled; the fixes at their own stamps; a plot per modality.
+TEST(ReliabilityFiles, WheelAndGnssRowsAndPlots) {
+  ScoredKeyframe k;
+  k.stamp = 2'000'000'000;
+  k.wheel = WheelConsistency{.speed_error_mps = 0.12,
+                             .speed_change_error_mps = 0.3,
+                             .yaw_rate_error_rad_s = 0.05,
+                             .score = 0.4,
+                             .active = false};
+  k.gnss = {GnssCheck{.stamp = 1'950'000'000,
+                      .fix_quality = 0.25,
+                      .covariance_trace_m2 = 13.5,
+                      .innovation_d2 = 2.5,
+                      .score = 0.6,
+                      .active = true}};
+  uf::testing::TempDir dir;
+  Expected<std::vector<std::string>> written = WriteReliabilityFiles(dir.path(), {k});
+  ASSERT_TRUE(written) << written.error();
+  EXPECT_EQ(*written, (std::vector<std::string>{"reliability.csv", "plots/reliability_wheel.png",
+                                                "plots/reliability_gnss.png"}));
+  const std::string csv = uf::testing::ReadText(dir.File("reliability.csv"));
+  EXPECT_NE(csv.find("\n2000000000,wheel,0.4000,0,,,,,,,0.1200,0.3000,0.0500,,,\n"), std::string::npos)
+      << csv;
+  EXPECT_NE(csv.find("\n1950000000,gnss,0.6000,1,,,,,,,,,,0.25,13.5000,2.500\n"), std::string::npos) << csv;
+  std::istringstream lines(csv);
+  for (std::string line; std::getline(lines, line);)
+    EXPECT_EQ(std::count(line.begin(), line.end(), ','), 15) << line;
+  // Only the wheel's rows are spans of suppression.
+  const std::vector<DegenerateSpan> spans = SuppressedWheelSpans({k});
+  ASSERT_EQ(spans.size(), 1u);
+  EXPECT_DOUBLE_EQ(spans[0].worst, 0.4);
 }
 
 }  // namespace

@@ -111,6 +111,14 @@ Schema<WheelScheduleConfig> WheelScheduleSchema() {
   s.Key("speed_weight", &S::speed_weight, "", "weight of the speed term (the yaw term has 1 - this)");
   s.Key("drift_mps_per_s", &S::drift_mps_per_s, "m/s per s",
         "while the wheel is out the speed tolerance grows by this per second (the IMU's prediction drifts)");
+  s.Key("change_window_s", &S::change_window_s, "s",
+        "the wheel's speed change against the IMU's over this long also counts (a fault that builds up "
+        "slowly; 0: off)");
+  s.Key("change_tolerance_mps", &S::change_tolerance_mps, "m/s",
+        "the disagreement of those speed changes that saturates the speed term");
+  s.Key(
+      "max_shut_s", &S::max_shut_s, "s",
+      "after this long left out the wheel is taken back whatever its score (its disagreement the new level)");
   s.Key("baseline_time_s", &S::baseline_time_s, "s",
         "the speed disagreement of the admitted intervals, averaged over this long, is taken as the "
         "window's own velocity error (0: none)");

@@ -175,6 +175,19 @@ std::string FormatWheelReliability(const pipeline::OdometrySummary& o) {
   return md;
 }
 
+// The GNSS fixes' scores: how many, their mean, how many the innovation test rejected.
+std::string FormatGnssReliability(const pipeline::OdometrySummary& o) {
+  std::string md = "\n## Reliability (GNSS)\n\n";
+  md +=
+      "Per fix the innovation test saw, the score D of its status, covariance and innovation (0: RTK "
+      "fixed where predicted; docs/METHOD.md \"Factor-wise reliability scheduling\"), in `reliability.csv`; "
+      "the fix's factor is admitted by the innovation test. " +
+      std::to_string(o.gnss_scored) + " fixes scored, mean D " + FormatValue("%.2f", o.gnss_mean_score) +
+      ", " + std::to_string(o.gnss_rejected) + " rejected.\n";
+  if (!o.gnss_reliability_plot.empty()) md += "\n![GNSS reliability](" + o.gnss_reliability_plot + ")\n";
+  return md;
+}
+
 // V modes: the camera's landmarks per step (node or scan) and their reprojection error.
 std::string FormatVisual(const pipeline::OdometrySummary::Visual& v, const std::string& step) {
   std::string md = "\n## Camera in the window\n\n";
@@ -229,6 +242,7 @@ std::string FormatRunReport(const pipeline::RunSummary& r) {
   md += "| wall time [s] | " + FormatValue("%.2f", r.wall_seconds) + " |\n";
   if (o.step == "scan") md += FormatTracking(o.track_events, o.scans) + FormatReliability(o);
   if (o.wheel_scored > 0) md += FormatWheelReliability(o);
+  if (o.gnss_scored > 0) md += FormatGnssReliability(o);
   if (o.online_calibration && o.calibration_estimates)
     md += FormatOnlineCalibration(*o.online_calibration, *o.calibration_estimates);
   md += "\n## Timing per " + o.step + " (" + (o.step == "scan" ? "AddScan" : "the node's solve") +

@@ -20,7 +20,8 @@ struct Collected {
   std::vector<Stamp> stamps;
   std::vector<double> ms;
   std::vector<std::optional<SE3>> T_enu_world_at_pose;
-  // The keyframes with a LiDAR degeneracy (registered scans) or a wheel score (wheel scheduling).
+  // The keyframes with a LiDAR degeneracy (registered scans), a wheel score (wheel scheduling) or GNSS
+  // fixes checked.
   std::vector<ScoredKeyframe> scored;
   std::vector<std::string> camera_warnings;  // the first frames that failed to decode
   std::vector<StepTime> visual;              // the steps with the camera's figures (V modes)
@@ -39,8 +40,8 @@ Status CollectFinished(const OdometryStageInput& in, OdometryStageOutput& out, C
       continue;  // keep stamps increasing
     trajectory.stamps.push_back(k.stamp);
     trajectory.poses.push_back(k.T_world_body);
-    if (k.lidar_degeneracy || k.wheel_consistency)
-      collected.scored.push_back({k.stamp, k.lidar_degeneracy, k.wheel_consistency});
+    if (k.lidar_degeneracy || k.wheel_consistency || !k.gnss_checks.empty())
+      collected.scored.push_back({k.stamp, k.lidar_degeneracy, k.wheel_consistency, k.gnss_checks});
     if (in.frames.mode == OdometryMode::kWio) {
       const std::optional<Georeference> georef = in.odometry->georeference();
       collected.T_enu_world_at_pose.push_back(georef ? std::optional<SE3>(georef->T_enu_world)
@@ -188,13 +189,22 @@ Status WriteOdometryFiles(const OdometryStageInput& in, const OdometryStageOutpu
       context.AddOutput(file);
       if (file == "plots/reliability_lidar.png") summary.reliability_plot = file;
       if (file == "plots/reliability_wheel.png") summary.wheel_reliability_plot = file;
+      if (file == "plots/reliability_gnss.png") summary.gnss_reliability_plot = file;
     }
     summary.lidar_degenerate = DegenerateSpans(collected.scored, kDegenerateReported);
     summary.wheel_suppressed = SuppressedWheelSpans(collected.scored);
+    double gnss_scores = 0;
     for (const ScoredKeyframe& k : collected.scored) {
       summary.lidar_scored += k.lidar.has_value();
       summary.wheel_scored += k.wheel.has_value();
+      for (const GnssCheck& fix : k.gnss) {
+        ++summary.gnss_scored;
+        summary.gnss_rejected += !fix.active;
+        gnss_scores += fix.score;
+      }
     }
+    if (summary.gnss_scored > 0)
+      summary.gnss_mean_score = gnss_scores / static_cast<double>(summary.gnss_scored);
   }
   if (collected.ms.empty()) return {};
   std::error_code error;

@@ -77,6 +77,10 @@ struct OdometrySummary {
   std::int64_t wheel_scored = 0;
   std::vector<DegenerateSpan> wheel_suppressed;
   std::string wheel_reliability_plot;
+  // The GNSS fixes the innovation test saw (scored in reliability.csv), those it rejected, the plot.
+  std::int64_t gnss_scored = 0, gnss_rejected = 0;
+  double gnss_mean_score = 0;
+  std::string gnss_reliability_plot;
 };
 
 // The stream whose messages pace the odometry, for the progress line: the LiDAR's, or the IMU's in WIO.

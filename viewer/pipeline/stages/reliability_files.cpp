@@ -1,6 +1,7 @@
 #include "viewer/pipeline/stages/reliability_files.h"
 
 #include <algorithm>
+#include <utility>
 
 #include "odometry/eval/series_plot.h"
 #include "odometry/types/printf_text.h"
@@ -35,14 +36,17 @@ std::vector<DegenerateSpan> Spans(const std::vector<ScoredKeyframe>& scored, In 
 
 const char* kHeader =
     "stamp_ns,modality,score,active,matches,translation_isotropy,rotation_isotropy,weak_x,weak_y,weak_z,"
-    "speed_error_mps,yaw_rate_error_rad_s\n";
+    "speed_error_mps,speed_change_error_mps,yaw_rate_error_rad_s,fix_quality,covariance_trace_m2,innovation_"
+    "d2\n";
 
-Status WritePlot(const std::filesystem::path& folder, const std::string& plot, const std::vector<double>& t,
-                 const std::vector<double>& d, const std::string& name,
-                 const std::optional<SeriesLevel>& level, const std::string& title) {
-  return WriteSeriesPlot((folder / plot).string(), t, d, name, level, title,
-                         "time since the first keyframe (s)", "D");
-}
+// One modality's D over time, for its plot.
+struct Series {
+  Series(std::string plot_, std::string name_, std::string title_, std::optional<SeriesLevel> level_ = {})
+      : plot(std::move(plot_)), name(std::move(name_)), title(std::move(title_)), level(std::move(level_)) {}
+  std::string plot, name, title;
+  std::optional<SeriesLevel> level;
+  std::vector<double> t, d;
+};
 
 }  // namespace
 
@@ -63,47 +67,50 @@ std::vector<DegenerateSpan> SuppressedWheelSpans(const std::vector<ScoredKeyfram
 Expected<std::vector<std::string>> WriteReliabilityFiles(const std::filesystem::path& folder,
                                                          const std::vector<ScoredKeyframe>& scored) {
   std::string csv = kHeader;
-  std::vector<double> lidar_t, lidar_d, wheel_t, wheel_d;
+  Series lidar{"plots/reliability_lidar.png", "LiDAR degeneracy D",
+               "LiDAR degeneracy per keyframe (0: every direction pinned, 1: one free)",
+               SeriesLevel{kDegenerateReported, "reported as degenerate from here"}};
+  Series wheel{"plots/reliability_wheel.png", "wheel D",
+               "Wheel against the IMU per interval (0: agree; left out above the threshold)"};
+  Series gnss{"plots/reliability_gnss.png", "GNSS D",
+              "GNSS fixes (0: RTK fixed, as predicted; 1: no quality, far off the prediction)"};
   for (const ScoredKeyframe& k : scored) {
-    const double t = ToSeconds(k.stamp - scored.front().stamp);
+    const auto seconds = [&](Stamp stamp) { return ToSeconds(stamp - scored.front().stamp); };
     if (const std::optional<LidarDegeneracy>& d = k.lidar) {
       csv += std::to_string(k.stamp) + ",lidar," +
-             PrintfText("%.4f,1,%.0f,%.5f,%.5f,%.4f,%.4f,%.4f,,\n", d->score, d->matches,
+             PrintfText("%.4f,1,%.0f,%.5f,%.5f,%.4f,%.4f,%.4f,,,,,,\n", d->score, d->matches,
                         d->translation_isotropy, d->rotation_isotropy, d->weak_translation.x(),
                         d->weak_translation.y(), d->weak_translation.z());
-      lidar_t.push_back(t);
-      lidar_d.push_back(d->score);
+      lidar.t.push_back(seconds(k.stamp));
+      lidar.d.push_back(d->score);
     }
     if (const std::optional<WheelConsistency>& w = k.wheel) {
       csv += std::to_string(k.stamp) + ",wheel," +
-             PrintfText("%.4f,%.0f,,,,,,,%.4f,%.4f\n", w->score, w->active ? 1.0 : 0.0, w->speed_error_mps,
-                        w->yaw_rate_error_rad_s);
-      wheel_t.push_back(t);
-      wheel_d.push_back(w->score);
+             PrintfText("%.4f,%.0f,,,,,,,%.4f,%.4f,%.4f,,,\n", w->score, w->active ? 1.0 : 0.0,
+                        w->speed_error_mps, w->speed_change_error_mps, w->yaw_rate_error_rad_s);
+      wheel.t.push_back(seconds(k.stamp));
+      wheel.d.push_back(w->score);
+    }
+    for (const GnssCheck& g : k.gnss) {
+      csv += std::to_string(g.stamp) + ",gnss," +
+             PrintfText("%.4f,%.0f,,,,,,,,,,%.2f,%.4f,%.3f\n", g.score, g.active ? 1.0 : 0.0, g.fix_quality,
+                        g.covariance_trace_m2, g.innovation_d2);
+      gnss.t.push_back(seconds(g.stamp));
+      gnss.d.push_back(g.score);
     }
   }
   if (Status s = WriteTextFileAtomically(folder / "reliability.csv", csv); !s.ok()) return s;
   std::vector<std::string> written = {"reliability.csv"};
-  if (lidar_t.empty() && wheel_t.empty()) return written;
-  std::error_code error;
-  std::filesystem::create_directories(folder / "plots", error);
-  if (error) return Status::Error((folder / "plots").string() + ": cannot create: " + error.message());
-  if (!lidar_t.empty()) {
-    const std::string plot = "plots/reliability_lidar.png";
-    if (Status s = WritePlot(folder, plot, lidar_t, lidar_d, "LiDAR degeneracy D",
-                             SeriesLevel{kDegenerateReported, "reported as degenerate from here"},
-                             "LiDAR degeneracy per keyframe (0: every direction pinned, 1: one free)");
+  for (const Series* series : {&lidar, &wheel, &gnss}) {
+    if (series->t.empty()) continue;
+    std::error_code error;
+    std::filesystem::create_directories(folder / "plots", error);
+    if (error) return Status::Error((folder / "plots").string() + ": cannot create: " + error.message());
+    if (Status s = WriteSeriesPlot((folder / series->plot).string(), series->t, series->d, series->name,
+                                   series->level, series->title, "time since the first keyframe (s)", "D");
         !s.ok())
       return s;
-    written.push_back(plot);
-  }
-  if (!wheel_t.empty()) {
-    const std::string plot = "plots/reliability_wheel.png";
-    if (Status s = WritePlot(folder, plot, wheel_t, wheel_d, "wheel D", std::nullopt,
-                             "Wheel against the IMU per interval (0: agree; left out above the threshold)");
-        !s.ok())
-      return s;
-    written.push_back(plot);
+    written.push_back(series->plot);
   }
   return written;
 }

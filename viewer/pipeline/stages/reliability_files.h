@@ -2,7 +2,8 @@
 // one row per keyframe and modality with the score D, the inputs it came from (blank where they belong to
 // another modality) and whether the modality's factors were active, and plots/reliability_<modality>.png
 // (D over time). Scored: the LiDAR (its rows are always active: the LiDAR is not switched off, only its weak
-// directions with lo.drop_weak_directions) and, with wheel scheduling, the wheel.
+// directions with lo.drop_weak_directions), with wheel scheduling the wheel, and each GNSS fix the
+// innovation test saw (a row at the fix's stamp; active: its factor joined the window).
 #pragma once
 
 #include <filesystem>
@@ -23,6 +24,7 @@ struct ScoredKeyframe {
   Stamp stamp = 0;
   std::optional<LidarDegeneracy> lidar;
   std::optional<WheelConsistency> wheel;
+  std::vector<GnssCheck> gnss;  // the fixes checked since the previous keyframe
 };
 
 // Where the LiDAR was degenerate (D >= threshold) as time intervals, for the report: [first, last] stamps
@@ -36,8 +38,8 @@ std::vector<DegenerateSpan> DegenerateSpans(const std::vector<ScoredKeyframe>& s
 // Where the wheel's factors were left out (inactive), likewise, with the highest score in each span.
 std::vector<DegenerateSpan> SuppressedWheelSpans(const std::vector<ScoredKeyframe>& scored);
 
-// Writes folder/reliability.csv and folder/plots/reliability_lidar.png and reliability_wheel.png (each plot
-// only with a keyframe scored for it);
+// Writes folder/reliability.csv and folder/plots/reliability_lidar.png, reliability_wheel.png and
+// reliability_gnss.png (each plot only with a keyframe scored for it);
 // returns the files written, relative to folder. Errors: a file that cannot be written (nothing half
 // written is left behind).
 Expected<std::vector<std::string>> WriteReliabilityFiles(const std::filesystem::path& folder,
