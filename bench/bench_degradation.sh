@@ -1,14 +1,13 @@
 #!/usr/bin/env bash
 # bench_degradation: the wheel cases of the degradation suite (docs/METHOD.md "Factor-wise reliability
 # scheduling"). Simulated sequences whose wheels slip (`sim.wheel.slips`: the wheels turn 30 % too fast for
-# 7 s, then 25 % too slow for 4 s) or leave the ground (`sim.wheel.floats`: the reading frozen for 2 s
-# while the vehicle pulls away, and for 4 s while cruising),
-# beside the same sequences without either, a noisy encoder in all
-# (0.3 rad/s per wheel sample), no camera or GNSS. Each runs with the wheel's reliability scheduling on
-# (the default) and off (`lio|wio.wheel.schedule.enabled: false`, the ablation), the solves' time budget
-# lifted, in WIO and LWIO on `urban` and in LWIO on `corridor` (where the LiDAR leaves the axis to the
-# wheel), against the simulator's ground truth. Writes a markdown table to stdout and suite.md / suite.json
-# into --out (default: a temporary folder).
+# 7 s, then 25 % too slow for 4 s) or leave the ground (`sim.wheel.floats`: the reading frozen for 2 s while
+# the vehicle pulls away, and for 4 s while cruising), beside the same sequences without either; a noisy
+# encoder in all (0.3 rad/s per wheel sample), no camera or GNSS. Each runs with the wheel's reliability
+# scheduling on (the default) and off (`lio|wio.wheel.schedule.enabled: false`, the ablation), the solves'
+# time budget lifted, in WIO and LWIO on `urban` and in LWIO on `corridor` (where the LiDAR leaves the axis
+# to the wheel), against the simulator's ground truth. Writes a markdown table to stdout and suite.md /
+# suite.json into --out (default: a temporary folder). Takes ~10 min on 2 cores.
 #   usage: bench/bench_degradation.sh [--duration S] [--seeds "1 2 3"] [--out DIR]
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
