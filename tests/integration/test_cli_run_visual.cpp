@@ -11,6 +11,7 @@
 #include "odometry/io/calibration_file.h"
 #include "odometry/types/printf_text.h"
 #include "tests/support/cli_runner.h"
+#include "tests/support/run_outputs.h"
 #include "tests/support/temp_dir.h"
 
 namespace uf {
@@ -18,6 +19,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using test::Ultrafusion;
+using testing::ReportedAte;
 using testing::TempDir;
 
 // Lines of tracks.csv after its header.
@@ -26,12 +28,6 @@ std::size_t DataLines(const std::string& path) {
   std::size_t lines = 0;
   for (std::string line; std::getline(text, line);) lines += line.empty() ? 0 : 1;
   return lines - 1;
-}
-
-double ReportedAte(const std::string& report) {
-  const std::string key = "ATE (APE translation RMSE, SE3-aligned): ";
-  const std::size_t at = report.find(key);
-  return at == std::string::npos ? -1 : std::stod(report.substr(at + key.size()));
 }
 
 class CliRunVisual : public ::testing::Test {
