@@ -34,10 +34,12 @@ std::vector<DegenerateSpan> Spans(const std::vector<ScoredKeyframe>& scored, In 
   return spans;
 }
 
+// The columns: each modality's own, blank on the other modalities' rows.
 const char* kHeader =
-    "stamp_ns,modality,score,active,matches,translation_isotropy,rotation_isotropy,weak_x,weak_y,weak_z,"
-    "speed_error_mps,speed_change_error_mps,yaw_rate_error_rad_s,fix_quality,covariance_trace_m2,innovation_"
-    "d2\n";
+    "stamp_ns,modality,score,active,"
+    "matches,translation_isotropy,rotation_isotropy,weak_x,weak_y,weak_z,"  // lidar
+    "speed_error_mps,speed_change_error_mps,yaw_rate_error_rad_s,"          // wheel
+    "fix_quality,covariance_trace_m2,innovation_d2\n";                      // gnss
 
 // One modality's D over time, for its plot.
 struct Series {
@@ -74,8 +76,8 @@ Expected<std::vector<std::string>> WriteReliabilityFiles(const std::filesystem::
                "Wheel against the IMU per interval (0: agree; left out above the threshold)"};
   Series gnss{"plots/reliability_gnss.png", "GNSS D",
               "GNSS fixes (0: RTK fixed, as predicted; 1: no quality, far off the prediction)"};
+  const auto seconds = [&](Stamp stamp) { return ToSeconds(stamp - scored.front().stamp); };
   for (const ScoredKeyframe& k : scored) {
-    const auto seconds = [&](Stamp stamp) { return ToSeconds(stamp - scored.front().stamp); };
     if (const std::optional<LidarDegeneracy>& d = k.lidar) {
       csv += std::to_string(k.stamp) + ",lidar," +
              PrintfText("%.4f,1,%.0f,%.5f,%.5f,%.4f,%.4f,%.4f,,,,,,\n", d->score, d->matches,
@@ -101,11 +103,12 @@ Expected<std::vector<std::string>> WriteReliabilityFiles(const std::filesystem::
   }
   if (Status s = WriteTextFileAtomically(folder / "reliability.csv", csv); !s.ok()) return s;
   std::vector<std::string> written = {"reliability.csv"};
+  if (scored.empty()) return written;
+  std::error_code error;
+  std::filesystem::create_directories(folder / "plots", error);
+  if (error) return Status::Error((folder / "plots").string() + ": cannot create: " + error.message());
   for (const Series* series : {&lidar, &wheel, &gnss}) {
     if (series->t.empty()) continue;
-    std::error_code error;
-    std::filesystem::create_directories(folder / "plots", error);
-    if (error) return Status::Error((folder / "plots").string() + ": cannot create: " + error.message());
     if (Status s = WriteSeriesPlot((folder / series->plot).string(), series->t, series->d, series->name,
                                    series->level, series->title, "time since the first keyframe (s)", "D");
         !s.ok())
