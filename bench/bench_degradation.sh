@@ -1,26 +1,45 @@
 #!/usr/bin/env bash
-# bench_degradation: the wheel cases of the degradation suite (docs/METHOD.md "Factor-wise reliability
-# scheduling"). Simulated sequences whose wheels slip (`sim.wheel.slips`: the wheels turn 30 % too fast for
-# 7 s, then 25 % too slow for 4 s) or leave the ground (`sim.wheel.floats`: the reading frozen for 2 s while
-# the vehicle pulls away, and for 4 s while cruising), beside the same sequences without either; a noisy
-# encoder in all (0.3 rad/s per wheel sample), no camera or GNSS. Each runs with the wheel's reliability
-# scheduling on (the default) and off (`lio|wio.wheel.schedule.enabled: false`, the ablation), the solves'
-# time budget lifted, in WIO and LWIO on `urban` and in LWIO on `corridor` (where the LiDAR leaves the axis
-# to the wheel), against the simulator's ground truth. Writes a markdown table to stdout and suite.md /
-# suite.json into --out (default: a temporary folder). Takes ~10 min on 2 cores.
-#   usage: bench/bench_degradation.sh [--duration S] [--seeds "1 2 3"] [--out DIR]
+# bench_degradation: the wheel, IMU and GNSS cases of the degradation suite (docs/METHOD.md "Factor-wise
+# reliability scheduling"). Simulated sequences whose wheels slip (`sim.wheel.slips`: the wheels turn 30 %
+# too fast for 7 s, then 25 % too slow for 4 s) or leave the ground (`sim.wheel.floats`: the reading frozen
+# for 2 s while the vehicle pulls away, and for 4 s while cruising), whose gyroscope clips
+# (`sim.imu.gyro_saturation` 0.25 rad/s on `wild`, whose roll and pitch rates reach 0.6 rad/s), or whose RTK
+# fixes suffer multipath (`sim.gnss.multipath`: 5 m north for 5 s from 12 s, 3 m east and 2 m up for 3 s
+# from 20 s) and a 30 s outage from 25 s (`sim.gnss.outages`), beside the same sequences without any; a
+# noisy encoder in all (0.3 rad/s per wheel sample), no camera, GNSS only in the GNSS cases. Each runs with
+# the reliability scheduling on (the default; with the clipping gyro, its full scale given as
+# `imu.gyro_range`, as a datasheet would) and off (the ablation: `lio|wio.wheel.schedule.enabled: false`,
+# no range, the GNSS innovation test's gate at 1e9 and no step guard), the solves' time budget lifted, in
+# WIO and LWIO on `urban` and `wild`, in LWIO on `corridor` (where the LiDAR leaves the axis to the wheel),
+# and in WGIO and LWGIO for the GNSS cases, against the simulator's ground truth. The GNSS cases add how far
+# the multipath moved the trajectory (the largest horizontal distance, in ENU, from the run without faults
+# over 12-25 s) and the re-initializations through the outage. Writes a markdown table to stdout and
+# suite.md / suite.json into --out (default: a temporary folder). Takes ~20 min on 2 cores.
+#   usage: bench/bench_degradation.sh [--duration S] [--seeds "1 2 3"] [--scenes "urban corridor wild gnss"]
+#          [--quick] [--out DIR]
+# --quick: 30 s, seed 1 (~3 min). An unknown argument or scene exits 2 naming it; a case whose simulation
+# or run fails gets a row saying so, and the others still run.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 bin="${UF_BIN:-$root/build/bin}/ultrafusion"
 duration=60
 seeds="1 2 3"
+scenes="urban corridor wild gnss"
 out=""
 while (($#)); do
   case "$1" in
     --duration) duration="$2"; shift 2 ;;
     --seeds) seeds="$2"; shift 2 ;;
+    --scenes) scenes="$2"; shift 2 ;;
+    --quick) duration=30; seeds="1"; shift ;;
     --out) out="$2"; shift 2 ;;
     *) echo "unknown argument $1" >&2; exit 2 ;;
+  esac
+done
+for scene in $scenes; do
+  case "$scene" in
+    urban | corridor | wild | gnss) ;;
+    *) echo "unknown scene '$scene' (urban, corridor, wild, gnss)" >&2; exit 2 ;;
   esac
 done
 work="${out:-$(mktemp -d)}"
@@ -31,55 +50,101 @@ mkdir -p "$work"
 on="$work/schedule-on.yaml"
 off="$work/schedule-off.yaml"
 sed 's/^lo:$/lo:\n  max_solver_time_s: 10/' "$root/configs/run-sim.yaml" >"$on"
-sed 's/^lio:$/lio:\n  wheel:\n    schedule:\n      enabled: false/' "$on" >"$off"
+unscheduled='  wheel:\n    schedule:\n      enabled: false\n  gnss:\n    integrity_gate: 1e9\n    step_max_hold_s: 0'
+sed "s/^lio:$/lio:\n$unscheduled/" "$on" >"$off"
 printf '\nwio:\n  max_solver_time_s: 10\n' >>"$on"
-printf '\nwio:\n  max_solver_time_s: 10\n  wheel:\n    schedule:\n      enabled: false\n' >>"$off"
+printf "\nwio:\n  max_solver_time_s: 10\n$unscheduled\n" >>"$off"
+# With the clipping gyro, scheduling on knows its full scale.
+on_clip="$work/schedule-on-clip.yaml"
+sed -e 's/^  imu:$/  imu:\n    gyro_range: 0.25/' -e 's/^wio:$/wio:\n  imu:\n    gyro_range: 0.25/' "$on" >"$on_clip"
 
-# A sequence: scene, seed, slips ("[]" for none), floats ("[]" for none), out.
+# A sequence: scene, seed, slips ("[]" for none), floats ("[]" for none), gyro saturation (0: none), GNSS
+# ("none", "clean" RTK fixes, "faulty": with the multipath and the outage), out.
 simulate() {
-  "$bin" sim --scene "$1" --seed "$2" --duration "$duration" --no-camera --no-gnss --print-config |
+  local gnss=(--no-gnss) multipath="[]" outages="[]"
+  [[ $6 != none ]] && gnss=()
+  [[ $6 == faulty ]] && multipath="$gnss_multipath" && outages="$gnss_outages"
+  "$bin" sim --scene "$1" --seed "$2" --duration "$duration" --no-camera "${gnss[@]}" --print-config |
     sed -e 's/^    wheel_speed_noise_std: 0$/    wheel_speed_noise_std: 0.3/' \
-        -e "s/^    slips: \[\]/    slips: $3/" -e "s/^    floats: \[\]/    floats: $4/" >"$5.yaml"
-  rm -rf "$5"
-  "$bin" sim --config "$5.yaml" --out "$5" >"$5.sim.log" 2>&1
+        -e "s/^    slips: \[\]/    slips: $3/" -e "s/^    floats: \[\]/    floats: $4/" \
+        -e "s/^    gyro_saturation: 0$/    gyro_saturation: $5/" -e 's/^    quality: single$/    quality: rtk_fixed/' \
+        -e "s/^    multipath: \[\]/    multipath: $multipath/" -e "s/^    outages: \[\]/    outages: $outages/" >"$7.yaml"
+  rm -rf "$7"
+  "$bin" sim --config "$7.yaml" --out "$7" >"$7.sim.log" 2>&1
 }
 ate() { sed -n 's/.*ATE (SE3-aligned RMSE): \([0-9.]*\) m.*/\1/p' "$1" | head -1; }
-run() {  # dataset, mode, config, out: "ATE suppressed-intervals"
+# dataset, mode, config, out: "ATE wheel-intervals-left-out GNSS-fixes-rejected re-initializations"
+run() {
   rm -rf "$4"
   "$bin" run "$1" --config "$3" --mode "$2" --no-map --out "$4" >"$4.log" 2>&1 || true
-  local suppressed=0
-  [[ -f "$4/reliability.csv" ]] && suppressed=$(awk -F, '$2 == "wheel" && $4 == 0' "$4/reliability.csv" | wc -l)
-  echo "$(ate "$4.log") $suppressed"
+  local wheel=0 gnss=0 restarts=0 value
+  if [[ -f "$4/reliability.csv" ]]; then
+    wheel=$(awk -F, '$2 == "wheel" && $4 == 0' "$4/reliability.csv" | wc -l)
+    gnss=$(awk -F, '$2 == "gnss" && $4 == 0' "$4/reliability.csv" | wc -l)
+  fi
+  [[ -f "$4/report.md" ]] && restarts=$(grep -c "re-initializing" "$4/report.md" || true)
+  value=$(ate "$4.log")
+  echo "${value:--} $wheel $gnss $restarts"
 }
 
 slips="[{window: [15, 22], ratio: 0.3}, {window: [38, 42], ratio: -0.25}]"
 floats="[[3, 5], [20, 24]]"
+gnss_multipath="[{window: [12, 17], offset_m: [0, 5, 0]}, {window: [20, 23], offset_m: [3, 0, 2]}]"
+gnss_outages="[[25, 55]]"
+# The largest horizontal distance (m) between two trajectory.tum (ENU) at their common stamps, over
+# [12, 25) s after the sequence's start (its ground truth's first stamp): what the multipath moved.
+moved() {
+  [[ -f "$1" && -f "$2" ]] || { echo "-"; return; }
+  local start
+  start=$(awk '!/^#/ { print $1; exit }' "$3")
+  awk -v start="$start" 'FNR == 1 { file++ } /^#/ { next }
+    file == 1 { x[$1] = $2; y[$1] = $3; next }
+    ($1 in x) && $1 - start >= 12 && $1 - start < 25 {
+      d = sqrt(($2 - x[$1]) ^ 2 + ($3 - y[$1]) ^ 2); if (d > m) m = d }
+    END { printf "%.3f", m }' "$2" "$1"
+}
 echo "bench_degradation: ${duration} s, seeds $seeds, load average $(cut -d' ' -f1-3 /proc/loadavg)"
 json="$work/suite.json"
 echo "[" >"$json"
 first=1
 {
-  echo "| case | mode | seed | ATE scheduled m | ATE unscheduled m | change | intervals left out |"
-  echo "|---|---|---|---|---|---|---|"
+  echo "| case | mode | seed | ATE scheduled m | ATE unscheduled m | change | wheel intervals left out | GNSS fixes rejected | multipath moved it, m (scheduled / not) | re-initializations |"
+  echo "|---|---|---|---|---|---|---|---|---|---|"
 } | tee "$work/suite.md"
 for seed in $seeds; do
-  for scene in urban corridor; do
-        for kind in clean slip float; do
+  for scene in $scenes; do
+    kinds="clean slip float" sim_scene="$scene" modes="wio lwio"
+    [[ $scene == wild ]] && kinds="clean clip"
+    [[ $scene == corridor ]] && modes="lwio"
+    [[ $scene == gnss ]] && kinds="clean multipath" sim_scene="urban" modes="wgio lwgio"
+    for kind in $kinds; do
       data="$work/$scene-$kind-s$seed"
-      simulate "$scene" "$seed" "$([[ $kind == slip ]] && echo "$slips" || echo "[]")" \
-        "$([[ $kind == float ]] && echo "$floats" || echo "[]")" "$data" ||
-        { echo "$scene-$kind $seed: sim failed, see $data.sim.log"; continue; }
-      modes="lwio"
-      [[ $scene == urban ]] && modes="wio lwio"
+      gnss=none
+      [[ $scene == gnss ]] && gnss="$([[ $kind == multipath ]] && echo faulty || echo clean)"
+      simulate "$sim_scene" "$seed" "$([[ $kind == slip ]] && echo "$slips" || echo "[]")" \
+        "$([[ $kind == float ]] && echo "$floats" || echo "[]")" "$([[ $kind == clip ]] && echo 0.25 || echo 0)" \
+        "$gnss" "$data" || {
+        echo "| $scene-$kind | - | $seed | simulation failed: $(tail -1 "$data.sim.log" | tr "|" "/") | | | | | | |" | tee -a "$work/suite.md"
+        continue
+      }
+      config="$on"
+      [[ $kind == clip ]] && config="$on_clip"
       for mode in $modes; do
-        read -r with suppressed <<<"$(run "$data" "$mode" "$on" "$data-$mode-on")"
-        read -r without _ <<<"$(run "$data" "$mode" "$off" "$data-$mode-off")"
-        change=$(awk -v a="${with:-nan}" -v b="${without:-nan}" 'BEGIN { if (b > 0) printf "%+.0f %%", 100 * (a - b) / b; else print "-" }')
-        echo "| $scene-$kind | $mode | $seed | ${with:--} | ${without:--} | $change | $suppressed |" | tee -a "$work/suite.md"
+        read -r with wheel gnss_rejected restarts <<<"$(run "$data" "$mode" "$config" "$data-$mode-on")"
+        read -r without _ _ _ <<<"$(run "$data" "$mode" "$off" "$data-$mode-off")"
+        change=$(awk -v a="${with:-nan}" -v b="${without:-nan}" 'BEGIN { if (a != "-" && b != "-" && b > 0) printf "%+.0f %%", 100 * (a - b) / b; else print "-" }')
+        [[ $with == - ]] && change="failed: $(tail -1 "$data-$mode-on.log" | tr "|" "/")"
+        [[ $without == - ]] && change="failed without scheduling: $(tail -1 "$data-$mode-off.log" | tr "|" "/")"
+        moved_by="-"
+        if [[ $kind == multipath ]]; then
+          clean="$work/$scene-clean-s$seed-$mode"
+          moved_by="$(moved "$data-$mode-on/trajectory.tum" "$clean-on/trajectory.tum" "$data/groundtruth.tum") / $(moved "$data-$mode-off/trajectory.tum" "$clean-off/trajectory.tum" "$data/groundtruth.tum")"
+        fi
+        echo "| $scene-$kind | $mode | $seed | ${with:--} | ${without:--} | $change | $wheel | $gnss_rejected | $moved_by | $restarts |" | tee -a "$work/suite.md"
         ((first)) || echo "," >>"$json"
         first=0
-        printf '{"case": "%s-%s", "mode": "%s", "seed": %s, "ate_scheduled_m": "%s", "ate_unscheduled_m": "%s", "intervals_left_out": %s}' \
-          "$scene" "$kind" "$mode" "$seed" "${with:--}" "${without:--}" "$suppressed" >>"$json"
+        printf '{"case": "%s-%s", "mode": "%s", "seed": %s, "ate_scheduled_m": "%s", "ate_unscheduled_m": "%s", "wheel_intervals_left_out": %s, "gnss_fixes_rejected": %s, "multipath_moved_m": "%s", "reinitializations": %s}' \
+          "$scene" "$kind" "$mode" "$seed" "${with:--}" "${without:--}" "$wheel" "$gnss_rejected" "$moved_by" "$restarts" >>"$json"
       done
     done
   done

@@ -12,16 +12,6 @@
 
 namespace uf {
 
-// Per-modality reliability score in [0, 1] (1 = fully trusted, 0 = ignored). The reliability scheduler
-// fills it later; until then every modality counts as fully trusted.
-struct Reliability {
-  double lidar = 1.0;
-  double imu = 1.0;
-  double camera = 1.0;
-  double wheel = 1.0;
-  double gnss = 1.0;
-};
-
 // How well the scan's point-to-plane factors pin its pose (docs/METHOD.md "Factor-wise reliability
 // scheduling", LiDAR score): from their Gauss-Newton information H (6x6, tangent [dt (world); dtheta
 // (body)]) at registration.
@@ -45,6 +35,16 @@ struct WheelConsistency {
   bool active = true;               // the interval's wheel factor joined the window
 };
 
+// How reliable the IMU was over the node interval ending at the keyframe (docs/METHOD.md "Factor-wise
+// reliability scheduling", IMU score; schedule/imu_score.h), at the window's last estimate of it.
+struct ImuReliability {
+  double excitation = 0;           // eta in [0, 1]: the interval's rotation rate or acceleration, full at
+                                   // 0.1 rad/s or 0.5 m/s^2
+  double preintegration_chi2 = 0;  // the IMU factor's squared Mahalanobis residual (15 dof)
+  int clipped_steps = 0;           // integration steps with a reading at the sensor's full scale
+  double score = 0;                // D in [0, 1]: 0 reliable, 1 not
+};
+
 // A GNSS fix as the reliability scheduling sees it (docs/METHOD.md "Factor-wise reliability scheduling",
 // GNSS score; schedule/gnss_score.h), and whether the innovation test let its factor in.
 struct GnssCheck {
@@ -65,8 +65,8 @@ struct Keyframe {
   std::vector<Eigen::Vector3f> scan_world;              // deskewed scan, world frame, m
   std::vector<float> scan_intensity;  // one per point of scan_world, as the sensor reports it
   std::vector<CameraFrame> images;    // frames taken near stamp, any cameras of the rig
-  Reliability reliability;
   std::optional<LidarDegeneracy> lidar_degeneracy;  // LiDAR window: of its registration (none if rejected)
+  std::optional<ImuReliability> imu_reliability;    // with an IMU: of the node interval ending here
   std::optional<WheelConsistency> wheel_consistency;  // with wheel scheduling: of the interval ending here
   std::vector<GnssCheck> gnss_checks;  // the fixes the innovation test saw since the previous keyframe
 };

@@ -200,9 +200,17 @@ TEST_F(CliRun, WheelInertialModeRunsOnTheImuAndTheWheelAlone) {
   std::getline(reliability, line);
   EXPECT_NE(line.find(",speed_error_mps,speed_change_error_mps,yaw_rate_error_rad_s,"), std::string::npos)
       << line;
-  int wheel_rows = 0;
-  while (std::getline(reliability, line)) wheel_rows += line.find(",wheel,") != std::string::npos;
+  int wheel_rows = 0, imu_rows = 0;
+  while (std::getline(reliability, line)) {
+    wheel_rows += line.find(",wheel,") != std::string::npos;
+    imu_rows += line.find(",imu,") != std::string::npos;
+  }
   EXPECT_EQ(wheel_rows, 40);
+  // The IMU scored over the same intervals; no range configured, so nothing counts as clipped.
+  EXPECT_EQ(imu_rows, 40);
+  EXPECT_NE(report.find("## Reliability (IMU)"), std::string::npos) << report;
+  EXPECT_NE(report.find("40 intervals scored"), std::string::npos) << report;
+  EXPECT_NE(report.find("0 with clipped readings."), std::string::npos) << report;
   EXPECT_NE(report.find("wio:\n  node_interval_s: 0.1"), std::string::npos) << report;  // the wio: section
   EXPECT_EQ(report.find("\nlo:\n"), std::string::npos) << report;                       // and no lo:
   // Against the simulator's truth (the IMU frame, as WIO writes it): the wheel and the IMU over 3 s of

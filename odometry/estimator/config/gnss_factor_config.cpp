@@ -72,6 +72,8 @@ Status GnssFactorConfig::Validate() const {
     return Bad("prediction_sigma_m", "finite and >= 0", prediction_sigma_m);
   if (!(std::isfinite(prediction_drift_fraction) && prediction_drift_fraction >= 0))
     return Bad("prediction_drift_fraction", "finite and >= 0", prediction_drift_fraction);
+  if (!(std::isfinite(step_max_hold_s) && step_max_hold_s >= 0))
+    return Bad("step_max_hold_s", "finite and >= 0", step_max_hold_s);
   if (!Positive(min_alignment_baseline_m))
     return Bad("min_alignment_baseline_m", "> 0", min_alignment_baseline_m);
   if (min_alignment_fixes < 2) return Bad("min_alignment_fixes", ">= 2", min_alignment_fixes);

@@ -45,6 +45,10 @@ struct GnssFactorConfig {
   double integrity_gate = 16.27;
   double prediction_sigma_m = 1.0;
   double prediction_drift_fraction = 0.05;
+  // The step guard (schedule/gnss_step_guard.h): a fix whose innovation steps away from the previous fix's
+  // (multipath) is held out with the ones after it until a fix is back at the level before the step, for at
+  // most this long; 0: no guard, each fix tested on its own.
+  double step_max_hold_s = 30.0;
 
   // The yaw of the world in ENU is initialised once the antenna has moved this far horizontally (largest
   // distance from the first used position) over at least min_alignment_fixes fixes; the initial alignment

@@ -23,8 +23,12 @@ Status ValidateImuNoiseParams(const ImuNoiseParams& params) {
                                      std::pair{"max_gyro_bias_change", params.max_gyro_bias_change}}) {
     if (Status status = Positive(field, value); !status.ok()) return status;
   }
-  if (!std::isfinite(params.gravity) || params.gravity < 0.0) {
-    return Status::Error("imu.gravity: must be finite and >= 0, got " + std::to_string(params.gravity));
+  for (const auto& [field, value] :
+       {std::pair{"gravity", params.gravity}, std::pair{"gyro_range", params.gyro_range},
+        std::pair{"accel_range", params.accel_range}}) {
+    if (!std::isfinite(value) || value < 0.0)
+      return Status::Error(std::string("imu.") + field + ": must be finite and >= 0, got " +
+                           std::to_string(value));
   }
   return Status();
 }

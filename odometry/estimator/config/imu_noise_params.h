@@ -24,11 +24,18 @@ struct ImuNoiseParams {
   // update grows as |db|^2 T^2; the defaults keep it below ~1e-4 rad and ~1e-3 m over 1 s, as VINS-Mono).
   double max_accel_bias_change = 0.1;  // m/s^2
   double max_gyro_bias_change = 0.01;  // rad/s
+
+  // The sensor's full scale per axis (its datasheet's measurement range); 0: not known, not checked. An axis
+  // reading at its full scale is clipped: the true value lies somewhere beyond. The preintegration counts
+  // such samples and takes the unknown rest of the reading as noise (imu_preintegration.h; docs/METHOD.md
+  // "Factor-wise reliability scheduling", IMU score).
+  double gyro_range = 0.0;   // rad/s
+  double accel_range = 0.0;  // m/s^2
 };
 
 // Ok, or an error naming the field and its value: densities and random walks must be finite and > 0
 // (a zero density makes the information matrix singular), gravity finite and >= 0, the bias thresholds
-// finite and > 0.
+// finite and > 0, the ranges finite and >= 0.
 Status ValidateImuNoiseParams(const ImuNoiseParams& params);
 
 }  // namespace uf::estimator

@@ -10,6 +10,7 @@
 #pragma once
 
 #include <deque>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -50,6 +51,7 @@ struct InertialOdometry::Impl {
   bool inertial = false;
   std::string init_summary, last_init_failure;
   std::vector<Keyframe> finished;
+  std::map<long, ImuReliability> imu_scores;  // of the IMU factors that left the window, by tag
   std::vector<std::string> warnings;
   std::vector<InertialOdometryStats> processed;
   std::vector<TrackedFrame> tracked_frames;  // the front end's, per frame since the last take
@@ -78,6 +80,7 @@ struct InertialOdometry::Impl {
   long PushNode(const WindowNode& node);
   void LinkNode(long id, ImuPreintegration imu_preintegration);
   void AddGaugePrior();
+  std::optional<ImuReliability> TakeImuScore(long id);
   bool Solve(int* iterations, int* outliers);
   void MarginalizeOldest(double* ms);
   void ReleaseOldest();

@@ -156,6 +156,7 @@ void InertialOdometry::Impl::Restart(bool keep_window) {
     while (!nodes.empty()) ReleaseOldest();
   nodes.clear();
   first_node_id = 0;
+  imu_scores.clear();
   graph.Clear();
   if (visual) visual->Reset();
   AttachProviders();

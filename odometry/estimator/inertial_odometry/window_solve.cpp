@@ -5,6 +5,7 @@
 #include "odometry/estimator/factors/gauge_prior_factor.h"
 #include "odometry/estimator/factors/imu_factor.h"
 #include "odometry/estimator/inertial_odometry/inertial_window.h"
+#include "odometry/estimator/providers/imu_reliability.h"
 
 namespace uf::estimator {
 namespace {
@@ -30,12 +31,15 @@ long InertialOdometry::Impl::PushNode(const WindowNode& node) {
 // interval (else a warning, and the IMU alone bridges it). Another provider links its factors here.
 void InertialOdometry::Impl::LinkNode(long id, ImuPreintegration imu_preintegration) {
   WindowNode &from = NodeAt(id - 1), &to = NodeAt(id);
+  const WheelReference reference =
+      imu_preintegration.clipped_steps() > 0 ? WheelReference::kClipped : WheelReference::kPredicted;
   graph.Add(FactorKind::kImu, id, std::make_unique<ImuFactor>(std::move(imu_preintegration)), nullptr,
             {from.pose.data(), from.speed_bias.data(), to.pose.data(), to.speed_bias.data()});
   if (!config.use_wheel) return;
-  // The new node holds the IMU's prediction: the wheel's interval is scored against it (scheduling).
-  if (Status s = wheel.Link(graph, id, from.pose.data(), to.pose.data(), from.stamp, to.stamp,
-                            /*imu_predicted=*/true, from.speed_bias.data(), to.speed_bias.data());
+  // The new node holds the IMU's prediction: the wheel's interval is scored against it (scheduling), unless
+  // the IMU clipped there (it saw less than happened).
+  if (Status s = wheel.Link(graph, id, from.pose.data(), to.pose.data(), from.stamp, to.stamp, reference,
+                            from.speed_bias.data(), to.speed_bias.data());
       !s.ok())
     warnings.push_back("wheel factor at " + StampText(to.stamp) + " skipped: " + s.message());
 }
@@ -85,6 +89,9 @@ bool InertialOdometry::Impl::Solve(int* iterations, int* outliers) {
 void InertialOdometry::Impl::MarginalizeOldest(double* ms) {
   const auto start = std::chrono::steady_clock::now();
   std::vector<double*> leaving = {nodes.front().pose.data(), nodes.front().speed_bias.data()};
+  // The IMU factor leaving with the node is scored at its last estimate, for the next node's keyframe.
+  if (std::optional<ImuReliability> score = ScoreImuFactor(graph, first_node_id + 1))
+    imu_scores[first_node_id + 1] = *score;
   if (visual)
     for (double* inverse_depth : visual->AnchoredBlocks(first_node_id)) leaving.push_back(inverse_depth);
   if (!config.marginalize) {
@@ -100,6 +107,15 @@ void InertialOdometry::Impl::MarginalizeOldest(double* ms) {
   *ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
+// The IMU score of the interval ending at node `id`: kept when its factor left the window, else (the end of
+// the data, a restart) read off the factor still in it. Earlier ids are dropped.
+std::optional<ImuReliability> InertialOdometry::Impl::TakeImuScore(long id) {
+  std::optional<ImuReliability> score;
+  if (auto it = imu_scores.find(id); it != imu_scores.end()) score = it->second;
+  imu_scores.erase(imu_scores.begin(), imu_scores.upper_bound(id));
+  return score ? score : ScoreImuFactor(graph, id);
+}
+
 // The oldest node as a keyframe (body = IMU), out of the window. Its blocks must no longer be in use by the
 // graph (marginalized, removed, or the graph about to be cleared).
 void InertialOdometry::Impl::ReleaseOldest() {
@@ -110,6 +126,7 @@ void InertialOdometry::Impl::ReleaseOldest() {
   keyframe.velocity = state.velocity;
   keyframe.bias_acc = state.accel_bias;
   keyframe.bias_gyro = state.gyro_bias;
+  keyframe.imu_reliability = TakeImuScore(first_node_id);
   if (config.use_wheel) keyframe.wheel_consistency = wheel.TakeConsistency(first_node_id);
   if (gnss) keyframe.gnss_checks = gnss->TakeChecks(state.stamp);
   finished.push_back(std::move(keyframe));

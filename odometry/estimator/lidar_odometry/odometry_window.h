@@ -165,7 +165,7 @@ struct LidarOdometry::Impl {
   long AddNode(Stamp stamp);
   void AddImuFactor(long id, std::unique_ptr<ImuFactor> factor);
   void AddMotionPrior(long id);
-  void LinkWheel(long id, bool imu_predicted);
+  void LinkWheel(long id, WheelReference reference);
   Status AddWheel(const WheelSample& sample);
   void LinkGnss();
   void AttachProviders();

@@ -46,6 +46,11 @@ long LidarOdometry::Impl::AddNode(Stamp stamp) {
     }
   }
   const bool imu_predicted = imu_factor != nullptr;
+  // The wheel is scored against the IMU's prediction only where the IMU saw the whole motion.
+  const WheelReference reference = !imu_predicted ? WheelReference::kNone
+                                   : imu_factor->preintegration().clipped_steps() > 0
+                                       ? WheelReference::kClipped
+                                       : WheelReference::kPredicted;
   if (!imu_predicted) node.pose = PoseBlock(Extrapolate(stamp));
   nodes.push_back(node);
   const long id = LastNodeId();
@@ -56,16 +61,16 @@ long LidarOdometry::Impl::AddNode(Stamp stamp) {
   } else if (nodes.size() >= 3) {
     AddMotionPrior(id);
   }
-  if (wheel && nodes.size() >= 2) LinkWheel(id, imu_predicted);
+  if (wheel && nodes.size() >= 2) LinkWheel(id, reference);
   return id;
 }
 
 // The wheel factor between nodes id - 1 and id; without wheel samples over the interval the nodes go on
-// without it (a warning). imu_predicted: node id holds the IMU's prediction, which the wheel's scheduling
-// scores it against.
-void LidarOdometry::Impl::LinkWheel(long id, bool imu_predicted) {
+// without it (a warning). reference: whether node id holds the IMU's prediction, which the wheel's
+// scheduling scores it against (WheelReference).
+void LidarOdometry::Impl::LinkWheel(long id, WheelReference reference) {
   if (Status s = wheel->Link(graph, id, NodeAt(id - 1).pose.data(), NodeAt(id).pose.data(),
-                             NodeAt(id - 1).stamp, NodeAt(id).stamp, imu_predicted,
+                             NodeAt(id - 1).stamp, NodeAt(id).stamp, reference,
                              NodeAt(id - 1).speed_bias.data(), NodeAt(id).speed_bias.data());
       !s.ok())
     warnings.push_back("wheel factor at " + StampText(NodeAt(id).stamp) + " skipped: " + s.message());

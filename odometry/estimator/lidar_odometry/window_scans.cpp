@@ -10,6 +10,7 @@
 #include "odometry/estimator/factors/point_to_plane_factor.h"
 #include "odometry/estimator/factors/projected_factor.h"
 #include "odometry/estimator/lidar_odometry/odometry_window.h"
+#include "odometry/estimator/providers/imu_reliability.h"
 #include "odometry/estimator/schedule/lidar_degeneracy.h"
 
 namespace uf::estimator {
@@ -169,6 +170,7 @@ void LidarOdometry::Impl::Release(ScanState& scan) {
   });
   if (scan.information)
     keyframe.lidar_degeneracy = AnalyzeLidarInformation(*scan.information, scan.residuals);
+  if (inertial) keyframe.imu_reliability = ScoreImuFactor(graph, scan.end_node);
   if (wheel) keyframe.wheel_consistency = wheel->TakeConsistency(scan.end_node);
   if (gnss) keyframe.gnss_checks = gnss->TakeChecks(NodeAt(scan.end_node).stamp);
   finished.push_back(std::move(keyframe));

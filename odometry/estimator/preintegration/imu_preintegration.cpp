@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cmath>
 #include <string>
 
 namespace uf::estimator {
@@ -25,6 +26,18 @@ ImuSample SampleAt(const std::vector<ImuSample>& samples, Stamp t) {
                                       [](const ImuSample& s, Stamp stamp) { return s.stamp < stamp; });
   if (after->stamp == t) return *after;
   return Interpolate(*(after - 1), *after, t);
+}
+
+// Per axis, the standard deviation of a step's unknown clipped excess (header): kClippedExcess * range for
+// each end reading at the full scale, halved by the midpoint; zero without a range.
+Eigen::Vector3d ClippedExcess(const Eigen::Vector3d& begin, const Eigen::Vector3d& end, double range) {
+  Eigen::Vector3d excess = Eigen::Vector3d::Zero();
+  if (!(range > 0)) return excess;
+  for (int axis = 0; axis < 3; ++axis) {
+    const int clipped = (std::abs(begin(axis)) >= range) + (std::abs(end(axis)) >= range);
+    excess(axis) = 0.5 * clipped * kClippedExcess * range;
+  }
+  return excess;
 }
 
 }  // namespace
@@ -82,6 +95,7 @@ void ImuPreintegration::Repropagate(const Eigen::Vector3d& accel_bias, const Eig
   accel_bias_ = accel_bias;
   gyro_bias_ = gyro_bias;
   sum_dt_ = 0;
+  clipped_steps_ = 0;
   delta_R_ = SO3();
   delta_v_.setZero();
   delta_p_.setZero();
@@ -145,6 +159,11 @@ void ImuPreintegration::Propagate(const Step& step) {
       Eigen::Vector3d::Constant(params_.accel_noise_density * params_.accel_noise_density / dt),
       Eigen::Vector3d::Constant(params_.accel_bias_random_walk * params_.accel_bias_random_walk * dt),
       Eigen::Vector3d::Constant(params_.gyro_bias_random_walk * params_.gyro_bias_random_walk * dt);
+  const Eigen::Vector3d gyro_excess = ClippedExcess(step.begin.gyro, step.end.gyro, params_.gyro_range);
+  const Eigen::Vector3d accel_excess = ClippedExcess(step.begin.acc, step.end.acc, params_.accel_range);
+  q.segment<3>(0) += gyro_excess.cwiseAbs2();
+  q.segment<3>(3) += accel_excess.cwiseAbs2();
+  if (!gyro_excess.isZero() || !accel_excess.isZero()) ++clipped_steps_;
 
   const Matrix15d FP = F * covariance_;
   covariance_.noalias() = FP * F.transpose();

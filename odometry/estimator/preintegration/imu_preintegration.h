@@ -20,6 +20,12 @@
 // Sign convention of the covariance: it is the covariance of the IMU factor's residual at the true states,
 // [Log(dR^T dR_true), dv_true - dv, dp_true - dp, b_j - b_i] (the bias drifting up makes the measured deltas
 // too large, so the delta and bias-change blocks correlate negatively in this convention).
+// Clipped readings (params.gyro_range, accel_range): an axis reading at the sensor's full scale says only
+// that the true value lies beyond it, by an unknown amount. The step takes that amount as zero-mean noise of
+// standard deviation kClippedExcess * range on the axis, for each end sample clipped there (the midpoint
+// halves it, as it does the reading): q_axis += (kClippedExcess range (c_k + c_k+1) / 2)^2, c = 1 when
+// clipped. F carries it into dv and dp, so the factor loosens where the IMU saw less than happened
+// (docs/METHOD.md "Factor-wise reliability scheduling", IMU score).
 // Forster's first-order update for biases b = b_lin + db (db = [db_a; db_g]):
 //   dR(b) = dR Exp(dR/dbg db_g),   dv(b) = dv + dv/dba db_a + dv/dbg db_g,   dp(b) likewise.
 #pragma once
@@ -37,6 +43,10 @@
 namespace uf::estimator {
 
 using Matrix15d = Eigen::Matrix<double, 15, 15>;
+
+// A clipped reading's unknown excess beyond the full scale, as a share of the full scale (one standard
+// deviation): a rate or force up to twice the range is within one sigma.
+constexpr double kClippedExcess = 1.0;
 
 // Block offsets of the error state, the covariance and the IMU factor's residual.
 constexpr int kImuRotation = 0, kImuVelocity = 3, kImuPosition = 6, kImuAccelBias = 9, kImuGyroBias = 12;
@@ -73,6 +83,8 @@ class ImuPreintegration {
   const Eigen::Vector3d& gravity_world() const { return gravity_world_; }
   void SetGravityWorld(const Eigen::Vector3d& g) { gravity_world_ = g; }
   int num_steps() const { return static_cast<int>(steps_.size()); }
+  // Steps with an end sample clipped on some axis (header; 0 when no range is set).
+  int clipped_steps() const { return clipped_steps_; }
 
   // Bias Jacobians: d[dtheta, dv, dp]/d[b_a, b_g] (9x6, rows and columns in the error-state order) and
   // its 3x3 blocks (dR/dba is zero).
@@ -104,6 +116,7 @@ class ImuPreintegration {
   Eigen::Vector3d accel_bias_, gyro_bias_;
   std::vector<Step> steps_;
   Stamp sum_dt_ = 0;
+  int clipped_steps_ = 0;
   SO3 delta_R_;
   Eigen::Vector3d delta_v_ = Eigen::Vector3d::Zero();
   Eigen::Vector3d delta_p_ = Eigen::Vector3d::Zero();

@@ -42,7 +42,9 @@ std::string Meters(double value) {
 }  // namespace
 
 GnssProvider::GnssProvider(const GnssFactorConfig& config, const Eigen::Vector3d& lever_arm)
-    : config_(config), lever_arm_(lever_arm) {}
+    : config_(config),
+      lever_arm_(lever_arm),
+      step_guard_(GnssStepRule{.gate = config.integrity_gate, .max_hold_s = config.step_max_hold_s}) {}
 
 std::optional<std::string> GnssProvider::Add(const GnssFix& fix) {
   const std::string name = "GNSS fix at " + StampText(fix.stamp);
@@ -139,8 +141,33 @@ void GnssProvider::AddFactor(FactorGraph& graph, std::span<const NodeView> nodes
     horizontal_innovations_.push_back(check.innovation.head<2>().norm());
     d2_sum_ += check.d2;
   }
+  // The step guard sees every fix with a prediction, whatever the innovation test says of it, and the
+  // previous one's innovation under the current estimate.
+  std::optional<Eigen::Vector3d> previous_now;
+  if (last_tested_)
+    if (const std::optional<FixPlacement> was = PlaceFix(last_tested_->stamp, Stamps(nodes), config_))
+      previous_now = CheckIntegrity(AntennaWorld(nodes, *was, lever_arm_), alignment, last_tested_->enu,
+                                    last_tested_->covariance, 0.0, config_)
+                         .innovation;
+  const bool was_holding = step_guard_.holding();
+  const bool guard_admits =
+      !std::isfinite(check.d2) ||
+      step_guard_.Admit(fix.stamp, check.innovation, fix.covariance, antenna, previous_now);
+  if (std::isfinite(check.d2)) last_tested_ = fix;
   checks_.push_back(ScoreGnssFix(fix.stamp, fix.status, fix.covariance.trace(), check.d2,
-                                 config_.integrity_gate, check.horizontal_accepted));
+                                 config_.integrity_gate, check.horizontal_accepted && guard_admits));
+  if (!guard_admits) {
+    ++counts_.rejected;
+    ++held_out_;
+    if (!was_holding) {
+      std::ostringstream why;
+      why << "GNSS fix at " << StampText(fix.stamp) << " held out by the step guard: its innovation "
+          << "stepped from the previous fix's (d^2 " << step_guard_.last_step_d2()
+          << "; multipath?); the next fixes too until one is back";
+      warnings.push_back(why.str());
+    }
+    return;
+  }
   if (!check.horizontal_accepted) {
     ++counts_.rejected;
     std::ostringstream why;
@@ -190,6 +217,8 @@ void GnssProvider::Reset() {
   aligned_ = false;
   alignment_ = {};
   last_accepted_antenna_.reset();
+  step_guard_.Reset();
+  last_tested_.reset();
   pairs_.clear();
   paired_.clear();
   if (last_alignment_) alignment_summary_ += "; restarted after a re-initialization of the window";
@@ -199,6 +228,7 @@ void GnssProvider::Report(SensorFactorStats& stats) const {
   stats.gnss = counts_;
   stats.gnss_alignment = alignment_summary_;
   stats.gnss_horizontal_only = horizontal_only_;
+  stats.gnss_held_out = held_out_;
   SensorFactorStats::Innovations& innovations = stats.gnss_innovations;
   innovations.tested = static_cast<int>(horizontal_innovations_.size());
   if (horizontal_innovations_.empty()) return;

@@ -32,6 +32,7 @@
 #include "odometry/estimator/gnss/fix_placement.h"
 #include "odometry/estimator/gnss/gnss_enu_origin.h"
 #include "odometry/estimator/providers/sensor_factor_stats.h"
+#include "odometry/estimator/schedule/gnss_step_guard.h"
 #include "odometry/estimator/state/window_node.h"
 #include "odometry/estimator/window/factor_graph.h"
 #include "odometry/types/georeference.h"
@@ -99,6 +100,9 @@ class GnssProvider {
   // The predicted antenna (world) at the last accepted fix or the alignment's start: the innovation test's
   // prediction uncertainty grows with the distance from it (gnss/integrity_check.h).
   std::optional<Eigen::Vector3d> last_accepted_antenna_;
+  GnssStepGuard step_guard_;
+  std::optional<QueuedFix> last_tested_;  // the last fix the step guard saw
+  int held_out_ = 0;                      // of counts_.rejected: fixes the step guard held out
   FactorCount counts_;
   int horizontal_only_ = 0;  // of counts_.added: fixes whose height failed the innovation test
   std::vector<double> horizontal_innovations_;  // m, every fix tested

@@ -18,6 +18,7 @@ struct SensorFactorStats {
   double wheel_scale = 1;  // the estimated wheel scale (1 without wheel factors or with it fixed)
   FactorCount gnss;
   int gnss_horizontal_only = 0;  // of gnss.added: used without their height (it failed the innovation test)
+  int gnss_held_out = 0;         // of gnss.rejected: held out by the step guard (schedule/gnss_step_guard.h)
   // The innovation test over the run (every fix tested before its factor, with a finite prediction): the
   // horizontal innovation's median and 95th percentile, m, and the mean d^2 (the normalized innovation
   // squared: 3 for errors as large as the test's covariances; the fixed prediction sigma makes it smaller

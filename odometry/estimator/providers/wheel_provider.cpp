@@ -43,14 +43,20 @@ void WheelProvider::Attach(FactorGraph& graph) {
 }
 
 Status WheelProvider::Link(FactorGraph& graph, long tag, double* pose_from, double* pose_to, Stamp from,
-                           Stamp to, bool imu_predicted, const double* speed_bias_from,
+                           Stamp to, WheelReference reference, const double* speed_bias_from,
                            const double* speed_bias_to) {
   Expected<WheelPreintegration> pre = WheelPreintegration::Between(samples_, from, to, config_);
   if (!pre) {
     ++skipped_;
     return pre.status();
   }
-  if (imu_predicted && !Admit(tag, *pre, pose_from, pose_to, from, to, speed_bias_from, speed_bias_to)) {
+  if (reference == WheelReference::kClipped) {
+    clipped_at_ = to;
+    restart_baseline_ = true;
+  }
+  const bool settled = !clipped_at_ || ToSeconds(from - *clipped_at_) >= config_.schedule.change_window_s;
+  if (reference == WheelReference::kPredicted && settled &&
+      !Admit(tag, *pre, pose_from, pose_to, from, to, speed_bias_from, speed_bias_to)) {
     ++suppressed_;
     return {};
   }
@@ -96,6 +102,7 @@ bool WheelProvider::Admit(long tag, const WheelPreintegration& pre, const double
                           const double* pose_to, Stamp from, Stamp to, const double* speed_bias_from,
                           const double* speed_bias_to) {
   if (!config_.schedule.enabled) return true;
+  if (restart_baseline_) changes_.clear();
   // The wheel's body motion at the current scale (the factor's prediction), against the IMU's.
   const SE3 wheel = T_body_wheel_ * SE3(pre.delta_R(), pre.ScaledDeltaP(scale_)) * T_body_wheel_.inverse();
   const SE3 T_from = PoseFromBlock(pose_from), T_to = PoseFromBlock(pose_to);
@@ -112,7 +119,9 @@ bool WheelProvider::Admit(long tag, const WheelPreintegration& pre, const double
                         .change_tolerance_mps = s.change_tolerance_mps});
   WheelConsistency consistency = score.consistency;
   const bool was_active = gate_.active();
-  if (!was_active && shut_s >= s.max_shut_s) {  // held out long enough: taken back, its level the new u_0
+  if (restart_baseline_ || (!was_active && shut_s >= s.max_shut_s)) {
+    // After clipped IMU readings, or held out long enough: taken, its level the new u_0.
+    restart_baseline_ = false;
     gate_.Open();
     baseline_ = score.disagreement;
     consistency.active = true;

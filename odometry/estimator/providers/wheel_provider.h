@@ -21,6 +21,11 @@
 
 namespace uf::estimator {
 
+// What the IMU says of a node interval, for the wheel's scheduling: nothing (the node was not its
+// prediction), its prediction from clipped readings (not scored against, and the next ones only once the
+// window has settled), or its prediction (scored against).
+enum class WheelReference { kNone, kClipped, kPredicted };
+
 class WheelProvider {
  public:
   // T_body_wheel: the wheel (base) frame in the window's body frame (the IMU in LIO).
@@ -37,14 +42,14 @@ class WheelProvider {
   void Attach(FactorGraph& graph);
   // Adds the wheel factor between the poses at `from` and `to` (tagged `tag`); an error, and no factor,
   // when the samples do not cover the interval (see WheelPreintegration::Between). With scheduling
-  // (config.schedule) and `imu_predicted` (pose_to holds the IMU's prediction from pose_from, a reference
-  // the wheel has not shaped), the interval is scored first (ScoreWheelMotion) and its factor left out
-  // while the gate is shut (its speed tolerance growing with the time shut, config.schedule); the score is
-  // kept for TakeConsistency.
-  // speed_bias_from / _to (the nodes' velocity and bias blocks; may be null) give the IMU's velocity change
-  // over the interval, which the score's change window compares with the wheel's.
+  // (config.schedule) and `reference` kPredicted (pose_to holds the IMU's prediction from pose_from, a
+  // reference the wheel has not shaped, from readings none of which was clipped), the interval is scored
+  // first (ScoreWheelMotion) and its factor left out while the gate is shut (its speed tolerance growing with
+  // the time shut, config.schedule); the score is kept for TakeConsistency. speed_bias_from / _to (the nodes'
+  // velocity and bias blocks; may be null) give the IMU's velocity change over the interval, which the
+  // score's change window compares with the wheel's.
   Status Link(FactorGraph& graph, long tag, double* pose_from, double* pose_to, Stamp from, Stamp to,
-              bool imu_predicted = false, const double* speed_bias_from = nullptr,
+              WheelReference reference = WheelReference::kNone, const double* speed_bias_from = nullptr,
               const double* speed_bias_to = nullptr);
   // The score of the interval tagged `tag`, if it was scored; scores of earlier tags are dropped.
   std::optional<WheelConsistency> TakeConsistency(long tag);
@@ -82,6 +87,11 @@ class WheelProvider {
   Eigen::Vector2d baseline_ = Eigen::Vector2d::Zero();  // u_0 (schedule/wheel_consistency.h), m/s
   std::map<long, WheelConsistency> scores_;             // by tag, until taken
   std::deque<std::pair<Stamp, Eigen::Vector3d>> changes_;  // (interval end, its velocity-change disagreement)
+  // The end of the last interval whose IMU readings were clipped: the IMU's prediction carries that
+  // interval's error for a while, so scoring resumes change_window_s after it, the first scored interval
+  // restarting u_0 and the change window.
+  std::optional<Stamp> clipped_at_;
+  bool restart_baseline_ = false;
 };
 
 }  // namespace uf::estimator

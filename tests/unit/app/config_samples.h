@@ -140,7 +140,7 @@ inline estimator::LidarOdometryConfig NonDefaultOdometry() {
   c.map = {0.25, 7, 80, 0.2, 6, 0.02, 2};
   c.imu_max_gap_s = 0.1;
   c.imu_max_wait_s = 0.75;
-  c.imu = {0.03, 0.002, 0.004, 2.5e-5, 9.81, 0.2, 0.02};
+  c.imu = {0.03, 0.002, 0.004, 2.5e-5, 9.81, 0.2, 0.02, 34.9, 156.9};
   c.init = {4, 2, 25, 0.15, 0.03, 0.4, 0.06, 0.5, 0.15, 0.3, 0.004, 0.03, 2.5};
   c.wheel = {.forward_velocity_density = 0.07,
              .yaw_rate_density = 0.02,
@@ -173,6 +173,7 @@ inline estimator::LidarOdometryConfig NonDefaultOdometry() {
   c.gnss.integrity_gate = 11.34;
   c.gnss.prediction_sigma_m = 0.5;
   c.gnss.prediction_drift_fraction = 0.03;
+  c.gnss.step_max_hold_s = 12.5;
   c.gnss.min_alignment_baseline_m = 20;
   c.gnss.min_alignment_fixes = 8;
   c.gnss.max_alignment_rms_m = 5;

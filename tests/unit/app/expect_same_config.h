@@ -206,6 +206,8 @@ inline void ExpectSameInertialParts(const Config& a, const Config& b) {
   EXPECT_FIELD(imu.gravity);
   EXPECT_FIELD(imu.max_accel_bias_change);
   EXPECT_FIELD(imu.max_gyro_bias_change);
+  EXPECT_FIELD(imu.gyro_range);
+  EXPECT_FIELD(imu.accel_range);
   EXPECT_FIELD(init.static_max_gyro_std);
   EXPECT_FIELD(init.static_max_vibration_deg);
   EXPECT_FIELD(init.static_max_acc_std);
@@ -247,6 +249,7 @@ inline void ExpectSameInertialParts(const Config& a, const Config& b) {
   EXPECT_FIELD(gnss.integrity_gate);
   EXPECT_FIELD(gnss.prediction_sigma_m);
   EXPECT_FIELD(gnss.prediction_drift_fraction);
+  EXPECT_FIELD(gnss.step_max_hold_s);
   EXPECT_FIELD(gnss.min_alignment_baseline_m);
   EXPECT_FIELD(gnss.min_alignment_fixes);
   EXPECT_FIELD(gnss.max_alignment_rms_m);

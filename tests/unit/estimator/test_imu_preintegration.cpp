@@ -249,6 +249,52 @@ TEST(ImuPreintegration, BetweenRejectsBadIntervals) {
   EXPECT_EQ(full->num_steps(), 200);
 }
 
+// Clipped readings (imu_preintegration.h), hand-computed on one 5 ms step turning about x: both ends at the
+// gyro's full scale add (kClippedExcess range)^2 dt^2 to the rotation's x variance (Jr leaves its own axis
+// as it is) and nothing to the biases; one end at it, a quarter of that; readings under it, nothing. An
+// accelerometer clipped on z adds (kClippedExcess range)^2 dt^2 to the velocity's z variance.
+TEST(ImuPreintegration, ClippedReadingsAddTheirExcessAsNoise) {
+  const Eigen::Vector3d zero = Eigen::Vector3d::Zero();
+  const double dt = 0.005, range = 0.25;
+  const auto step_covariance = [&](double begin_rate, double end_rate, const ImuNoiseParams& params,
+                                   int* clipped = nullptr) {
+    const ImuSample a{
+        .stamp = 0, .acc = Eigen::Vector3d(0, 0, 9.81), .gyro = Eigen::Vector3d(begin_rate, 0, 0)};
+    const ImuSample b{.stamp = 5'000'000, .acc = a.acc, .gyro = Eigen::Vector3d(end_rate, 0, 0)};
+    ImuPreintegration pre(zero, zero, params);
+    EXPECT_TRUE(pre.Integrate(a, b).ok());
+    if (clipped) *clipped = pre.clipped_steps();
+    return pre.covariance();
+  };
+  ImuNoiseParams told;
+  told.gyro_range = range;
+  const ImuNoiseParams untold;
+  const double excess2 = std::pow(kClippedExcess * range, 2) * dt * dt;
+  int clipped = -1;
+  const Matrix15d both =
+      step_covariance(range, -range, told, &clipped) - step_covariance(range, -range, untold);
+  EXPECT_EQ(clipped, 1);
+  EXPECT_NEAR(both(kImuRotation, kImuRotation), excess2, 1e-12 * excess2);
+  const Eigen::Matrix3d rotation = both.block<3, 3>(kImuRotation, kImuRotation);
+  EXPECT_NEAR(rotation.norm(), excess2, 1e-9 * excess2);
+  const Eigen::Matrix<double, 6, 6> biases = both.bottomRightCorner<6, 6>();
+  EXPECT_EQ(biases.norm(), 0.0);
+  const Matrix15d one = step_covariance(0.1, range, told, &clipped) - step_covariance(0.1, range, untold);
+  EXPECT_EQ(clipped, 1);
+  EXPECT_NEAR(one(kImuRotation, kImuRotation), excess2 / 4, 1e-9 * excess2);
+  const Matrix15d under = step_covariance(0.2, 0.24, told, &clipped) - step_covariance(0.2, 0.24, untold);
+  EXPECT_EQ(clipped, 0);
+  EXPECT_EQ(under.norm(), 0.0);
+
+  ImuNoiseParams accel_told;
+  accel_told.accel_range = 9.0;  // below the 9.81 m/s^2 read on z
+  const Matrix15d accel = step_covariance(0, 0, accel_told, &clipped) - step_covariance(0, 0, untold);
+  EXPECT_EQ(clipped, 1);
+  const double accel_excess2 = std::pow(kClippedExcess * 9.0, 2) * dt * dt;
+  EXPECT_NEAR(accel(kImuVelocity + 2, kImuVelocity + 2), accel_excess2, 1e-9 * accel_excess2);
+  EXPECT_NEAR(accel(kImuRotation, kImuRotation), 0.0, 1e-18);
+}
+
 TEST(ImuNoiseParams, ValidationNamesFieldAndValue) {
   EXPECT_TRUE(ValidateImuNoiseParams(ImuNoiseParams()).ok());
   ImuNoiseParams params;
@@ -261,6 +307,14 @@ TEST(ImuNoiseParams, ValidationNamesFieldAndValue) {
   params = ImuNoiseParams();
   params.max_gyro_bias_change = 0.0;
   EXPECT_NE(ValidateImuNoiseParams(params).message().find("imu.max_gyro_bias_change"), std::string::npos);
+  params = ImuNoiseParams();
+  params.gyro_range = -0.5;
+  EXPECT_NE(
+      ValidateImuNoiseParams(params).message().find("imu.gyro_range: must be finite and >= 0, got -0.5"),
+      std::string::npos);
+  params = ImuNoiseParams();
+  params.accel_range = std::numeric_limits<double>::infinity();
+  EXPECT_NE(ValidateImuNoiseParams(params).message().find("imu.accel_range"), std::string::npos);
 }
 
 }  // namespace

@@ -44,9 +44,9 @@ TEST(ReliabilityFiles, OneRowPerKeyframeAndThePlot) {
       uf::testing::ReadText(dir.File("reliability.csv")),
       "stamp_ns,modality,score,active,matches,translation_isotropy,rotation_isotropy,weak_x,weak_y,weak_z,"
       "speed_error_mps,speed_change_error_mps,yaw_rate_error_rad_s,fix_quality,covariance_trace_m2,"
-      "innovation_d2\n"
-      "0,lidar,0.2500,1,100,0.00000,0.00000,0.0000,0.0000,0.0000,,,,,,\n"
-      "100000000,lidar,1.0000,1,100,0.00000,0.00000,0.0000,0.0000,0.0000,,,,,,\n");
+      "innovation_d2,excitation,preintegration_chi2,clipped_steps\n"
+      "0,lidar,0.2500,1,100,0.00000,0.00000,0.0000,0.0000,0.0000,,,,,,,,,\n"
+      "100000000,lidar,1.0000,1,100,0.00000,0.00000,0.0000,0.0000,0.0000,,,,,,,,,\n");
   // Nothing scored (every scan rejected): the header alone, no plot.
   uf::testing::TempDir empty;
   written = WriteReliabilityFiles(empty.path(), {});
@@ -54,9 +54,9 @@ TEST(ReliabilityFiles, OneRowPerKeyframeAndThePlot) {
   EXPECT_EQ(written->size(), 1u);
 }
 
-// The wheel's and the GNSS fixes' rows beside the LiDAR's: every row has the header's columns, each modality
-// its own filled; the fixes at their own stamps; a plot per modality.
-TEST(ReliabilityFiles, WheelAndGnssRowsAndPlots) {
+// The wheel's, the GNSS fixes' and the IMU's rows beside the LiDAR's: every row has the header's columns,
+// each modality its own filled; the fixes at their own stamps; a plot per modality.
+TEST(ReliabilityFiles, WheelGnssAndImuRowsAndPlots) {
   ScoredKeyframe k;
   k.stamp = 2'000'000'000;
   k.wheel = WheelConsistency{.speed_error_mps = 0.12,
@@ -70,22 +70,28 @@ TEST(ReliabilityFiles, WheelAndGnssRowsAndPlots) {
                       .innovation_d2 = 2.5,
                       .score = 0.6,
                       .active = true}};
+  k.imu = ImuReliability{.excitation = 0.5, .preintegration_chi2 = 3.25, .clipped_steps = 4, .score = 0.6};
   uf::testing::TempDir dir;
   Expected<std::vector<std::string>> written = WriteReliabilityFiles(dir.path(), {k});
   ASSERT_TRUE(written) << written.error();
   EXPECT_EQ(*written, (std::vector<std::string>{"reliability.csv", "plots/reliability_wheel.png",
-                                                "plots/reliability_gnss.png"}));
+                                                "plots/reliability_gnss.png", "plots/reliability_imu.png"}));
   const std::string csv = uf::testing::ReadText(dir.File("reliability.csv"));
-  EXPECT_NE(csv.find("\n2000000000,wheel,0.4000,0,,,,,,,0.1200,0.3000,0.0500,,,\n"), std::string::npos)
+  EXPECT_NE(csv.find("\n2000000000,wheel,0.4000,0,,,,,,,0.1200,0.3000,0.0500,,,,,,\n"), std::string::npos)
       << csv;
-  EXPECT_NE(csv.find("\n1950000000,gnss,0.6000,1,,,,,,,,,,0.25,13.5000,2.500\n"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("\n1950000000,gnss,0.6000,1,,,,,,,,,,0.25,13.5000,2.500,,,\n"), std::string::npos)
+      << csv;
+  EXPECT_NE(csv.find("\n2000000000,imu,0.6000,1,,,,,,,,,,,,,0.5000,3.250,4\n"), std::string::npos) << csv;
   std::istringstream lines(csv);
   for (std::string line; std::getline(lines, line);)
-    EXPECT_EQ(std::count(line.begin(), line.end(), ','), 15) << line;
-  // Only the wheel's rows are spans of suppression.
+    EXPECT_EQ(std::count(line.begin(), line.end(), ','), 18) << line;
+  // Only the wheel's rows are spans of suppression, only the IMU's clipped ones spans of clipping.
   const std::vector<DegenerateSpan> spans = SuppressedWheelSpans({k});
   ASSERT_EQ(spans.size(), 1u);
   EXPECT_DOUBLE_EQ(spans[0].worst, 0.4);
+  ASSERT_EQ(ClippedImuSpans({k}).size(), 1u);
+  k.imu->clipped_steps = 0;
+  EXPECT_TRUE(ClippedImuSpans({k}).empty());
 }
 
 }  // namespace

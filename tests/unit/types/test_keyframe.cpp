@@ -7,15 +7,15 @@
 namespace uf {
 namespace {
 
-TEST(KeyframeTest, DefaultsToIdentityPoseZeroStateAndFullTrust) {
+TEST(KeyframeTest, DefaultsToIdentityPoseZeroStateAndNoScores) {
   const Keyframe keyframe;
   EXPECT_TRUE(keyframe.T_world_body.matrix().isIdentity());
   EXPECT_TRUE(keyframe.velocity.isZero());
   EXPECT_TRUE(keyframe.bias_acc.isZero());
   EXPECT_TRUE(keyframe.bias_gyro.isZero());
   EXPECT_TRUE(keyframe.scan_world.empty());
-  const Reliability& r = keyframe.reliability;
-  for (double score : {r.lidar, r.imu, r.camera, r.wheel, r.gnss}) EXPECT_EQ(score, 1.0);
+  EXPECT_FALSE(keyframe.lidar_degeneracy || keyframe.imu_reliability || keyframe.wheel_consistency);
+  EXPECT_TRUE(keyframe.gnss_checks.empty());
 }
 
 TEST(MeasurementsTest, DefaultsAreEmptyAndInvalid) {

@@ -50,6 +50,11 @@ Schema<ImuNoiseParams> ImuNoiseSchema(const std::string& scale) {
           "first-order bias update of the preintegration up to this, then re-integration");
   imu.Key("max_gyro_bias_change", &ImuNoiseParams::max_gyro_bias_change, "rad/s",
           "likewise for the gyro bias");
+  imu.Key("gyro_range", &ImuNoiseParams::gyro_range, "rad/s",
+          "the gyroscope's full scale per axis (datasheet); a reading there is clipped and its step's noise "
+          "inflated; 0: not known, not checked");
+  imu.Key("accel_range", &ImuNoiseParams::accel_range, "m/s^2",
+          "the accelerometer's full scale per axis, likewise");
   return imu;
 }
 
@@ -166,6 +171,9 @@ Schema<GnssFactorConfig> GnssSchema() {
         "uncertainty of the predicted antenna position in the innovation test, right after an accepted fix");
   s.Key("prediction_drift_fraction", &G::prediction_drift_fraction, "",
         "and its growth per distance moved since (odometry drift, the alignment's yaw error)");
+  s.Key("step_max_hold_s", &G::step_max_hold_s, "s",
+        "a fix whose innovation steps from the previous fix's (multipath) is held out with the next ones "
+        "until one is back at the level before the step, at most this long; 0: each fix tested alone");
   s.Key("min_alignment_baseline_m", &G::min_alignment_baseline_m, "m",
         "the ENU alignment starts once the antenna moved this far horizontally");
   s.Key("min_alignment_fixes", &G::min_alignment_fixes, "fixes", "and over at least this many fixes");

@@ -141,6 +141,19 @@ std::string FormatSpans(const std::vector<pipeline::DegenerateSpan>& spans, cons
   return md;
 }
 
+// "<n><what>." with n the items inside the spans, then the spans' table when there are any.
+std::string CountAndSpans(const std::vector<pipeline::DegenerateSpan>& spans, const std::string& what,
+                          const std::string& unit) {
+  int inside = 0;
+  for (const pipeline::DegenerateSpan& span : spans) inside += span.keyframes;
+  return std::to_string(inside) + what + (spans.empty() ? ".\n" : ":\n") + FormatSpans(spans, unit);
+}
+
+// The plot, when it was written.
+std::string PlotLink(const std::string& alt, const std::string& plot) {
+  return plot.empty() ? "" : "\n![" + alt + "](" + plot + ")\n";
+}
+
 // The LiDAR's degeneracy scores (reliability.csv): how many keyframes were degenerate and where.
 std::string FormatReliability(const pipeline::OdometrySummary& o) {
   std::string md = "\n## Reliability (LiDAR degeneracy)\n\n";
@@ -149,14 +162,11 @@ std::string FormatReliability(const pipeline::OdometrySummary& o) {
       "pinned, 1: one left free; docs/METHOD.md \"Factor-wise reliability scheduling\"), in "
       "`reliability.csv` with its inputs. No factor is scheduled by the score (lo.drop_weak_directions, off "
       "by default, acts on the same information).\n\n";
-  int degenerate = 0;
-  for (const pipeline::DegenerateSpan& span : o.lidar_degenerate) degenerate += span.keyframes;
-  md += std::to_string(degenerate) + " of " + std::to_string(o.lidar_scored) +
-        " scored keyframes at D >= " + FormatValue("%.1f", pipeline::kDegenerateReported) +
-        (o.lidar_degenerate.empty() ? ".\n" : ":\n");
-  md += FormatSpans(o.lidar_degenerate, "keyframes");
-  if (!o.reliability_plot.empty()) md += "\n![LiDAR degeneracy](" + o.reliability_plot + ")\n";
-  return md;
+  md += CountAndSpans(o.lidar_degenerate,
+                      " of " + std::to_string(o.lidar_scored) +
+                          " scored keyframes at D >= " + FormatValue("%.1f", pipeline::kDegenerateReported),
+                      "keyframes");
+  return md + PlotLink("LiDAR degeneracy", o.reliability_plot);
 }
 
 // With wheel scheduling: where the wheel's factors were left out.
@@ -166,13 +176,9 @@ std::string FormatWheelReliability(const pipeline::OdometrySummary& o) {
       "Per node interval, the score D of the wheel's motion against the IMU's prediction (0: they agree; "
       "docs/METHOD.md \"Factor-wise reliability scheduling\"), in `reliability.csv` with its inputs; the "
       "interval's wheel factor is left out while the gate is shut (slip, wheels off the ground).\n\n";
-  int left_out = 0;
-  for (const pipeline::DegenerateSpan& span : o.wheel_suppressed) left_out += span.keyframes;
-  md += std::to_string(left_out) + " of " + std::to_string(o.wheel_scored) + " scored intervals left out" +
-        (o.wheel_suppressed.empty() ? ".\n" : ":\n");
-  md += FormatSpans(o.wheel_suppressed, "intervals");
-  if (!o.wheel_reliability_plot.empty()) md += "\n![Wheel reliability](" + o.wheel_reliability_plot + ")\n";
-  return md;
+  md += CountAndSpans(o.wheel_suppressed,
+                      " of " + std::to_string(o.wheel_scored) + " scored intervals left out", "intervals");
+  return md + PlotLink("Wheel reliability", o.wheel_reliability_plot);
 }
 
 // The GNSS fixes' scores: how many, their mean, how many the innovation test rejected.
@@ -181,11 +187,24 @@ std::string FormatGnssReliability(const pipeline::OdometrySummary& o) {
   md +=
       "Per fix the innovation test saw, the score D of its status, covariance and innovation (0: RTK "
       "fixed where predicted; docs/METHOD.md \"Factor-wise reliability scheduling\"), in `reliability.csv`; "
-      "the fix's factor is admitted by the innovation test. " +
+      "the fix's factor is admitted by the innovation test and its step guard. " +
       std::to_string(o.gnss_scored) + " fixes scored, mean D " + FormatValue("%.2f", o.gnss_mean_score) +
       ", " + std::to_string(o.gnss_rejected) + " rejected.\n";
-  if (!o.gnss_reliability_plot.empty()) md += "\n![GNSS reliability](" + o.gnss_reliability_plot + ")\n";
-  return md;
+  return md + PlotLink("GNSS reliability", o.gnss_reliability_plot);
+}
+
+// With an IMU: its mean score and where it clipped.
+std::string FormatImuReliability(const pipeline::OdometrySummary& o) {
+  std::string md = "\n## Reliability (IMU)\n\n";
+  md +=
+      "Per node interval, the score D of the IMU's excitation, preintegration residual and clipped readings "
+      "(docs/METHOD.md \"Factor-wise reliability scheduling\"), in `reliability.csv` with its inputs. "
+      "Readings at the full scale (`imu.gyro_range`, `imu.accel_range`) loosen their interval's IMU factor, "
+      "and the wheel is not scored against that interval. " +
+      std::to_string(o.imu_scored) + " intervals scored, mean D " + FormatValue("%.2f", o.imu_mean_score) +
+      ". ";
+  md += CountAndSpans(o.imu_clipped, " with clipped readings", "intervals");
+  return md + PlotLink("IMU reliability", o.imu_reliability_plot);
 }
 
 // V modes: the camera's landmarks per step (node or scan) and their reprojection error.
@@ -243,6 +262,7 @@ std::string FormatRunReport(const pipeline::RunSummary& r) {
   if (o.step == "scan") md += FormatTracking(o.track_events, o.scans) + FormatReliability(o);
   if (o.wheel_scored > 0) md += FormatWheelReliability(o);
   if (o.gnss_scored > 0) md += FormatGnssReliability(o);
+  if (o.imu_scored > 0) md += FormatImuReliability(o);
   if (o.online_calibration && o.calibration_estimates)
     md += FormatOnlineCalibration(*o.online_calibration, *o.calibration_estimates);
   md += "\n## Timing per " + o.step + " (" + (o.step == "scan" ? "AddScan" : "the node's solve") +

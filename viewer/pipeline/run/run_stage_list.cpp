@@ -240,7 +240,9 @@ void Summarize(const RunPlan& plan, StageOutputs& o, RunSummary& summary) {
       summary.notes.push_back("GNSS factors: " + std::to_string(factors.gnss.added) + " added (" +
                               std::to_string(factors.gnss_horizontal_only) +
                               " of them horizontally: their height failed the integrity check), " +
-                              std::to_string(factors.gnss.rejected) + " rejected by the integrity check, " +
+                              std::to_string(factors.gnss.rejected) + " rejected by the integrity check (" +
+                              std::to_string(factors.gnss_held_out) +
+                              " of them held out by its step guard: multipath), " +
                               std::to_string(factors.gnss.skipped) +
                               " fixes skipped (screening, time order, no node near); ENU alignment " +
                               (factors.gnss_alignment.empty() ? "never tried" : factors.gnss_alignment));

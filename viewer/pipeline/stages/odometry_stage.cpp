@@ -40,8 +40,9 @@ Status CollectFinished(const OdometryStageInput& in, OdometryStageOutput& out, C
       continue;  // keep stamps increasing
     trajectory.stamps.push_back(k.stamp);
     trajectory.poses.push_back(k.T_world_body);
-    if (k.lidar_degeneracy || k.wheel_consistency || !k.gnss_checks.empty())
-      collected.scored.push_back({k.stamp, k.lidar_degeneracy, k.wheel_consistency, k.gnss_checks});
+    if (k.lidar_degeneracy || k.wheel_consistency || !k.gnss_checks.empty() || k.imu_reliability)
+      collected.scored.push_back(
+          {k.stamp, k.lidar_degeneracy, k.wheel_consistency, k.gnss_checks, k.imu_reliability});
     if (in.frames.mode == OdometryMode::kWio) {
       const std::optional<Georeference> georef = in.odometry->georeference();
       collected.T_enu_world_at_pose.push_back(georef ? std::optional<SE3>(georef->T_enu_world)
@@ -190,13 +191,20 @@ Status WriteOdometryFiles(const OdometryStageInput& in, const OdometryStageOutpu
       if (file == "plots/reliability_lidar.png") summary.reliability_plot = file;
       if (file == "plots/reliability_wheel.png") summary.wheel_reliability_plot = file;
       if (file == "plots/reliability_gnss.png") summary.gnss_reliability_plot = file;
+      if (file == "plots/reliability_imu.png") summary.imu_reliability_plot = file;
     }
     summary.lidar_degenerate = DegenerateSpans(collected.scored, kDegenerateReported);
     summary.wheel_suppressed = SuppressedWheelSpans(collected.scored);
+    summary.imu_clipped = ClippedImuSpans(collected.scored);
+    double imu_scores = 0;
     double gnss_scores = 0;
     for (const ScoredKeyframe& k : collected.scored) {
       summary.lidar_scored += k.lidar.has_value();
       summary.wheel_scored += k.wheel.has_value();
+      if (k.imu) {
+        ++summary.imu_scored;
+        imu_scores += k.imu->score;
+      }
       for (const GnssCheck& fix : k.gnss) {
         ++summary.gnss_scored;
         summary.gnss_rejected += !fix.active;
@@ -205,6 +213,7 @@ Status WriteOdometryFiles(const OdometryStageInput& in, const OdometryStageOutpu
     }
     if (summary.gnss_scored > 0)
       summary.gnss_mean_score = gnss_scores / static_cast<double>(summary.gnss_scored);
+    if (summary.imu_scored > 0) summary.imu_mean_score = imu_scores / static_cast<double>(summary.imu_scored);
   }
   if (collected.ms.empty()) return {};
   std::error_code error;

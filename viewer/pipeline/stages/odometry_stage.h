@@ -81,6 +81,11 @@ struct OdometrySummary {
   std::int64_t gnss_scored = 0, gnss_rejected = 0;
   double gnss_mean_score = 0;
   std::string gnss_reliability_plot;
+  // The IMU's intervals scored, their mean score, the spans with clipped readings, the plot.
+  std::int64_t imu_scored = 0;
+  double imu_mean_score = 0;
+  std::vector<DegenerateSpan> imu_clipped;
+  std::string imu_reliability_plot;
 };
 
 // The stream whose messages pace the odometry, for the progress line: the LiDAR's, or the IMU's in WIO.

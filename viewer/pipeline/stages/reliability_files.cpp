@@ -39,7 +39,8 @@ const char* kHeader =
     "stamp_ns,modality,score,active,"
     "matches,translation_isotropy,rotation_isotropy,weak_x,weak_y,weak_z,"  // lidar
     "speed_error_mps,speed_change_error_mps,yaw_rate_error_rad_s,"          // wheel
-    "fix_quality,covariance_trace_m2,innovation_d2\n";                      // gnss
+    "fix_quality,covariance_trace_m2,innovation_d2,"                        // gnss
+    "excitation,preintegration_chi2,clipped_steps\n";                       // imu
 
 // One modality's D over time, for its plot.
 struct Series {
@@ -66,6 +67,13 @@ std::vector<DegenerateSpan> SuppressedWheelSpans(const std::vector<ScoredKeyfram
   });
 }
 
+std::vector<DegenerateSpan> ClippedImuSpans(const std::vector<ScoredKeyframe>& scored) {
+  return Spans(scored, [](const ScoredKeyframe& k) -> std::optional<std::optional<double>> {
+    if (!k.imu) return std::nullopt;
+    return k.imu->clipped_steps > 0 ? std::optional<double>(k.imu->score) : std::nullopt;
+  });
+}
+
 Expected<std::vector<std::string>> WriteReliabilityFiles(const std::filesystem::path& folder,
                                                          const std::vector<ScoredKeyframe>& scored) {
   std::string csv = kHeader;
@@ -76,11 +84,13 @@ Expected<std::vector<std::string>> WriteReliabilityFiles(const std::filesystem::
                "Wheel against the IMU per interval (0: agree; left out above the threshold)"};
   Series gnss{"plots/reliability_gnss.png", "GNSS D",
               "GNSS fixes (0: RTK fixed, as predicted; 1: no quality, far off the prediction)"};
+  Series imu{"plots/reliability_imu.png", "IMU D",
+             "IMU per interval (excitation, preintegration residual, clipped readings; 1: none reliable)"};
   const auto seconds = [&](Stamp stamp) { return ToSeconds(stamp - scored.front().stamp); };
   for (const ScoredKeyframe& k : scored) {
     if (const std::optional<LidarDegeneracy>& d = k.lidar) {
       csv += std::to_string(k.stamp) + ",lidar," +
-             PrintfText("%.4f,1,%.0f,%.5f,%.5f,%.4f,%.4f,%.4f,,,,,,\n", d->score, d->matches,
+             PrintfText("%.4f,1,%.0f,%.5f,%.5f,%.4f,%.4f,%.4f,,,,,,,,,\n", d->score, d->matches,
                         d->translation_isotropy, d->rotation_isotropy, d->weak_translation.x(),
                         d->weak_translation.y(), d->weak_translation.z());
       lidar.t.push_back(seconds(k.stamp));
@@ -88,17 +98,24 @@ Expected<std::vector<std::string>> WriteReliabilityFiles(const std::filesystem::
     }
     if (const std::optional<WheelConsistency>& w = k.wheel) {
       csv += std::to_string(k.stamp) + ",wheel," +
-             PrintfText("%.4f,%.0f,,,,,,,%.4f,%.4f,%.4f,,,\n", w->score, w->active ? 1.0 : 0.0,
+             PrintfText("%.4f,%.0f,,,,,,,%.4f,%.4f,%.4f,,,,,,\n", w->score, w->active ? 1.0 : 0.0,
                         w->speed_error_mps, w->speed_change_error_mps, w->yaw_rate_error_rad_s);
       wheel.t.push_back(seconds(k.stamp));
       wheel.d.push_back(w->score);
     }
     for (const GnssCheck& g : k.gnss) {
       csv += std::to_string(g.stamp) + ",gnss," +
-             PrintfText("%.4f,%.0f,,,,,,,,,,%.2f,%.4f,%.3f\n", g.score, g.active ? 1.0 : 0.0, g.fix_quality,
-                        g.covariance_trace_m2, g.innovation_d2);
+             PrintfText("%.4f,%.0f,,,,,,,,,,%.2f,%.4f,%.3f,,,\n", g.score, g.active ? 1.0 : 0.0,
+                        g.fix_quality, g.covariance_trace_m2, g.innovation_d2);
       gnss.t.push_back(seconds(g.stamp));
       gnss.d.push_back(g.score);
+    }
+    if (const std::optional<ImuReliability>& m = k.imu) {
+      csv += std::to_string(k.stamp) + ",imu," +
+             PrintfText("%.4f,1,,,,,,,,,,,,,%.4f,%.3f,%.0f\n", m->score, m->excitation,
+                        m->preintegration_chi2, static_cast<double>(m->clipped_steps));
+      imu.t.push_back(seconds(k.stamp));
+      imu.d.push_back(m->score);
     }
   }
   if (Status s = WriteTextFileAtomically(folder / "reliability.csv", csv); !s.ok()) return s;
@@ -107,7 +124,7 @@ Expected<std::vector<std::string>> WriteReliabilityFiles(const std::filesystem::
   std::error_code error;
   std::filesystem::create_directories(folder / "plots", error);
   if (error) return Status::Error((folder / "plots").string() + ": cannot create: " + error.message());
-  for (const Series* series : {&lidar, &wheel, &gnss}) {
+  for (const Series* series : {&lidar, &wheel, &gnss, &imu}) {
     if (series->t.empty()) continue;
     if (Status s = WriteSeriesPlot((folder / series->plot).string(), series->t, series->d, series->name,
                                    series->level, series->title, "time since the first keyframe (s)", "D");

@@ -3,7 +3,8 @@
 // another modality) and whether the modality's factors were active, and plots/reliability_<modality>.png
 // (D over time). Scored: the LiDAR (its rows are always active: the LiDAR is not switched off, only its weak
 // directions with lo.drop_weak_directions), with wheel scheduling the wheel, and each GNSS fix the
-// innovation test saw (a row at the fix's stamp; active: its factor joined the window).
+// innovation test saw (a row at the fix's stamp; active: its factor joined the window), and with an IMU its
+// interval ending at the keyframe (always active: clipped readings loosen its factor, none leaves it out).
 #pragma once
 
 #include <filesystem>
@@ -24,7 +25,8 @@ struct ScoredKeyframe {
   Stamp stamp = 0;
   std::optional<LidarDegeneracy> lidar;
   std::optional<WheelConsistency> wheel;
-  std::vector<GnssCheck> gnss;  // the fixes checked since the previous keyframe
+  std::vector<GnssCheck> gnss;
+  std::optional<ImuReliability> imu;  // the fixes checked since the previous keyframe
 };
 
 // Where the LiDAR was degenerate (D >= threshold) as time intervals, for the report: [first, last] stamps
@@ -37,9 +39,11 @@ struct DegenerateSpan {
 std::vector<DegenerateSpan> DegenerateSpans(const std::vector<ScoredKeyframe>& scored, double threshold);
 // Where the wheel's factors were left out (inactive), likewise, with the highest score in each span.
 std::vector<DegenerateSpan> SuppressedWheelSpans(const std::vector<ScoredKeyframe>& scored);
+// Where the IMU clipped (an interval with a reading at its full scale), likewise.
+std::vector<DegenerateSpan> ClippedImuSpans(const std::vector<ScoredKeyframe>& scored);
 
-// Writes folder/reliability.csv and folder/plots/reliability_lidar.png, reliability_wheel.png and
-// reliability_gnss.png (each plot only with a keyframe scored for it);
+// Writes folder/reliability.csv and folder/plots/reliability_lidar.png, reliability_wheel.png,
+// reliability_gnss.png and reliability_imu.png (each plot only with a keyframe scored for it);
 // returns the files written, relative to folder. Errors: a file that cannot be written (nothing half
 // written is left behind).
 Expected<std::vector<std::string>> WriteReliabilityFiles(const std::filesystem::path& folder,

@@ -1,5 +1,6 @@
-// The wheel's reliability scheduling (docs/METHOD.md "Factor-wise reliability scheduling"): the activation
-// gate's hysteresis on constructed score sequences, and the wheel score against hand-computed motions.
+// The reliability scheduling's parts (docs/METHOD.md "Factor-wise reliability scheduling"): the activation
+// gate's hysteresis on constructed score sequences, the wheel score against hand-computed motions, the GNSS
+// and IMU scores' sums, and the GNSS step guard on constructed innovation sequences.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -7,6 +8,8 @@
 
 #include "odometry/estimator/schedule/activation_gate.h"
 #include "odometry/estimator/schedule/gnss_score.h"
+#include "odometry/estimator/schedule/gnss_step_guard.h"
+#include "odometry/estimator/schedule/imu_score.h"
 #include "odometry/estimator/schedule/wheel_consistency.h"
 
 namespace uf::estimator {
@@ -97,6 +100,62 @@ TEST(WheelScore, MeasuresTheDisagreementInTheWheelsPlaneAndAboutItsVertical) {
 }
 
 // The paper's GNSS sum with equal weights, hand-computed: quality, covariance, innovation.
+// The IMU score's three terms, hand-computed: at rest with a small residual only the excitation's weight
+// counts; turning, a residual past tau_imu and a clipped step give w_p + w_s; half the excitation
+// threshold, half the residual threshold; a non-finite residual saturates its term.
+TEST(ImuScore, SumsExcitationResidualAndClipping) {
+  const ImuReliability rest = ScoreImuInterval({.rate_rad_s = 0, .acceleration_mps2 = 0, .chi2 = 0});
+  EXPECT_DOUBLE_EQ(rest.excitation, 0.0);
+  EXPECT_DOUBLE_EQ(rest.score, kImuExcitationWeight);
+  const ImuReliability bad =
+      ScoreImuInterval({.rate_rad_s = 1.0, .acceleration_mps2 = 0, .chi2 = 100, .clipped_steps = 3});
+  EXPECT_DOUBLE_EQ(bad.excitation, 1.0);
+  EXPECT_EQ(bad.clipped_steps, 3);
+  EXPECT_DOUBLE_EQ(bad.score, kImuResidualWeight + kImuClippedWeight);
+  const ImuReliability half = ScoreImuInterval({.rate_rad_s = 0.01,
+                                                .acceleration_mps2 = 0.5 * kImuAccelExcitation_mps2,
+                                                .chi2 = 0.5 * kImuChi2Threshold});
+  EXPECT_DOUBLE_EQ(half.excitation, 0.5);
+  EXPECT_DOUBLE_EQ(half.score, 0.5 * kImuExcitationWeight + 0.5 * kImuResidualWeight);
+  const ImuReliability nan = ScoreImuInterval({.rate_rad_s = 1.0, .chi2 = std::nan("")});
+  EXPECT_DOUBLE_EQ(nan.score, kImuResidualWeight);
+}
+
+// The GNSS step guard on constructed innovation sequences (5 Hz RTK fixes, 2 cm sigmas, the antenna moving
+// 1.5 m per fix): which fixes it admits.
+std::vector<bool> GuardAdmits(const std::vector<Eigen::Vector3d>& innovations, double seconds_per_fix = 0.2,
+                              double max_hold_s = 30.0) {
+  GnssStepGuard guard({.max_hold_s = max_hold_s});
+  const Eigen::Matrix3d covariance = Eigen::Vector3d(0.02, 0.02, 0.04).cwiseAbs2().asDiagonal();
+  std::vector<bool> admitted;
+  for (std::size_t k = 0; k < innovations.size(); ++k)
+    admitted.push_back(guard.Admit(FromSeconds(seconds_per_fix * static_cast<double>(k)), innovations[k],
+                                   covariance, Eigen::Vector3d(1.5 * static_cast<double>(k), 0, 0)));
+  return admitted;
+}
+
+TEST(GnssStepGuard, HoldsAStepOutUntilTheInnovationComesBack) {
+  // A 5 m multipath over fixes 10..29: held out exactly there.
+  std::vector<Eigen::Vector3d> e(40, Eigen::Vector3d(0.01, -0.02, 0.0));
+  for (int k = 10; k < 30; ++k) e[k] += Eigen::Vector3d(4, -3, 0);
+  const std::vector<bool> admitted = GuardAdmits(e);
+  for (int k = 0; k < 40; ++k) EXPECT_EQ(admitted[k], k < 10 || k >= 30) << k;
+  // The odometry drifting: the innovation grows by 5 cm per fix to 2 m, no step, nothing held.
+  std::vector<Eigen::Vector3d> drift;
+  for (int k = 0; k < 40; ++k) drift.emplace_back(0.05 * k, 0, 0);
+  for (bool a : GuardAdmits(drift)) EXPECT_TRUE(a);
+  // A step that stays: released after max_hold_s (2 s: 10 fixes), then admitted.
+  std::vector<Eigen::Vector3d> stays(30, Eigen::Vector3d::Zero());
+  for (int k = 10; k < 30; ++k) stays[k] = Eigen::Vector3d(0, 5, 0);
+  const std::vector<bool> released = GuardAdmits(stays, 0.2, 2.0);
+  for (int k = 0; k < 30; ++k) EXPECT_EQ(released[k], k < 10 || k > 20) << k;
+  // Fixes further apart than max_gap_s are not compared: a 5 m difference after 2 s is no step.
+  const std::vector<bool> apart = GuardAdmits({Eigen::Vector3d::Zero(), Eigen::Vector3d(5, 0, 0)}, 2.0);
+  EXPECT_TRUE(apart[0] && apart[1]);
+  // Without a guard (max_hold_s 0) every fix passes.
+  for (bool a : GuardAdmits(e, 0.2, 0.0)) EXPECT_TRUE(a);
+}
+
 TEST(GnssScore, SumsQualityCovarianceAndInnovation) {
   const GnssCheck rtk = ScoreGnssFix(7, GnssFixStatus::kRtkFixed, 0.001, 0.0, 16.27, true);
   EXPECT_EQ(rtk.stamp, 7);
