@@ -1,21 +1,24 @@
 #!/usr/bin/env bash
-# bench_degradation: the wheel, IMU and GNSS cases of the degradation suite (docs/METHOD.md "Factor-wise
-# reliability scheduling"). Simulated sequences whose wheels slip (`sim.wheel.slips`: the wheels turn 30 %
+# bench_degradation: the wheel, IMU, GNSS and LiDAR cases of the degradation suite (docs/METHOD.md
+# "Factor-wise reliability scheduling"). Simulated sequences whose wheels slip (`sim.wheel.slips`: the wheels turn 30 %
 # too fast for 7 s, then 25 % too slow for 4 s) or leave the ground (`sim.wheel.floats`: the reading frozen
 # for 2 s while the vehicle pulls away, and for 4 s while cruising), whose gyroscope clips
 # (`sim.imu.gyro_saturation` 0.25 rad/s on `wild`, whose roll and pitch rates reach 0.6 rad/s), or whose RTK
 # fixes suffer multipath (`sim.gnss.multipath`: 5 m north for 5 s from 12 s, 3 m east and 2 m up for 3 s
-# from 20 s) and a 30 s outage from 25 s (`sim.gnss.outages`), beside the same sequences without any; a
+# from 20 s) and a 30 s outage from 25 s (`sim.gnss.outages`), or whose LiDAR is degenerate (`corridor`
+# and `tunnel`: the scene's axis free; scene `lidar`), beside the same sequences without any; a
 # noisy encoder in all (0.3 rad/s per wheel sample), no camera, GNSS only in the GNSS cases. Each runs with
 # the reliability scheduling on (the default; with the clipping gyro, its full scale given as
 # `imu.gyro_range`, as a datasheet would) and off (the ablation: `lio|wio.wheel.schedule.enabled: false`,
-# no range, the GNSS innovation test's gate at 1e9 and no step guard), the solves' time budget lifted, in
+# no range, the GNSS innovation test's gate at 1e9 and no step guard; in the LiDAR cases on is
+# `lo.drop_weak_directions: true`, which is off by default), the solves' time budget lifted, in
 # WIO and LWIO on `urban` and `wild`, in LWIO on `corridor` (where the LiDAR leaves the axis to the wheel),
-# and in WGIO and LWGIO for the GNSS cases, against the simulator's ground truth. The GNSS cases add how far
+# in WGIO and LWGIO for the GNSS cases and in LWIO for the LiDAR cases, against the simulator's ground
+# truth, the scheduled ATE also per 100 m driven. The GNSS cases add how far
 # the multipath moved the trajectory (the largest horizontal distance, in ENU, from the run without faults
 # over 12-25 s) and the re-initializations through the outage. Writes a markdown table to stdout and
 # suite.md / suite.json into --out (default: a temporary folder). Takes ~20 min on 2 cores.
-#   usage: bench/bench_degradation.sh [--duration S] [--seeds "1 2 3"] [--scenes "urban corridor wild gnss"]
+#   usage: bench/bench_degradation.sh [--duration S] [--seeds "1 2 3"] [--scenes "urban corridor wild gnss lidar"]
 #          [--quick] [--out DIR]
 # --quick: 30 s, seed 1 (~3 min). An unknown argument or scene exits 2 naming it; a case whose simulation
 # or run fails gets a row saying so, and the others still run.
@@ -24,7 +27,7 @@ root="$(cd "$(dirname "$0")/.." && pwd)"
 bin="${UF_BIN:-$root/build/bin}/ultrafusion"
 duration=60
 seeds="1 2 3"
-scenes="urban corridor wild gnss"
+scenes="urban corridor wild gnss lidar"
 out=""
 while (($#)); do
   case "$1" in
@@ -38,8 +41,8 @@ while (($#)); do
 done
 for scene in $scenes; do
   case "$scene" in
-    urban | corridor | wild | gnss) ;;
-    *) echo "unknown scene '$scene' (urban, corridor, wild, gnss)" >&2; exit 2 ;;
+    urban | corridor | wild | gnss | lidar) ;;
+    *) echo "unknown scene '$scene' (urban, corridor, wild, gnss, lidar)" >&2; exit 2 ;;
   esac
 done
 work="${out:-$(mktemp -d)}"
@@ -57,6 +60,9 @@ printf "\nwio:\n  max_solver_time_s: 10\n$unscheduled\n" >>"$off"
 # With the clipping gyro, scheduling on knows its full scale.
 on_clip="$work/schedule-on-clip.yaml"
 sed -e 's/^  imu:$/  imu:\n    gyro_range: 0.25/' -e 's/^wio:$/wio:\n  imu:\n    gyro_range: 0.25/' "$on" >"$on_clip"
+# In the LiDAR cases, scheduling on drops the LiDAR's weak directions.
+on_lidar="$work/schedule-on-lidar.yaml"
+sed 's/^lo:$/lo:\n  drop_weak_directions: true/' "$on" >"$on_lidar"
 
 # A sequence: scene, seed, slips ("[]" for none), floats ("[]" for none), gyro saturation (0: none), GNSS
 # ("none", "clean" RTK fixes, "faulty": with the multipath and the outage), out.
@@ -108,8 +114,8 @@ json="$work/suite.json"
 echo "[" >"$json"
 first=1
 {
-  echo "| case | mode | seed | ATE scheduled m | ATE unscheduled m | change | wheel intervals left out | GNSS fixes rejected | multipath moved it, m (scheduled / not) | re-initializations |"
-  echo "|---|---|---|---|---|---|---|---|---|---|"
+  echo "| case | mode | seed | driven m | ATE scheduled m | per 100 m | ATE unscheduled m | change | wheel intervals left out | GNSS fixes rejected | multipath moved it, m (scheduled / not) | re-initializations |"
+  echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
 } | tee "$work/suite.md"
 for seed in $seeds; do
   for scene in $scenes; do
@@ -117,18 +123,23 @@ for seed in $seeds; do
     [[ $scene == wild ]] && kinds="clean clip"
     [[ $scene == corridor ]] && modes="lwio"
     [[ $scene == gnss ]] && kinds="clean multipath" sim_scene="urban" modes="wgio lwgio"
+    [[ $scene == lidar ]] && kinds="corridor tunnel" modes="lwio"
     for kind in $kinds; do
       data="$work/$scene-$kind-s$seed"
       gnss=none
       [[ $scene == gnss ]] && gnss="$([[ $kind == multipath ]] && echo faulty || echo clean)"
+      [[ $scene == lidar ]] && sim_scene="$kind"
       simulate "$sim_scene" "$seed" "$([[ $kind == slip ]] && echo "$slips" || echo "[]")" \
         "$([[ $kind == float ]] && echo "$floats" || echo "[]")" "$([[ $kind == clip ]] && echo 0.25 || echo 0)" \
         "$gnss" "$data" || {
-        echo "| $scene-$kind | - | $seed | simulation failed: $(tail -1 "$data.sim.log" | tr "|" "/") | | | | | | |" | tee -a "$work/suite.md"
+        echo "| $scene-$kind | - | $seed | simulation failed: $(tail -1 "$data.sim.log" | tr "|" "/") | | | | | | | | |" | tee -a "$work/suite.md"
         continue
       }
       config="$on"
       [[ $kind == clip ]] && config="$on_clip"
+      [[ $scene == lidar ]] && config="$on_lidar"
+      driven=$(awk '!/^#/ { if (n++) d += sqrt(($2 - x) ^ 2 + ($3 - y) ^ 2 + ($4 - z) ^ 2); x = $2; y = $3; z = $4 }
+        END { printf "%.0f", d }' "$data/groundtruth.tum")
       for mode in $modes; do
         read -r with wheel gnss_rejected restarts <<<"$(run "$data" "$mode" "$config" "$data-$mode-on")"
         read -r without _ _ _ <<<"$(run "$data" "$mode" "$off" "$data-$mode-off")"
@@ -140,11 +151,12 @@ for seed in $seeds; do
           clean="$work/$scene-clean-s$seed-$mode"
           moved_by="$(moved "$data-$mode-on/trajectory.tum" "$clean-on/trajectory.tum" "$data/groundtruth.tum") / $(moved "$data-$mode-off/trajectory.tum" "$clean-off/trajectory.tum" "$data/groundtruth.tum")"
         fi
-        echo "| $scene-$kind | $mode | $seed | ${with:--} | ${without:--} | $change | $wheel | $gnss_rejected | $moved_by | $restarts |" | tee -a "$work/suite.md"
+        per100=$(awk -v a="$with" -v d="$driven" 'BEGIN { if (a != "-" && d > 0) printf "%.3f", 100 * a / d; else print "-" }')
+        echo "| $scene-$kind | $mode | $seed | $driven | ${with:--} | $per100 | ${without:--} | $change | $wheel | $gnss_rejected | $moved_by | $restarts |" | tee -a "$work/suite.md"
         ((first)) || echo "," >>"$json"
         first=0
-        printf '{"case": "%s-%s", "mode": "%s", "seed": %s, "ate_scheduled_m": "%s", "ate_unscheduled_m": "%s", "wheel_intervals_left_out": %s, "gnss_fixes_rejected": %s, "multipath_moved_m": "%s", "reinitializations": %s}' \
-          "$scene" "$kind" "$mode" "$seed" "${with:--}" "${without:--}" "$wheel" "$gnss_rejected" "$moved_by" "$restarts" >>"$json"
+        printf '{"case": "%s-%s", "mode": "%s", "seed": %s, "driven_m": %s, "ate_scheduled_m": "%s", "ate_scheduled_per_100m": "%s", "ate_unscheduled_m": "%s", "wheel_intervals_left_out": %s, "gnss_fixes_rejected": %s, "multipath_moved_m": "%s", "reinitializations": %s}' \
+          "$scene" "$kind" "$mode" "$seed" "$driven" "${with:--}" "$per100" "${without:--}" "$wheel" "$gnss_rejected" "$moved_by" "$restarts" >>"$json"
       done
     done
   done
