@@ -31,8 +31,7 @@ long InertialOdometry::Impl::PushNode(const WindowNode& node) {
 // interval (else a warning, and the IMU alone bridges it). Another provider links its factors here.
 void InertialOdometry::Impl::LinkNode(long id, ImuPreintegration imu_preintegration) {
   WindowNode &from = NodeAt(id - 1), &to = NodeAt(id);
-  const WheelReference reference =
-      imu_preintegration.clipped_steps() > 0 ? WheelReference::kClipped : WheelReference::kPredicted;
+  const WheelReference reference = WheelReferenceOf(&imu_preintegration);
   graph.Add(FactorKind::kImu, id, std::make_unique<ImuFactor>(std::move(imu_preintegration)), nullptr,
             {from.pose.data(), from.speed_bias.data(), to.pose.data(), to.speed_bias.data()});
   if (!config.use_wheel) return;

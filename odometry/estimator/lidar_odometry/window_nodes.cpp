@@ -45,13 +45,8 @@ long LidarOdometry::Impl::AddNode(Stamp stamp) {
                          "; bridged with the constant-velocity prior");
     }
   }
-  const bool imu_predicted = imu_factor != nullptr;
-  // The wheel is scored against the IMU's prediction only where the IMU saw the whole motion.
-  const WheelReference reference = !imu_predicted ? WheelReference::kNone
-                                   : imu_factor->preintegration().clipped_steps() > 0
-                                       ? WheelReference::kClipped
-                                       : WheelReference::kPredicted;
-  if (!imu_predicted) node.pose = PoseBlock(Extrapolate(stamp));
+  const WheelReference reference = WheelReferenceOf(imu_factor ? &imu_factor->preintegration() : nullptr);
+  if (!imu_factor) node.pose = PoseBlock(Extrapolate(stamp));
   nodes.push_back(node);
   const long id = LastNodeId();
   graph.AddPoseBlock(NodeAt(id).pose.data());

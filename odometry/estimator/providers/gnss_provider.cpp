@@ -84,21 +84,21 @@ void GnssProvider::Link(FactorGraph& graph, std::span<const NodeView> nodes,
       continue;
     }
     if (aligned_) {
-      AddFactor(graph, nodes, *at, fix, warnings);
+      AddFactor(graph, nodes, stamps, *at, fix, warnings);
     } else {
       pairs_.push_back({AntennaWorld(nodes, *at, lever_arm_), fix.enu, HorizontalWeight(fix.covariance)});
       paired_.push_back(fix);
       new_pairs = true;
     }
   }
-  if (new_pairs) TryStartAlignment(graph, nodes, warnings);
+  if (new_pairs) TryStartAlignment(graph, nodes, stamps, warnings);
 }
 
 // The closed-form start (gnss/alignment_init.h). A start refused for its residual RMS (a jump among the
 // pairs, or odometry that drifted while the antenna covered the baseline) begins the collection again; a
 // start refused for a short baseline or too few fixes waits for more.
 void GnssProvider::TryStartAlignment(FactorGraph& graph, std::span<const NodeView> nodes,
-                                     std::vector<std::string>& warnings) {
+                                     const std::vector<Stamp>& stamps, std::vector<std::string>& warnings) {
   Expected<AlignmentInit> start = InitializeAlignment(pairs_, config_);
   if (!start) {
     alignment_summary_ = "not started: " + start.error();
@@ -121,17 +121,17 @@ void GnssProvider::TryStartAlignment(FactorGraph& graph, std::span<const NodeVie
   alignment_summary_ = summary.str();
   // The pairs whose nodes are still in the window become factors (the integrity test uses the start).
   last_accepted_antenna_ = pairs_.back().antenna_world;
-  const std::vector<Stamp> stamps = Stamps(nodes);
   for (const QueuedFix& fix : paired_)
     if (fix.stamp >= nodes.front().stamp)
       if (const std::optional<FixPlacement> at = PlaceFix(fix.stamp, stamps, config_))
-        AddFactor(graph, nodes, *at, fix, warnings);
+        AddFactor(graph, nodes, stamps, *at, fix, warnings);
   pairs_.clear();
   paired_.clear();
 }
 
-void GnssProvider::AddFactor(FactorGraph& graph, std::span<const NodeView> nodes, const FixPlacement& at,
-                             const QueuedFix& fix, std::vector<std::string>& warnings) {
+void GnssProvider::AddFactor(FactorGraph& graph, std::span<const NodeView> nodes,
+                             const std::vector<Stamp>& stamps, const FixPlacement& at, const QueuedFix& fix,
+                             std::vector<std::string>& warnings) {
   const EnuAlignment alignment = AlignmentFromBlock(alignment_.data());
   const Eigen::Vector3d antenna = AntennaWorld(nodes, at, lever_arm_);
   const double distance_m = last_accepted_antenna_ ? (antenna - *last_accepted_antenna_).norm() : 0.0;
@@ -145,7 +145,7 @@ void GnssProvider::AddFactor(FactorGraph& graph, std::span<const NodeView> nodes
   // previous one's innovation under the current estimate.
   std::optional<Eigen::Vector3d> previous_now;
   if (last_tested_)
-    if (const std::optional<FixPlacement> was = PlaceFix(last_tested_->stamp, Stamps(nodes), config_))
+    if (const std::optional<FixPlacement> was = PlaceFix(last_tested_->stamp, stamps, config_))
       previous_now = CheckIntegrity(AntennaWorld(nodes, *was, lever_arm_), alignment, last_tested_->enu,
                                     last_tested_->covariance, 0.0, config_)
                          .innovation;

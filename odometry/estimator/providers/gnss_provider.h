@@ -80,10 +80,11 @@ class GnssProvider {
     Eigen::Matrix3d covariance;
     GnssFixStatus status = GnssFixStatus::kNoFix;
   };
+  // stamps: the nodes' (Stamps(nodes)), for placing fixes among them.
   void TryStartAlignment(FactorGraph& graph, std::span<const NodeView> nodes,
-                         std::vector<std::string>& warnings);
-  void AddFactor(FactorGraph& graph, std::span<const NodeView> nodes, const FixPlacement& at,
-                 const QueuedFix& fix, std::vector<std::string>& warnings);
+                         const std::vector<Stamp>& stamps, std::vector<std::string>& warnings);
+  void AddFactor(FactorGraph& graph, std::span<const NodeView> nodes, const std::vector<Stamp>& stamps,
+                 const FixPlacement& at, const QueuedFix& fix, std::vector<std::string>& warnings);
 
   GnssFactorConfig config_;
   Eigen::Vector3d lever_arm_;

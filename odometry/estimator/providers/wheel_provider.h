@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "odometry/estimator/config/wheel_factor_config.h"
+#include "odometry/estimator/preintegration/imu_preintegration.h"
 #include "odometry/estimator/preintegration/wheel_preintegration.h"
 #include "odometry/estimator/providers/sensor_factor_stats.h"
 #include "odometry/estimator/schedule/activation_gate.h"
@@ -25,6 +26,12 @@ namespace uf::estimator {
 // prediction), its prediction from clipped readings (not scored against, and the next ones only once the
 // window has settled), or its prediction (scored against).
 enum class WheelReference { kNone, kClipped, kPredicted };
+
+// The reference of an interval whose node the IMU predicted with `imu` (null: it did not).
+inline WheelReference WheelReferenceOf(const ImuPreintegration* imu) {
+  if (imu == nullptr) return WheelReference::kNone;
+  return imu->clipped_steps() > 0 ? WheelReference::kClipped : WheelReference::kPredicted;
+}
 
 class WheelProvider {
  public:

@@ -42,6 +42,10 @@ const char* kHeader =
     "fix_quality,covariance_trace_m2,innovation_d2,"                        // gnss
     "excitation,preintegration_chi2,clipped_steps\n";                       // imu
 
+// The modalities' blocks of columns in the header's order, and how many columns each has.
+enum Block { kLidarBlock, kWheelBlock, kGnssBlock, kImuBlock, kBlocks };
+constexpr int kBlockColumns[kBlocks] = {6, 3, 3, 3};
+
 // One modality's D over time, for its plot.
 struct Series {
   Series(std::string plot_, std::string name_, std::string title_, std::optional<SeriesLevel> level_ = {})
@@ -50,6 +54,16 @@ struct Series {
   std::optional<SeriesLevel> level;
   std::vector<double> t, d;
 };
+
+// One row of reliability.csv: the common columns, then `own` (the block's values, comma-separated) in its
+// block's place and blanks in the others'.
+std::string Row(Stamp stamp, const char* modality, double score, bool active, Block block,
+                const std::string& own) {
+  std::string row =
+      std::to_string(stamp) + "," + modality + PrintfText(",%.4f,%.0f", score, active ? 1.0 : 0.0);
+  for (int b = 0; b < kBlocks; ++b) row += b == block ? "," + own : std::string(kBlockColumns[b], ',');
+  return row + "\n";
+}
 
 }  // namespace
 
@@ -86,37 +100,29 @@ Expected<std::vector<std::string>> WriteReliabilityFiles(const std::filesystem::
               "GNSS fixes (0: RTK fixed, as predicted; 1: no quality, far off the prediction)"};
   Series imu{"plots/reliability_imu.png", "IMU D",
              "IMU per interval (excitation, preintegration residual, clipped readings; 1: none reliable)"};
-  const auto seconds = [&](Stamp stamp) { return ToSeconds(stamp - scored.front().stamp); };
+  // A row in the CSV and a point in its modality's plot.
+  const auto add = [&](Series& series, Stamp stamp, const char* modality, double score, bool active,
+                       Block block, const std::string& own) {
+    csv += Row(stamp, modality, score, active, block, own);
+    series.t.push_back(ToSeconds(stamp - scored.front().stamp));
+    series.d.push_back(score);
+  };
   for (const ScoredKeyframe& k : scored) {
-    if (const std::optional<LidarDegeneracy>& d = k.lidar) {
-      csv += std::to_string(k.stamp) + ",lidar," +
-             PrintfText("%.4f,1,%.0f,%.5f,%.5f,%.4f,%.4f,%.4f,,,,,,,,,\n", d->score, d->matches,
-                        d->translation_isotropy, d->rotation_isotropy, d->weak_translation.x(),
-                        d->weak_translation.y(), d->weak_translation.z());
-      lidar.t.push_back(seconds(k.stamp));
-      lidar.d.push_back(d->score);
-    }
-    if (const std::optional<WheelConsistency>& w = k.wheel) {
-      csv += std::to_string(k.stamp) + ",wheel," +
-             PrintfText("%.4f,%.0f,,,,,,,%.4f,%.4f,%.4f,,,,,,\n", w->score, w->active ? 1.0 : 0.0,
-                        w->speed_error_mps, w->speed_change_error_mps, w->yaw_rate_error_rad_s);
-      wheel.t.push_back(seconds(k.stamp));
-      wheel.d.push_back(w->score);
-    }
-    for (const GnssCheck& g : k.gnss) {
-      csv += std::to_string(g.stamp) + ",gnss," +
-             PrintfText("%.4f,%.0f,,,,,,,,,,%.2f,%.4f,%.3f,,,\n", g.score, g.active ? 1.0 : 0.0,
-                        g.fix_quality, g.covariance_trace_m2, g.innovation_d2);
-      gnss.t.push_back(seconds(g.stamp));
-      gnss.d.push_back(g.score);
-    }
-    if (const std::optional<ImuReliability>& m = k.imu) {
-      csv += std::to_string(k.stamp) + ",imu," +
-             PrintfText("%.4f,1,,,,,,,,,,,,,%.4f,%.3f,%.0f\n", m->score, m->excitation,
-                        m->preintegration_chi2, static_cast<double>(m->clipped_steps));
-      imu.t.push_back(seconds(k.stamp));
-      imu.d.push_back(m->score);
-    }
+    if (const std::optional<LidarDegeneracy>& d = k.lidar)
+      add(lidar, k.stamp, "lidar", d->score, true, kLidarBlock,
+          PrintfText("%.0f,%.5f,%.5f,%.4f,%.4f,%.4f", d->matches, d->translation_isotropy,
+                     d->rotation_isotropy, d->weak_translation.x(), d->weak_translation.y(),
+                     d->weak_translation.z()));
+    if (const std::optional<WheelConsistency>& w = k.wheel)
+      add(wheel, k.stamp, "wheel", w->score, w->active, kWheelBlock,
+          PrintfText("%.4f,%.4f,%.4f", w->speed_error_mps, w->speed_change_error_mps,
+                     w->yaw_rate_error_rad_s));
+    for (const GnssCheck& g : k.gnss)
+      add(gnss, g.stamp, "gnss", g.score, g.active, kGnssBlock,
+          PrintfText("%.2f,%.4f,%.3f", g.fix_quality, g.covariance_trace_m2, g.innovation_d2));
+    if (const std::optional<ImuReliability>& m = k.imu)
+      add(imu, k.stamp, "imu", m->score, true, kImuBlock,
+          PrintfText("%.4f,%.3f,%.0f", m->excitation, m->preintegration_chi2, m->clipped_steps));
   }
   if (Status s = WriteTextFileAtomically(folder / "reliability.csv", csv); !s.ok()) return s;
   std::vector<std::string> written = {"reliability.csv"};
