@@ -21,7 +21,8 @@
 #   usage: bench/bench_degradation.sh [--duration S] [--seeds "1 2 3"] [--scenes "urban corridor wild gnss lidar"]
 #          [--quick] [--out DIR]
 # --quick: 30 s, seed 1 (~3 min). An unknown argument or scene exits 2 naming it; a case whose simulation
-# or run fails gets a row saying so, and the others still run.
+# or run fails gets a row saying so (in suite.json its "error"), and the others still run
+# (tests/scripts/test_bench_degradation.sh).
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 bin="${UF_BIN:-$root/build/bin}/ultrafusion"
@@ -113,6 +114,15 @@ echo "bench_degradation: ${duration} s, seeds $seeds, load average $(cut -d' ' -
 json="$work/suite.json"
 echo "[" >"$json"
 first=1
+# Appends one case's JSON object (its text as the arguments' printf) to suite.json.
+json_row() {
+  ((first)) || echo "," >>"$json"
+  first=0
+  # shellcheck disable=SC2059
+  printf "$@" >>"$json"
+}
+# The last line of a log, as a table cell and a JSON string can hold it.
+last_line() { tail -1 "$1" 2>/dev/null | tr '|"\\' '/  '; }
 {
   echo "| case | mode | seed | driven m | ATE scheduled m | per 100 m | ATE unscheduled m | change | wheel intervals left out | GNSS fixes rejected | multipath moved it, m (scheduled / not) | re-initializations |"
   echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
@@ -132,7 +142,9 @@ for seed in $seeds; do
       simulate "$sim_scene" "$seed" "$([[ $kind == slip ]] && echo "$slips" || echo "[]")" \
         "$([[ $kind == float ]] && echo "$floats" || echo "[]")" "$([[ $kind == clip ]] && echo 0.25 || echo 0)" \
         "$gnss" "$data" || {
-        echo "| $scene-$kind | - | $seed | simulation failed: $(tail -1 "$data.sim.log" | tr "|" "/") | | | | | | | | |" | tee -a "$work/suite.md"
+        error="simulation failed: $(last_line "$data.sim.log")"
+        echo "| $scene-$kind | - | $seed | $error | | | | | | | | |" | tee -a "$work/suite.md"
+        json_row '{"case": "%s-%s", "seed": %s, "error": "%s"}' "$scene" "$kind" "$seed" "$error"
         continue
       }
       config="$on"
@@ -144,8 +156,10 @@ for seed in $seeds; do
         read -r with wheel gnss_rejected restarts <<<"$(run "$data" "$mode" "$config" "$data-$mode-on")"
         read -r without _ _ _ <<<"$(run "$data" "$mode" "$off" "$data-$mode-off")"
         change=$(awk -v a="${with:-nan}" -v b="${without:-nan}" 'BEGIN { if (a != "-" && b != "-" && b > 0) printf "%+.0f %%", 100 * (a - b) / b; else print "-" }')
-        [[ $with == - ]] && change="failed: $(tail -1 "$data-$mode-on.log" | tr "|" "/")"
-        [[ $without == - ]] && change="failed without scheduling: $(tail -1 "$data-$mode-off.log" | tr "|" "/")"
+        error=""
+        [[ $without == - ]] && error="failed without scheduling: $(last_line "$data-$mode-off.log")"
+        [[ $with == - ]] && error="failed: $(last_line "$data-$mode-on.log")"
+        [[ -z $error ]] || change="$error"
         moved_by="-"
         if [[ $kind == multipath ]]; then
           clean="$work/$scene-clean-s$seed-$mode"
@@ -153,10 +167,8 @@ for seed in $seeds; do
         fi
         per100=$(awk -v a="$with" -v d="$driven" 'BEGIN { if (a != "-" && d > 0) printf "%.3f", 100 * a / d; else print "-" }')
         echo "| $scene-$kind | $mode | $seed | $driven | ${with:--} | $per100 | ${without:--} | $change | $wheel | $gnss_rejected | $moved_by | $restarts |" | tee -a "$work/suite.md"
-        ((first)) || echo "," >>"$json"
-        first=0
-        printf '{"case": "%s-%s", "mode": "%s", "seed": %s, "driven_m": %s, "ate_scheduled_m": "%s", "ate_scheduled_per_100m": "%s", "ate_unscheduled_m": "%s", "wheel_intervals_left_out": %s, "gnss_fixes_rejected": %s, "multipath_moved_m": "%s", "reinitializations": %s}' \
-          "$scene" "$kind" "$mode" "$seed" "$driven" "${with:--}" "$per100" "${without:--}" "$wheel" "$gnss_rejected" "$moved_by" "$restarts" >>"$json"
+        json_row '{"case": "%s-%s", "mode": "%s", "seed": %s, "driven_m": %s, "ate_scheduled_m": "%s", "ate_scheduled_per_100m": "%s", "ate_unscheduled_m": "%s", "wheel_intervals_left_out": %s, "gnss_fixes_rejected": %s, "multipath_moved_m": "%s", "reinitializations": %s, "error": "%s"}' \
+          "$scene" "$kind" "$mode" "$seed" "$driven" "${with:--}" "$per100" "${without:--}" "$wheel" "$gnss_rejected" "$moved_by" "$restarts" "$error"
       done
     done
   done

@@ -3,7 +3,8 @@
 # "Online spatiotemporal calibration"). Simulated sequences with a LiDAR whose stamps run late
 # (`sim --lidar-stamp-delay`, wild) or whose given extrinsic is rotated (`sim --lidar-rotation-error`, urban
 # and wild), 32-beam LiDAR + IMU, no camera, wheel or GNSS. Per case and seed:
-#   calibrate   `ultrafusion calibrate` on the sequence: the estimated offset's error (ms) and the estimated
+#   calibrate   `ultrafusion calibrate --config configs/run-sim.yaml` on the sequence (the LO settings of the
+#               runs): the estimated offset's error (ms) and the estimated
 #               rotation's angle from the truth (deg), against the simulator's calibration_true.yaml;
 #   ATE         `run --mode lio` with the given calibration (no calibration: the ablation), with
 #               `--calibrate-online --calibration-hold 40` (the workers beside the run; the window waits up
@@ -76,7 +77,7 @@ one_case() {  # name, seed, sim arguments
   rm -rf "$data" "$data-cal"
   "$bin" sim --seed "$seed" --duration "$duration" --no-camera --no-gnss --no-wheel $3 --out "$data" \
     >"$data.sim.log" 2>&1 || { echo "$name $seed: sim failed, see $data.sim.log"; return; }
-  "$bin" calibrate "$data" --out "$data-cal" >"$data-cal.log" 2>&1 || true
+  "$bin" calibrate "$data" --config "$config" --out "$data-cal" >"$data-cal.log" 2>&1 || true
   local locked errors given online online0 estimated truth
   locked=$(grep -c ": locked" "$data-cal.log" || true)
   errors="- -"

@@ -237,6 +237,7 @@ void LidarOdometry::Finish() {
 }
 
 const std::vector<std::string>& LidarOdometry::warnings() const { return impl_->warnings; }
+std::size_t LidarOdometry::map_point_count() const { return impl_->map.point_count(); }
 const OdometryStats& LidarOdometry::last_stats() const { return impl_->stats; }
 bool LidarOdometry::inertial() const { return impl_->inertial; }
 const std::string& LidarOdometry::initialization() const { return impl_->init_summary; }

@@ -129,6 +129,7 @@ class LidarOdometry {
   std::vector<TrackEvent> TakeEvents();
   const std::vector<std::string>& warnings() const;
   const OdometryStats& last_stats() const;  // of the last processed scan
+  std::size_t map_point_count() const;      // points in the local map now (bounded by its range)
   bool inertial() const;                    // LIO initialized (IMU factors active)
   // How LIO initialized: InitializationRecord::Summary() ("S (static) after 0.2 s, ..."), empty before.
   const std::string& initialization() const;

@@ -67,12 +67,18 @@ TEST(LidarOdometry, TracksContinuousSweepsInABoxRoom) {
   const Eigen::Vector3d v(1.0, 0.4, 0.0), start(-3, -1, 0);
   auto lo = LidarOdometry::Create({});
   ASSERT_TRUE(lo.ok());
+  EXPECT_EQ(lo->map_point_count(), 0u);
   std::vector<Keyframe> keyframes;
+  std::size_t points_fed = 0;
   for (int k = 0; k < 20; ++k) {
     const LidarScan scan = BoxRoomScan(k * 100'000'000LL, start + v * (0.1 * k), v);
     ASSERT_TRUE(lo->AddScan(scan).ok());
+    points_fed += scan.points.size();
     for (Keyframe& f : lo->TakeFinished()) keyframes.push_back(std::move(f));
   }
+  // The map holds a share of the points fed (downsampled, at most max_points_per_voxel per voxel).
+  EXPECT_GT(lo->map_point_count(), 0u);
+  EXPECT_LT(lo->map_point_count(), points_fed);
   lo->Finish();
   for (Keyframe& f : lo->TakeFinished()) keyframes.push_back(std::move(f));
   ASSERT_EQ(keyframes.size(), 20u);

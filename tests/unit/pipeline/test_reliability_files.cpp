@@ -37,9 +37,11 @@ TEST(ReliabilityFiles, DegenerateSpansAreTheRunsAtOrAboveTheThreshold) {
 
 TEST(ReliabilityFiles, OneRowPerKeyframeAndThePlot) {
   uf::testing::TempDir dir;
-  Expected<std::vector<std::string>> written = WriteReliabilityFiles(dir.path(), Scored({0.25, 1.0}));
+  Expected<ReliabilityFiles> written = WriteReliabilityFiles(dir.path(), Scored({0.25, 1.0}));
   ASSERT_TRUE(written) << written.error();
-  EXPECT_EQ(*written, (std::vector<std::string>{"reliability.csv", "plots/reliability_lidar.png"}));
+  EXPECT_EQ(written->files, (std::vector<std::string>{"reliability.csv", "plots/reliability_lidar.png"}));
+  EXPECT_EQ(written->lidar_plot, "plots/reliability_lidar.png");
+  EXPECT_TRUE(written->wheel_plot.empty() && written->gnss_plot.empty() && written->imu_plot.empty());
   EXPECT_EQ(
       uf::testing::ReadText(dir.File("reliability.csv")),
       "stamp_ns,modality,score,active,matches,translation_isotropy,rotation_isotropy,weak_x,weak_y,weak_z,"
@@ -51,7 +53,8 @@ TEST(ReliabilityFiles, OneRowPerKeyframeAndThePlot) {
   uf::testing::TempDir empty;
   written = WriteReliabilityFiles(empty.path(), {});
   ASSERT_TRUE(written);
-  EXPECT_EQ(written->size(), 1u);
+  EXPECT_EQ(written->files, std::vector<std::string>{"reliability.csv"});
+  EXPECT_TRUE(written->lidar_plot.empty());
 }
 
 // The wheel's, the GNSS fixes' and the IMU's rows beside the LiDAR's: every row has the header's columns,
@@ -72,10 +75,15 @@ TEST(ReliabilityFiles, WheelGnssAndImuRowsAndPlots) {
                       .active = true}};
   k.imu = ImuReliability{.excitation = 0.5, .preintegration_chi2 = 3.25, .clipped_steps = 4, .score = 0.6};
   uf::testing::TempDir dir;
-  Expected<std::vector<std::string>> written = WriteReliabilityFiles(dir.path(), {k});
+  Expected<ReliabilityFiles> written = WriteReliabilityFiles(dir.path(), {k});
   ASSERT_TRUE(written) << written.error();
-  EXPECT_EQ(*written, (std::vector<std::string>{"reliability.csv", "plots/reliability_wheel.png",
-                                                "plots/reliability_gnss.png", "plots/reliability_imu.png"}));
+  EXPECT_EQ(written->files,
+            (std::vector<std::string>{"reliability.csv", "plots/reliability_wheel.png",
+                                      "plots/reliability_gnss.png", "plots/reliability_imu.png"}));
+  EXPECT_TRUE(written->lidar_plot.empty());
+  EXPECT_EQ(written->wheel_plot, "plots/reliability_wheel.png");
+  EXPECT_EQ(written->gnss_plot, "plots/reliability_gnss.png");
+  EXPECT_EQ(written->imu_plot, "plots/reliability_imu.png");
   const std::string csv = uf::testing::ReadText(dir.File("reliability.csv"));
   EXPECT_NE(csv.find("\n2000000000,wheel,0.4000,0,,,,,,,0.1200,0.3000,0.0500,,,,,,\n"), std::string::npos)
       << csv;

@@ -135,8 +135,9 @@ Subcommand AddRunCommand(CLI::App& app) {
   run->add_option(
          "--mode", a->mode,
          "auto: the richest the dataset supports (LIO with an IMU and the LiDAR's extrinsic, else LO; "
-         "wheel (W) and GNSS (G) factors with their streams and extrinsics; without a LiDAR, WIO on the IMU "
-         "and the wheel); lo, lio, lwio, lwo, lio+g, lwgio, wio, wgio")
+         "wheel (W) and GNSS (G) factors with their streams and extrinsics; without a LiDAR, the inertial "
+         "window on the IMU with the wheel and/or the camera); lo, lio, lwio, lwo, lio+g, lwgio, wio, wgio, "
+         "vio, vwio, vgio, vwgio, lvio, lvwio, lvio+g, lvwgio")
       ->capture_default_str();
   run->add_option("--output-frame", a->output_frame,
                   "Frame of the written trajectory: lidar or imu (needs the LiDAR's T_body_sensor); default: "

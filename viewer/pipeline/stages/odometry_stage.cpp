@@ -184,15 +184,13 @@ Status WriteOdometryFiles(const OdometryStageInput& in, const OdometryStageOutpu
     return s;
   for (const char* file : {"trajectory.tum", "trajectory_kitti.txt", "timing.json"}) context.AddOutput(file);
   if (out.frames.mode != OdometryMode::kWio || !collected.scored.empty()) {
-    Expected<std::vector<std::string>> written = WriteReliabilityFiles(in.out, collected.scored);
+    Expected<ReliabilityFiles> written = WriteReliabilityFiles(in.out, collected.scored);
     if (!written) return written.status();
-    for (const std::string& file : *written) {
-      context.AddOutput(file);
-      if (file == "plots/reliability_lidar.png") summary.reliability_plot = file;
-      if (file == "plots/reliability_wheel.png") summary.wheel_reliability_plot = file;
-      if (file == "plots/reliability_gnss.png") summary.gnss_reliability_plot = file;
-      if (file == "plots/reliability_imu.png") summary.imu_reliability_plot = file;
-    }
+    for (const std::string& file : written->files) context.AddOutput(file);
+    summary.reliability_plot = written->lidar_plot;
+    summary.wheel_reliability_plot = written->wheel_plot;
+    summary.gnss_reliability_plot = written->gnss_plot;
+    summary.imu_reliability_plot = written->imu_plot;
     summary.lidar_degenerate = DegenerateSpans(collected.scored, kDegenerateReported);
     summary.wheel_suppressed = SuppressedWheelSpans(collected.scored);
     summary.imu_clipped = ClippedImuSpans(collected.scored);

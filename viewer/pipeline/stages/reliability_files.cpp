@@ -88,8 +88,8 @@ std::vector<DegenerateSpan> ClippedImuSpans(const std::vector<ScoredKeyframe>& s
   });
 }
 
-Expected<std::vector<std::string>> WriteReliabilityFiles(const std::filesystem::path& folder,
-                                                         const std::vector<ScoredKeyframe>& scored) {
+Expected<ReliabilityFiles> WriteReliabilityFiles(const std::filesystem::path& folder,
+                                                 const std::vector<ScoredKeyframe>& scored) {
   std::string csv = kHeader;
   Series lidar{"plots/reliability_lidar.png", "LiDAR degeneracy D",
                "LiDAR degeneracy per keyframe (0: every direction pinned, 1: one free)",
@@ -125,18 +125,24 @@ Expected<std::vector<std::string>> WriteReliabilityFiles(const std::filesystem::
           PrintfText("%.4f,%.3f,%.0f", m->excitation, m->preintegration_chi2, m->clipped_steps));
   }
   if (Status s = WriteTextFileAtomically(folder / "reliability.csv", csv); !s.ok()) return s;
-  std::vector<std::string> written = {"reliability.csv"};
+  ReliabilityFiles written;
+  written.files = {"reliability.csv"};
   if (scored.empty()) return written;
   std::error_code error;
   std::filesystem::create_directories(folder / "plots", error);
   if (error) return Status::Error((folder / "plots").string() + ": cannot create: " + error.message());
-  for (const Series* series : {&lidar, &wheel, &gnss, &imu}) {
+  const std::pair<const Series*, std::string*> plots[] = {{&lidar, &written.lidar_plot},
+                                                          {&wheel, &written.wheel_plot},
+                                                          {&gnss, &written.gnss_plot},
+                                                          {&imu, &written.imu_plot}};
+  for (const auto& [series, plot] : plots) {
     if (series->t.empty()) continue;
     if (Status s = WriteSeriesPlot((folder / series->plot).string(), series->t, series->d, series->name,
                                    series->level, series->title, "time since the first keyframe (s)", "D");
         !s.ok())
       return s;
-    written.push_back(series->plot);
+    written.files.push_back(series->plot);
+    *plot = series->plot;
   }
   return written;
 }

@@ -25,8 +25,8 @@ struct ScoredKeyframe {
   Stamp stamp = 0;
   std::optional<LidarDegeneracy> lidar;
   std::optional<WheelConsistency> wheel;
-  std::vector<GnssCheck> gnss;
-  std::optional<ImuReliability> imu;  // the fixes checked since the previous keyframe
+  std::vector<GnssCheck> gnss;  // the fixes checked since the previous keyframe
+  std::optional<ImuReliability> imu;
 };
 
 // Where the LiDAR was degenerate (D >= threshold) as time intervals, for the report: [first, last] stamps
@@ -42,11 +42,17 @@ std::vector<DegenerateSpan> SuppressedWheelSpans(const std::vector<ScoredKeyfram
 // Where the IMU clipped (an interval with a reading at its full scale), likewise.
 std::vector<DegenerateSpan> ClippedImuSpans(const std::vector<ScoredKeyframe>& scored);
 
+// What WriteReliabilityFiles wrote, relative to its folder: every file, and each modality's plot (empty
+// where nothing was scored for it).
+struct ReliabilityFiles {
+  std::vector<std::string> files;
+  std::string lidar_plot, wheel_plot, gnss_plot, imu_plot;
+};
+
 // Writes folder/reliability.csv and folder/plots/reliability_lidar.png, reliability_wheel.png,
-// reliability_gnss.png and reliability_imu.png (each plot only with a keyframe scored for it);
-// returns the files written, relative to folder. Errors: a file that cannot be written (nothing half
-// written is left behind).
-Expected<std::vector<std::string>> WriteReliabilityFiles(const std::filesystem::path& folder,
-                                                         const std::vector<ScoredKeyframe>& scored);
+// reliability_gnss.png and reliability_imu.png (each plot only with a keyframe scored for it). Errors: a
+// file that cannot be written (nothing half written is left behind).
+Expected<ReliabilityFiles> WriteReliabilityFiles(const std::filesystem::path& folder,
+                                                 const std::vector<ScoredKeyframe>& scored);
 
 }  // namespace uf::pipeline
