@@ -16,7 +16,7 @@ fail() {
 }
 cat >"$work/ultrafusion" <<'STUB'
 #!/usr/bin/env bash
-case "$1 $*" in
+case "$*" in
   *--print-config*) echo "sim: {}" ;;
   sim\ *)
     [[ -z "${STUB_SIM_FAIL:-}" ]] || { echo "error: stub simulation failure" >&2; exit 1; }
