@@ -76,7 +76,10 @@ struct DatasetDescription {
   std::filesystem::path path;
   DatasetFormat format = DatasetFormat::kAuto;
   std::vector<StreamInfo> streams;
-  std::optional<std::filesystem::path> ground_truth;  // TUM/KITTI/EuRoC ground truth found beside the data
+  // TUM/KITTI/EuRoC ground truth found beside the data: poses of the body frame B, the frame the streams'
+  // T_body_sensor are given in (a KITTI folder: its only stream, the LiDAR; EuRoC: the IMU; the project's own
+  // format: dataset.yaml's body, the simulator's IMU).
+  std::optional<std::filesystem::path> ground_truth;
   std::optional<GeodeticOrigin> ground_truth_enu_origin;  // its world is ENU at this point, when known
   std::optional<ReferenceTrajectory> reference;           // when the reader derived one (see above)
 };

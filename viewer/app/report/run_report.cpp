@@ -286,6 +286,10 @@ std::string FormatRunReport(const pipeline::RunSummary& r) {
   md += "\n## Accuracy\n\n";
   if (r.accuracy.evaluated) {
     md += "ATE (APE translation RMSE, SE3-aligned): " + FormatValue("%.4f", r.accuracy.ape_rmse_m) + " m\n\n";
+    if (r.accuracy.ground_truth_moved_to_output_frame)
+      md +=
+          "Ground truth: the dataset's, of its body frame, taken to trajectory.tum's frame with the "
+          "extrinsic of the calibration: reference.tum.\n\n";
     if (!r.accuracy.reference_source.empty())
       md += "Ground truth: no file came with the data; the reader's reference, " +
             r.accuracy.reference_source + ", in trajectory.tum's frame: reference.tum.\n\n";

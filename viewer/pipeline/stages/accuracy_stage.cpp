@@ -136,27 +136,48 @@ GroundTruthCheck CheckAgainstGnssTrack(const fs::path& out, const std::optional<
   return check;
 }
 
-// The reader's reference in trajectory.tum's frame F, T_w_F = T_w_S T_B_S^-1 T_F_B^-1, at trajectory.tum's
+// Reference poses of a sensor S (T_w_S) in trajectory.tum's frame F, T_w_F = T_w_S T_S_F, at trajectory.tum's
 // stamps within the reference's span (Trajectory::PoseAt: a sensor's records are rarely taken at the LiDAR's
 // instants: KITTI's OXTS runs 12-19 ms behind the scans, 0.2 m at city speed), written to out/reference.tum.
-Expected<fs::path> WriteReference(const DatasetDescription& description, const fs::path& out,
-                                  const SE3& T_output_body) {
-  const ReferenceTrajectory& reference = *description.reference;
-  const StreamInfo& sensor = description.streams.at(static_cast<std::size_t>(reference.stream));
-  const SE3 T_sensor_output = sensor.T_body_sensor.value_or(SE3()).inverse() * T_output_body.inverse();
+Expected<fs::path> WriteReferenceInOutputFrame(const Trajectory& T_world_sensor, const SE3& T_sensor_output,
+                                               const fs::path& out) {
   Expected<Trajectory> estimate = ReadTrajectory((out / "trajectory.tum").string());
   if (!estimate) return estimate.status();
   Trajectory in_output;
   for (const Stamp stamp : estimate->stamps) {
-    if (const std::optional<SE3> T_world_sensor = reference.poses.PoseAt(stamp)) {
+    if (const std::optional<SE3> pose = T_world_sensor.PoseAt(stamp)) {
       in_output.stamps.push_back(stamp);
-      in_output.poses.push_back(*T_world_sensor * T_sensor_output);
+      in_output.poses.push_back(*pose * T_sensor_output);
     }
   }
   if (in_output.empty()) return Status::Error("no pose of trajectory.tum lies within the reference's span");
   const fs::path path = out / "reference.tum";
   if (Status s = WriteTumTrajectory(path.string(), in_output); !s.ok()) return s;
   return path;
+}
+
+// The reader's reference (T_w_S of its stream's sensor) in trajectory.tum's frame: T_S_F = T_B_S^-1 T_F_B^-1.
+Expected<fs::path> WriteReference(const DatasetDescription& description, const fs::path& out,
+                                  const SE3& T_output_body) {
+  const ReferenceTrajectory& reference = *description.reference;
+  const StreamInfo& sensor = description.streams.at(static_cast<std::size_t>(reference.stream));
+  return WriteReferenceInOutputFrame(
+      reference.poses, sensor.T_body_sensor.value_or(SE3()).inverse() * T_output_body.inverse(), out);
+}
+
+// A ground-truth file holds poses of the dataset's body frame B (DatasetDescription::ground_truth). When
+// trajectory.tum is in another frame F (LO: the LiDAR, which simulated rigs carry 0.25 m above the IMU), the
+// ground truth is taken to F, T_w_F = T_w_B T_F_B^-1, into out/reference.tum: compared as they were, a pose
+// tilted by theta differs by theta times the lever arm (a handheld LiDAR swinging by 10 deg: 4 cm) wherever
+// the estimate is exact. nullopt when F is B.
+Expected<std::optional<fs::path>> GroundTruthInOutputFrame(const fs::path& ground_truth, const fs::path& out,
+                                                           const SE3& T_output_body) {
+  if (T_output_body.matrix().isIdentity(1e-12)) return std::optional<fs::path>();
+  Expected<Trajectory> truth = ReadTrajectory(ground_truth.string());
+  if (!truth) return truth.status();
+  Expected<fs::path> path = WriteReferenceInOutputFrame(*truth, T_output_body.inverse(), out);
+  if (!path) return path.status();
+  return std::optional<fs::path>(*path);
 }
 
 }  // namespace
@@ -168,8 +189,20 @@ GroundTruthCheck RunAccuracyStage(const DatasetDescription& description, const f
     return CheckAgainstGnssTrack(out, georef, gnss, context);
   GroundTruthCheck accuracy;
   fs::path ground_truth;
+  bool truth_moved = false;  // the ground-truth file taken to trajectory.tum's frame
   if (description.ground_truth) {
     ground_truth = *description.ground_truth;
+    Expected<std::optional<fs::path>> in_output = GroundTruthInOutputFrame(ground_truth, out, T_output_body);
+    if (!in_output) {
+      accuracy.note = "ground truth not taken to trajectory.tum's frame: " + in_output.error();
+      context.SetMessage("not evaluated: " + accuracy.note);
+      return accuracy;
+    }
+    if (*in_output) {
+      ground_truth = **in_output;
+      truth_moved = true;
+      context.AddOutput("reference.tum");
+    }
   } else {
     Expected<fs::path> reference = WriteReference(description, out, T_output_body);
     if (!reference) {
@@ -186,6 +219,7 @@ GroundTruthCheck RunAccuracyStage(const DatasetDescription& description, const f
     enu = EnuOrigins{*description.ground_truth_enu_origin, georef->origin};
   accuracy = EvaluateAgainstGroundTruth(ground_truth, out, "trajectory.tum", enu);
   if (!description.ground_truth) accuracy.reference_source = description.reference->source;
+  accuracy.ground_truth_moved_to_output_frame = truth_moved;
   if (accuracy.evaluated && georef && !enu)
     accuracy.enu_note = "the ground truth states no ENU origin: no unaligned ENU figures";
   if (!accuracy.evaluated) {

@@ -36,6 +36,8 @@ struct GroundTruthCheck {
   std::vector<std::string> plots;  // paths relative to the output folder
   std::string note;                // "no ground truth in the dataset", or the evaluation's error
   std::string reference_source;    // the reader's reference, when that was the ground truth (reference.tum)
+  bool ground_truth_moved_to_output_frame = false;  // the ground-truth file, body frame, taken to
+                                                    // trajectory.tum's (reference.tum)
   std::optional<EnuAccuracy> enu;  // a run georeferenced by the estimator, a ground truth with an ENU origin
   std::string enu_note;            // why there is no ENU figure for a georeferenced run
   std::optional<GnssTrackError> gnss_track;  // without ground truth: trajectory.tum against the GNSS fixes
@@ -66,7 +68,9 @@ GroundTruthCheck EvaluateAgainstGroundTruth(const std::filesystem::path& ground_
 Expected<EnuAccuracy> EvaluateInEnu(const Trajectory& ground_truth, const GeodeticOrigin& truth_origin,
                                     const Trajectory& trajectory_enu, const GeodeticOrigin& run_origin);
 
-// The stage on out/trajectory.tum; its message says why an evaluation was not possible. Without a
+// The stage on out/trajectory.tum; its message says why an evaluation was not possible. A ground-truth file
+// (poses of the dataset's body frame B) is evaluated as it is when trajectory.tum is in B, else taken to
+// trajectory.tum's frame first (out/reference.tum, as below). Without a
 // ground-truth file, a reference the reader derived (DatasetDescription::reference) is written to
 // out/reference.tum in trajectory.tum's frame F (T_output_body = T_F_B) and evaluated against instead. With
 // the estimator's georeference, trajectory.tum is in ENU: with the ground truth's ENU origin the check also
