@@ -156,26 +156,26 @@ Expected<fs::path> WriteReferenceInOutputFrame(const Trajectory& T_world_sensor,
   return path;
 }
 
-// The reader's reference (T_w_S of its stream's sensor) in trajectory.tum's frame: T_S_F = T_B_S^-1 T_F_B^-1.
-Expected<fs::path> WriteReference(const DatasetDescription& description, const fs::path& out,
-                                  const SE3& T_output_body) {
-  const ReferenceTrajectory& reference = *description.reference;
-  const StreamInfo& sensor = description.streams.at(static_cast<std::size_t>(reference.stream));
-  return WriteReferenceInOutputFrame(
-      reference.poses, sensor.T_body_sensor.value_or(SE3()).inverse() * T_output_body.inverse(), out);
-}
-
-// A ground-truth file holds poses of the dataset's body frame B (DatasetDescription::ground_truth). When
-// trajectory.tum is in another frame F (LO: the LiDAR, which simulated rigs carry 0.25 m above the IMU), the
-// ground truth is taken to F, T_w_F = T_w_B T_F_B^-1, into out/reference.tum: compared as they were, a pose
-// tilted by theta differs by theta times the lever arm (a handheld LiDAR swinging by 10 deg: 4 cm) wherever
-// the estimate is exact. nullopt when F is B.
-Expected<std::optional<fs::path>> GroundTruthInOutputFrame(const fs::path& ground_truth, const fs::path& out,
-                                                           const SE3& T_output_body) {
-  if (T_output_body.matrix().isIdentity(1e-12)) return std::optional<fs::path>();
-  Expected<Trajectory> truth = ReadTrajectory(ground_truth.string());
-  if (!truth) return truth.status();
-  Expected<fs::path> path = WriteReferenceInOutputFrame(*truth, T_output_body.inverse(), out);
+// out/reference.tum, when the evaluation needs one, or nullopt (the ground-truth file as it is):
+// - a ground-truth file holds poses of the dataset's body frame B (DatasetDescription::ground_truth). When
+//   trajectory.tum is in another frame F (LO: the LiDAR, which simulated rigs carry 0.25 m above the IMU), it
+//   is taken to F, T_w_F = T_w_B T_F_B^-1: compared as they were, a pose tilted by theta differs by theta
+//   times the lever arm (a handheld LiDAR swinging by 10 deg: 4 cm) wherever the estimate is exact;
+// - without one, the reader's reference (T_w_S of its stream's sensor) in F: T_S_F = T_B_S^-1 T_F_B^-1.
+Expected<std::optional<fs::path>> WriteReference(const DatasetDescription& description, const fs::path& out,
+                                                 const SE3& T_output_body) {
+  Expected<fs::path> path = Status::Error("no reference");
+  if (description.ground_truth) {
+    if (T_output_body.matrix().isIdentity(1e-12)) return std::optional<fs::path>();
+    Expected<Trajectory> truth = ReadTrajectory(description.ground_truth->string());
+    if (!truth) return truth.status();
+    path = WriteReferenceInOutputFrame(*truth, T_output_body.inverse(), out);
+  } else {
+    const ReferenceTrajectory& reference = *description.reference;
+    const StreamInfo& sensor = description.streams.at(static_cast<std::size_t>(reference.stream));
+    path = WriteReferenceInOutputFrame(
+        reference.poses, sensor.T_body_sensor.value_or(SE3()).inverse() * T_output_body.inverse(), out);
+  }
   if (!path) return path.status();
   return std::optional<fs::path>(*path);
 }
@@ -188,38 +188,23 @@ GroundTruthCheck RunAccuracyStage(const DatasetDescription& description, const f
   if (!description.ground_truth && !description.reference)
     return CheckAgainstGnssTrack(out, georef, gnss, context);
   GroundTruthCheck accuracy;
-  fs::path ground_truth;
-  bool truth_moved = false;  // the ground-truth file taken to trajectory.tum's frame
-  if (description.ground_truth) {
-    ground_truth = *description.ground_truth;
-    Expected<std::optional<fs::path>> in_output = GroundTruthInOutputFrame(ground_truth, out, T_output_body);
-    if (!in_output) {
-      accuracy.note = "ground truth not taken to trajectory.tum's frame: " + in_output.error();
-      context.SetMessage("not evaluated: " + accuracy.note);
-      return accuracy;
-    }
-    if (*in_output) {
-      ground_truth = **in_output;
-      truth_moved = true;
-      context.AddOutput("reference.tum");
-    }
-  } else {
-    Expected<fs::path> reference = WriteReference(description, out, T_output_body);
-    if (!reference) {
-      accuracy.note = "reference not written: " + reference.error();
-      context.SetMessage("not evaluated: " + accuracy.note);
-      return accuracy;
-    }
-    ground_truth = *reference;
-    context.AddOutput("reference.tum");
+  const Expected<std::optional<fs::path>> reference = WriteReference(description, out, T_output_body);
+  if (!reference) {
+    accuracy.note = (description.ground_truth ? "ground truth not taken to trajectory.tum's frame: "
+                                              : "reference not written: ") +
+                    reference.error();
+    context.SetMessage("not evaluated: " + accuracy.note);
+    return accuracy;
   }
+  if (*reference) context.AddOutput("reference.tum");
+  const fs::path ground_truth = *reference ? **reference : *description.ground_truth;
   context.SetUnit("poses");
   std::optional<EnuOrigins> enu;
   if (georef && description.ground_truth && description.ground_truth_enu_origin)
     enu = EnuOrigins{*description.ground_truth_enu_origin, georef->origin};
   accuracy = EvaluateAgainstGroundTruth(ground_truth, out, "trajectory.tum", enu);
   if (!description.ground_truth) accuracy.reference_source = description.reference->source;
-  accuracy.ground_truth_moved_to_output_frame = truth_moved;
+  accuracy.ground_truth_moved_to_output_frame = description.ground_truth && *reference;
   if (accuracy.evaluated && georef && !enu)
     accuracy.enu_note = "the ground truth states no ENU origin: no unaligned ENU figures";
   if (!accuracy.evaluated) {
