@@ -30,6 +30,7 @@
 #include "odometry/io/for_each_measurement.h"
 #include "odometry/io/trajectory_file.h"
 #include "odometry/types/process_memory.h"
+#include "odometry/types/segmented_vector.h"
 
 namespace {
 
@@ -102,18 +103,20 @@ int main(int argc, char** argv) {
     return 1;
   }
 
-  Trajectory estimate;
+  // Kept as run keeps them (viewer/pipeline/stages/odometry_stage.cpp): a pose and the statistics per scan.
+  SegmentedVector<Stamp> stamps;
+  SegmentedVector<SE3> poses;
+  SegmentedVector<estimator::OdometryStats> processed;
   std::vector<double> data_s, rss_mib, heap_mib, map_points;
-  std::vector<estimator::OdometryStats> processed;  // kept, as run keeps them for timing.json
   std::vector<estimator::TrackEvent> events;
   long scans = 0, withheld = 0, non_finite = 0;
   Stamp first = 0, last = 0;
   const auto take = [&] {
     for (Keyframe& k : odometry->TakeFinished()) {
       if (!k.T_world_body.matrix().allFinite()) ++non_finite;
-      if (!estimate.stamps.empty() && k.stamp <= estimate.stamps.back()) continue;
-      estimate.stamps.push_back(k.stamp);
-      estimate.poses.push_back(k.T_world_body);
+      if (!stamps.empty() && k.stamp <= stamps.back()) continue;
+      stamps.push_back(k.stamp);
+      poses.push_back(k.T_world_body);
     }
     for (estimator::TrackEvent& e : odometry->TakeEvents()) events.push_back(std::move(e));
     for (estimator::OdometryStats& s : odometry->TakeProcessedStats()) processed.push_back(s);
@@ -153,6 +156,7 @@ int main(int argc, char** argv) {
   take();
   if (std::getenv("UF_MALLOC_STATS")) malloc_stats();  // per arena, to stderr
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const Trajectory estimate{std::move(stamps).TakeVector(), std::move(poses).TakeVector()};
 
   double peak = 0, first_10_min = 0, after_peak = 0, heap_first_10_min = 0, heap_after_peak = 0;
   double map_before = 0, map_after = 0;  // the local map's largest point count before / after 10 min

@@ -6,6 +6,7 @@
 #include "odometry/io/for_each_measurement.h"
 #include "odometry/io/geo_trajectory_file.h"
 #include "odometry/io/image_decode.h"
+#include "odometry/types/segmented_vector.h"
 #include "viewer/pipeline/track/track_overlay.h"
 
 namespace uf::pipeline {
@@ -13,18 +14,21 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// What the stage collects beside the trajectory: the processing time of each of the odometry's steps, in
-// order, and (WIO) the world -> ENU alignment as it was when each pose left the window (none before the
-// alignment started; InEnuPerPose).
+// What the stage collects: the trajectory (moved to OdometryStageOutput::estimated at the end), the
+// processing time of each of the odometry's steps, in order, and (WIO) the world -> ENU alignment as it was
+// when each pose left the window (none before the alignment started; InEnuPerPose). The per-step records
+// grow in segments, never moved, so that an hour-long run's memory grows by what they hold (SegmentedVector).
 struct Collected {
-  std::vector<Stamp> stamps;
-  std::vector<double> ms;
-  std::vector<std::optional<SE3>> T_enu_world_at_pose;
+  SegmentedVector<Stamp> pose_stamps;  // strictly increasing
+  SegmentedVector<SE3> poses;
+  SegmentedVector<Stamp> stamps;
+  SegmentedVector<double> ms;
+  SegmentedVector<std::optional<SE3>> T_enu_world_at_pose;
   // The keyframes with a LiDAR degeneracy (registered scans), a wheel score (wheel scheduling) or GNSS
   // fixes checked.
-  std::vector<ScoredKeyframe> scored;
+  SegmentedVector<ScoredKeyframe> scored;
   std::vector<std::string> camera_warnings;  // the first frames that failed to decode
-  std::vector<StepTime> visual;              // the steps with the camera's figures (V modes)
+  SegmentedVector<StepTime> visual;          // the steps with the camera's figures (V modes)
 };
 
 constexpr std::int64_t kMaxKeptDecodeErrors = 5;  // undecodable frames whose reason is kept as a warning
@@ -35,11 +39,10 @@ Status CollectFinished(const OdometryStageInput& in, OdometryStageOutput& out, C
                        std::int64_t& keyframes) {
   for (Keyframe& k : in.odometry->TakeFinished()) {
     ++keyframes;
-    Trajectory& trajectory = out.estimated;
-    if (!trajectory.stamps.empty() && k.stamp <= trajectory.stamps.back())
+    if (!collected.pose_stamps.empty() && k.stamp <= collected.pose_stamps.back())
       continue;  // keep stamps increasing
-    trajectory.stamps.push_back(k.stamp);
-    trajectory.poses.push_back(k.T_world_body);
+    collected.pose_stamps.push_back(k.stamp);
+    collected.poses.push_back(k.T_world_body);
     if (k.lidar_degeneracy || k.wheel_consistency || !k.gnss_checks.empty() || k.imu_reliability)
       collected.scored.push_back(
           {k.stamp, k.lidar_degeneracy, k.wheel_consistency, k.gnss_checks, k.imu_reliability});
@@ -68,14 +71,14 @@ Status CollectFinished(const OdometryStageInput& in, OdometryStageOutput& out, C
 // delta = T_E_lidar_old T_E_lidar_new^-1; the frames take the new extrinsic (written to run.json). A window
 // that refuses it (GNSS factors) runs on with the given one; the report says why.
 void ApplyLockedExtrinsic(CalibrationBranch& calibration, Stamp stamp, RunEstimator& odometry,
-                          OdometryStageOutput& out) {
+                          OdometryStageOutput& out, Collected& collected) {
   const std::optional<SE3> T_imu_lidar = calibration.ExtrinsicToApply();
   if (!T_imu_lidar) return;
   const Status status = odometry.SetLidarExtrinsic(*T_imu_lidar);
   calibration.Applied(stamp, status);
   if (!status.ok()) return;
   const SE3 delta = out.frames.T_estimator_lidar() * T_imu_lidar->inverse();
-  for (SE3& pose : out.estimated.poses) pose = pose * delta;
+  for (SE3& pose : collected.poses) pose = pose * delta;
   out.frames.SetImuFromLidar(*T_imu_lidar);
 }
 
@@ -104,7 +107,7 @@ Trajectory InEnu(Trajectory trajectory, const SE3& T_enu_world) {
 // with the first one): the wheel-inertial window's world is held by nothing absolute, its heading drifts
 // against ENU and the alignment follows it. (With a LiDAR map the map holds the world, the alignment
 // converges, and one transform keeps the trajectory and the map rigidly together: InEnu.)
-Trajectory InEnuPerPose(Trajectory trajectory, const std::vector<std::optional<SE3>>& T_enu_world_at_pose,
+Trajectory InEnuPerPose(Trajectory trajectory, const SegmentedVector<std::optional<SE3>>& T_enu_world_at_pose,
                         const SE3& T_enu_world_final) {
   std::optional<SE3> first;
   for (const std::optional<SE3>& T : T_enu_world_at_pose)
@@ -133,14 +136,14 @@ Status WriteGeoTrajectory(const std::filesystem::path& folder, const Trajectory&
 
 // V modes: the landmarks per step (node or scan: mean, and the fewest once the first landmark formed), their
 // mean reprojection error, and plots/visual_landmarks.png (landmarks per step over time).
-Status WriteVisualSummary(const std::vector<StepTime>& steps, const std::filesystem::path& out,
+Status WriteVisualSummary(const SegmentedVector<StepTime>& steps, const std::filesystem::path& out,
                           OdometrySummary& summary, StageContext& context) {
   if (steps.empty()) return {};
   std::vector<double> seconds, landmarks;
   double reprojection = 0;
   int with_landmarks = 0;
   for (const StepTime& step : steps) {
-    seconds.push_back(ToSeconds(step.stamp - steps.front().stamp));
+    seconds.push_back(ToSeconds(step.stamp - steps[0].stamp));
     landmarks.push_back(step.landmarks);
     if (step.landmarks > 0) {
       reprojection += step.reprojection_px;
@@ -166,8 +169,8 @@ Status WriteVisualSummary(const std::vector<StepTime>& steps, const std::filesys
 
 // trajectory.tum, trajectory_kitti.txt (in ENU, with the geographic files, when the estimator georeferenced
 // the run), timing.json and the timing plot.
-Status WriteOdometryFiles(const OdometryStageInput& in, const OdometryStageOutput& out,
-                          const Collected& collected, OdometrySummary& summary, StageContext& context) {
+Status WriteOdometryFiles(const OdometryStageInput& in, const OdometryStageOutput& out, Collected& collected,
+                          OdometrySummary& summary, StageContext& context) {
   const std::int64_t warnings =
       static_cast<std::int64_t>(summary.reader_warnings.size() + summary.odometry_warnings.size());
   Trajectory written = out.frames.OutputTrajectory(out.estimated);
@@ -184,19 +187,20 @@ Status WriteOdometryFiles(const OdometryStageInput& in, const OdometryStageOutpu
     return s;
   for (const char* file : {"trajectory.tum", "trajectory_kitti.txt", "timing.json"}) context.AddOutput(file);
   if (out.frames.mode != OdometryMode::kWio || !collected.scored.empty()) {
-    Expected<ReliabilityFiles> written = WriteReliabilityFiles(in.out, collected.scored);
+    const std::vector<ScoredKeyframe> scored = std::move(collected.scored).TakeVector();
+    Expected<ReliabilityFiles> written = WriteReliabilityFiles(in.out, scored);
     if (!written) return written.status();
     for (const std::string& file : written->files) context.AddOutput(file);
     summary.reliability_plot = written->lidar_plot;
     summary.wheel_reliability_plot = written->wheel_plot;
     summary.gnss_reliability_plot = written->gnss_plot;
     summary.imu_reliability_plot = written->imu_plot;
-    summary.lidar_degenerate = DegenerateSpans(collected.scored, kDegenerateReported);
-    summary.wheel_suppressed = SuppressedWheelSpans(collected.scored);
-    summary.imu_clipped = ClippedImuSpans(collected.scored);
+    summary.lidar_degenerate = DegenerateSpans(scored, kDegenerateReported);
+    summary.wheel_suppressed = SuppressedWheelSpans(scored);
+    summary.imu_clipped = ClippedImuSpans(scored);
     double imu_scores = 0;
     double gnss_scores = 0;
-    for (const ScoredKeyframe& k : collected.scored) {
+    for (const ScoredKeyframe& k : scored) {
       summary.lidar_scored += k.lidar.has_value();
       summary.wheel_scored += k.wheel.has_value();
       if (k.imu) {
@@ -219,7 +223,9 @@ Status WriteOdometryFiles(const OdometryStageInput& in, const OdometryStageOutpu
   if (error) return Status::Error((in.out / "plots").string() + ": cannot create: " + error.message());
   if (Status s = WriteVisualSummary(collected.visual, in.out, summary, context); !s.ok()) return s;
   const std::string plot = "plots/timing_per_" + summary.step + ".png";
-  if (Status s = WriteTimingPlot(in.out / plot, collected.stamps, collected.ms, summary.step); !s.ok())
+  if (Status s = WriteTimingPlot(in.out / plot, std::move(collected.stamps).TakeVector(),
+                                 std::move(collected.ms).TakeVector(), summary.step);
+      !s.ok())
     return s;
   summary.timing_plot = plot;
   context.AddOutput(summary.timing_plot);
@@ -249,7 +255,7 @@ Expected<OdometryStageOutput> RunOdometryStage(const OdometryStageInput& in, Sta
     if (auto* scan = std::get_if<LidarScan>(&m.data); scan && m.stream == sensors.lidar && lidar_window) {
       ++scans;
       if (in.calibration) {
-        ApplyLockedExtrinsic(*in.calibration, scan->stamp, odometry, out);
+        ApplyLockedExtrinsic(*in.calibration, scan->stamp, odometry, out, collected);
         if (!in.calibration->Restamp(*scan)) return Status();  // re-stamped behind the previous scan
       }
       status = odometry.AddScan(*scan);
@@ -310,6 +316,7 @@ Expected<OdometryStageOutput> RunOdometryStage(const OdometryStageInput& in, Sta
   if (Status s = release(); !s.ok()) return s;
   odometry.Finish();
   if (Status s = CollectFinished(in, out, collected, keyframes); !s.ok()) return s;
+  out.estimated = {std::move(collected.pose_stamps).TakeVector(), std::move(collected.poses).TakeVector()};
   if (in.calibration) {  // after the window's last poses, which may still be from before the lock
     in.calibration->Finish();
     out.summary.online_calibration = in.calibration->summary();
@@ -326,7 +333,7 @@ Expected<OdometryStageOutput> RunOdometryStage(const OdometryStageInput& in, Sta
   summary.scans = scans;
   summary.keyframes = static_cast<std::int64_t>(out.estimated.size());
   summary.skipped = summary.step == "scan" ? scans - keyframes : 0;  // WIO nodes are not skipped
-  summary.timing = SummarizeTimings(collected.ms);
+  summary.timing = SummarizeTimings({collected.ms.begin(), collected.ms.end()});
   summary.reader_warnings = in.stream->warnings();
   summary.odometry_warnings = odometry.warnings();
   for (std::string& warning : collected.camera_warnings)
