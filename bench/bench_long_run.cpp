@@ -178,7 +178,7 @@ int main(int argc, char** argv) {
   for (std::size_t i = 0; i < rss_mib.size(); ++i)
     csv << data_s[i] << "," << rss_mib[i] << "," << heap_mib[i] << "," << map_points[i] << "\n";
   if (!rss_mib.empty()) {
-    // The line the target draws: the first 10 minutes' peak plus 10 %.
+    // The growth allowed after the first 10 minutes: their peak plus 10 %.
     const std::optional<SeriesLevel> limit =
         after_peak > 0 ? std::optional<SeriesLevel>({1.1 * first_10_min, "first 10 min peak + 10 %"})
                        : std::nullopt;
