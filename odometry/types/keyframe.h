@@ -56,6 +56,19 @@ struct GnssCheck {
   bool active = true;              // its factor joined the window (with all axes or horizontally)
 };
 
+// A camera frame as the reliability scheduling sees it (docs/METHOD.md "Factor-wise reliability scheduling",
+// camera scheduling; schedule/camera_motion_check.h): its tracks held against the window's predicted motion,
+// and whether its observations joined the window.
+struct CameraCheck {
+  Stamp stamp = 0;             // the frame's node
+  int tracks_checked = 0;      // tracks seen at an earlier node of the window
+  int tracks_agreeing = 0;     // of those, explained by the predicted motion within the tolerance
+  double grid_occupancy = 0;   // share of the 8x8 grid cells holding an agreeing track
+  double motion_error_px = 0;  // the checked tracks' median disagreement with the prediction, px
+  double score = 0;            // D in [0, 1]
+  bool active = true;          // its observations joined the window
+};
+
 struct Keyframe {
   Stamp stamp = 0;
   SE3 T_world_body;                                     // body (IMU in LIO, LiDAR in LO) to world
@@ -69,6 +82,7 @@ struct Keyframe {
   std::optional<ImuReliability> imu_reliability;    // with an IMU: of the node interval ending here
   std::optional<WheelConsistency> wheel_consistency;  // with wheel scheduling: of the interval ending here
   std::vector<GnssCheck> gnss_checks;  // the fixes the innovation test saw since the previous keyframe
+  std::vector<CameraCheck> camera_checks;  // with the camera: its frames checked since the previous keyframe
 };
 
 }  // namespace uf

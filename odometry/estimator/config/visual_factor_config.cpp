@@ -14,6 +14,21 @@ Status Bad(const char* field, const char* rule, T value) {
 
 }  // namespace
 
+Status VisualScheduleConfig::Validate() const {
+  if (!Positive(tolerance_px)) return Bad("schedule.tolerance_px", "finite and > 0", tolerance_px);
+  if (min_tracks < 0) return Bad("schedule.min_tracks", ">= 0", min_tracks);
+  if (!Positive(reference_tracks))
+    return Bad("schedule.reference_tracks", "finite and > 0", reference_tracks);
+  if (!Positive(residual_threshold_px))
+    return Bad("schedule.residual_threshold_px", "finite and > 0", residual_threshold_px);
+  if (!(threshold > 0 && threshold < 1)) return Bad("schedule.threshold", "in (0, 1)", threshold);
+  if (!(release_margin >= 0 && release_margin < threshold))
+    return Bad("schedule.release_margin", "in [0, threshold)", release_margin);
+  if (release_frames < 1) return Bad("schedule.release_frames", ">= 1", release_frames);
+  if (!Positive(max_shut_s)) return Bad("schedule.max_shut_s", "finite and > 0", max_shut_s);
+  return {};
+}
+
 Status VisualFactorConfig::Validate() const {
   if (Status s = ValidateFeatureTrackerConfig(tracker); !s.ok())
     return Status::Error("visual.tracker." + s.message());
@@ -36,7 +51,7 @@ Status VisualFactorConfig::Validate() const {
   if (max_iterations < 1) return Bad("max_iterations", ">= 1", max_iterations);
   if (!Positive(max_static_flow_px)) return Bad("max_static_flow_px", "finite and > 0", max_static_flow_px);
   if (!Positive(max_solver_time_s)) return Bad("max_solver_time_s", "finite and > 0", max_solver_time_s);
-  return {};
+  return schedule.Validate();
 }
 
 }  // namespace uf::estimator

@@ -10,6 +10,34 @@
 
 namespace uf::estimator {
 
+// Reliability scheduling of the camera (docs/METHOD.md "Factor-wise reliability scheduling", camera
+// scheduling; schedule/camera_motion_check.h, schedule/activation_gate.h): each frame's tracks are held
+// against the window's predicted motion before its observations join the window and the frame is scored
+// (always); with `enabled` a frame is left out while the gate is shut. Off by default: on the simulated
+// faults it does not pay (a textured panel crossing the view: VIO and VWIO ATE +4 % on the mean of 3 seeds;
+// darkness: -7 %). The landmarks' own outlier checks already keep the panel's tracks out, and leaving its
+// frames out loses the scene's tracks in them too (docs/METHOD.md "Factor-wise reliability scheduling").
+struct VisualScheduleConfig {
+  bool enabled = false;
+  // A track agrees with the predicted motion within this. The prediction of a new node (the IMU's over one
+  // frame interval, or the LiDAR's) is off by about a centimetre, a few pixels on the road 3 m ahead.
+  double tolerance_px = 4.0;
+  // The frame's score (schedule/camera_degeneracy.h) on its agreeing tracks: fewer than min_tracks is D = 1,
+  // reference_tracks or more adds nothing; the median error saturates its term at residual_threshold_px.
+  int min_tracks = 20;
+  double reference_tracks = 75;
+  double residual_threshold_px = 4.0;
+  // Shut at D > threshold, open again after release_frames frames at D <= threshold - release_margin.
+  double threshold = 0.5;
+  double release_margin = 0.1;
+  int release_frames = 3;
+  // After this long shut the frames are taken again whatever their score: meanwhile the IMU alone carried
+  // the window (VIO) and its prediction drifted, which the tracks would otherwise be held against for good.
+  double max_shut_s = 5.0;
+
+  Status Validate() const;  // "schedule.<field>: ..."
+};
+
 struct VisualFactorConfig {
   FeatureTrackerConfig tracker;  // its min_track_length: observations before a feature becomes a landmark
   // Reprojection noise, pixels: KLT on a sharp 8-bit image is good to a few tenths; 1 px leaves room for
@@ -51,6 +79,7 @@ struct VisualFactorConfig {
   // window (at rest it is the tracks' noise, ~0.01 px; a car at 1 m/s moves features by pixels per frame);
   // above it the visual-inertial start (init/visual_inertial_poses.h) runs instead.
   double max_static_flow_px = 0.5;  // px per frame
+  VisualScheduleConfig schedule;
 
   Status Validate() const;
 };

@@ -128,6 +128,7 @@ void InertialOdometry::Impl::ReleaseOldest() {
   keyframe.imu_reliability = TakeImuScore(first_node_id);
   if (config.use_wheel) keyframe.wheel_consistency = wheel.TakeConsistency(first_node_id);
   if (gnss) keyframe.gnss_checks = gnss->TakeChecks(state.stamp);
+  if (visual) keyframe.camera_checks = visual->TakeChecks(state.stamp);
   finished.push_back(std::move(keyframe));
   nodes.pop_front();
   ++first_node_id;

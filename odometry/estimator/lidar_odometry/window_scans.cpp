@@ -173,6 +173,7 @@ void LidarOdometry::Impl::Release(ScanState& scan) {
   if (inertial) keyframe.imu_reliability = ScoreImuFactor(graph, scan.end_node);
   if (wheel) keyframe.wheel_consistency = wheel->TakeConsistency(scan.end_node);
   if (gnss) keyframe.gnss_checks = gnss->TakeChecks(NodeAt(scan.end_node).stamp);
+  if (visual) keyframe.camera_checks = visual->TakeChecks(NodeAt(scan.end_node).stamp);
   finished.push_back(std::move(keyframe));
 }
 

@@ -5,9 +5,11 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <utility>
 
 #include "odometry/estimator/factors/pose_prior_factor.h"
 #include "odometry/estimator/factors/wheel_factor.h"
+#include "odometry/estimator/schedule/camera_motion_check.h"
 #include "odometry/estimator/visual/triangulation.h"
 #include "odometry/types/printf_text.h"
 
@@ -32,10 +34,8 @@ Expected<std::unique_ptr<VisualProvider>> VisualProvider::Create(const VisualFac
   Expected<FeatureTracker> tracker = FeatureTracker::Create(camera, config.tracker);
   if (!tracker) return tracker.status();
   const PinholeIntrinsics pinhole = *PinholeOf(camera);  // the tracker checked that there is one
-  // One sqrt-information for both axes: the normalized residual times the mean focal length is in pixels.
-  const double focal_px = 0.5 * (pinhole.fx + pinhole.fy);
   return std::unique_ptr<VisualProvider>(
-      new VisualProvider(config, std::move(*tracker), focal_px, T_body_camera));
+      new VisualProvider(config, std::move(*tracker), pinhole, T_body_camera));
 }
 
 Expected<std::unique_ptr<VisualProvider>> VisualProvider::CreateIf(bool use_camera,
@@ -50,14 +50,18 @@ Expected<std::unique_ptr<VisualProvider>> VisualProvider::CreateIf(bool use_came
   return made;
 }
 
-VisualProvider::VisualProvider(const VisualFactorConfig& config, FeatureTracker tracker, double focal_px,
-                               const SE3& T_body_camera)
+// One sqrt-information for both axes: the normalized residual times the mean focal length is in pixels.
+VisualProvider::VisualProvider(const VisualFactorConfig& config, FeatureTracker tracker,
+                               const PinholeIntrinsics& pinhole, const SE3& T_body_camera)
     : config_(config),
       tracker_(std::move(tracker)),
-      sqrt_information_(focal_px / config.pixel_sigma_px),
+      pinhole_(pinhole),
+      sqrt_information_(0.5 * (pinhole.fx + pinhole.fy) / config.pixel_sigma_px),
       given_extrinsic_(T_body_camera),
       extrinsic_(PoseBlock(T_body_camera)),
-      time_offset_(config.time_offset_s) {}
+      time_offset_(config.time_offset_s),
+      gate_({config.schedule.threshold, config.schedule.release_margin, config.schedule.release_frames,
+             config.schedule.min_tracks}) {}
 
 Expected<TrackedFrame> VisualProvider::AddFrame(Stamp stamp, const Image& image) {
   Expected<TrackedFrame> tracked = tracker_.Track(stamp, image);
@@ -101,7 +105,7 @@ void VisualProvider::Attach(FactorGraph& graph) {
 void VisualProvider::Observe(long id, Stamp stamp) {
   auto frame = waiting_.find(stamp);
   if (frame == waiting_.end()) return;
-  ObserveFrame(id, frame->second, frame->second.td0);
+  ObserveFrame(id, stamp, frame->second, frame->second.td0);
   waiting_.erase(waiting_.begin(), std::next(frame));
 }
 
@@ -112,18 +116,62 @@ void VisualProvider::ObserveNearest(const std::vector<NodeStamp>& nodes) {
     const auto& [node_stamp, frame] = *waiting_.begin();
     while (k + 1 < nodes.size() && nodes[k + 1].stamp - node_stamp < node_stamp - nodes[k].stamp) ++k;
     if (nodes[k].id > last_observed_ && std::llabs(nodes[k].stamp - node_stamp) <= kMaxNodeDistance) {
-      ObserveFrame(nodes[k].id, frame, ToSeconds(nodes[k].stamp - frame.camera_stamp));
+      ObserveFrame(nodes[k].id, nodes[k].stamp, frame, ToSeconds(nodes[k].stamp - frame.camera_stamp));
       last_observed_ = nodes[k].id;
     }
     waiting_.erase(waiting_.begin());
   }
 }
 
+void VisualProvider::ObserveFrame(long id, Stamp node_stamp, const WaitingFrame& frame, double td0) {
+  pending_.push_back({id, node_stamp, td0, frame.features});
+}
+
+// The frame's tracks seen at an earlier node of the window, each against the window's motion from that
+// node to this one (schedule/camera_motion_check.h); every track is then seen here.
+bool VisualProvider::CheckFrame(const PendingFrame& frame, const PoseBlockOf& pose_of) {
+  const VisualScheduleConfig& schedule = config_.schedule;
+  const SE3 camera_k = CameraPose(pose_of(frame.node));
+  const double focal_px = sqrt_information_ * config_.pixel_sigma_px;
+  std::vector<CheckedTrack> tracks;
+  for (const TrackedFeature& feature : frame.features) {
+    const Observation here{frame.node, {feature.normalized, feature.velocity}, frame.td0};
+    auto [seen, first] = last_seen_.try_emplace(feature.id, here);
+    if (first) continue;
+    const Observation before = std::exchange(seen->second, here);
+    if (before.node >= frame.node) continue;
+    const SE3 T_k_j = camera_k.inverse() * CameraPose(pose_of(before.node));
+    tracks.push_back({feature.pixel, CheckTrackMotion(AtNodeTime(before), AtNodeTime(here), T_k_j, focal_px,
+                                                      schedule.tolerance_px)});
+  }
+  if (tracks.empty()) return gate_.active();  // nothing to compare: the first frame, after a restart
+  CameraScoreConfig score_config;
+  score_config.reference_tracks = schedule.reference_tracks;
+  score_config.min_tracks = schedule.min_tracks;
+  score_config.residual_threshold_px = schedule.residual_threshold_px;
+  CameraCheck check = ScoreCameraMotion(frame.node_stamp, tracks, pinhole_.width, pinhole_.height,
+                                        config_.tracker.grid_cells, score_config);
+  const bool was_active = gate_.active();
+  if (!schedule.enabled) {
+    check.active = true;
+  } else if (!was_active && ToSeconds(frame.node_stamp - shut_at_) >= schedule.max_shut_s) {
+    gate_.Open();  // held out long enough: the prediction it was held against has drifted meanwhile
+    check.active = true;
+  } else {
+    check.active = gate_.Update(check.score, check.tracks_agreeing);
+  }
+  if (was_active && !check.active) shut_at_ = frame.node_stamp;
+  checks_.push_back(check);
+  return check.active;
+}
+
 // Every feature of the frame is observed by the node; a landmark (not yet in the graph) whose feature the
 // frame lost can never reach min_track_length nodes again and is forgotten. A feature's first frame has no
 // velocity (the front end's is since the previous frame); its second frame's, the motion between the two,
 // stands in for it, so that the anchor too moves to its node's time (reprojection_factor.h).
-void VisualProvider::ObserveFrame(long id, const WaitingFrame& frame, double td0) {
+void VisualProvider::ApplyFrame(const PendingFrame& frame) {
+  const long id = frame.node;
+  const double td0 = frame.td0;
   std::map<long, const TrackedFeature*> seen;
   for (const TrackedFeature& feature : frame.features) seen[feature.id] = &feature;
   for (auto it = landmarks_.begin(); it != landmarks_.end();)
@@ -209,6 +257,9 @@ bool VisualProvider::StartLandmark(FactorGraph& graph, Landmark& landmark, const
 }
 
 void VisualProvider::Link(FactorGraph& graph, const PoseBlockOf& pose_of) {
+  for (const PendingFrame& frame : pending_)
+    if (CheckFrame(frame, pose_of)) ApplyFrame(frame);
+  pending_.clear();
   const std::size_t needed = static_cast<std::size_t>(std::max(2, config_.tracker.min_track_length));
   for (auto& [id, landmark] : landmarks_) {
     if (landmark.rejected) continue;
@@ -272,6 +323,8 @@ std::map<long, VisualProvider::Landmark>::iterator VisualProvider::Forget(
 }
 
 void VisualProvider::ForgetNode(long id) {
+  std::erase_if(pending_, [id](const PendingFrame& frame) { return frame.node <= id; });
+  std::erase_if(last_seen_, [id](const auto& seen) { return seen.second.node <= id; });
   for (auto it = landmarks_.begin(); it != landmarks_.end();)
     it = !it->second.observations.empty() && it->second.observations.front().node <= id ? Forget(it)
                                                                                         : std::next(it);
@@ -286,7 +339,18 @@ void VisualProvider::AppendFreeBlocks(std::vector<double*>& free) {
 
 void VisualProvider::Reset() {
   landmarks_.clear();
+  pending_.clear();
+  last_seen_.clear();
+  gate_.Open();
   last_observed_ = -1;
+}
+
+std::vector<CameraCheck> VisualProvider::TakeChecks(Stamp until) {
+  const auto end =
+      std::find_if(checks_.begin(), checks_.end(), [until](const CameraCheck& c) { return c.stamp > until; });
+  std::vector<CameraCheck> taken(checks_.begin(), end);
+  checks_.erase(checks_.begin(), end);
+  return taken;
 }
 
 std::optional<std::string> VisualProvider::NotStillReason(const std::vector<Stamp>& node_stamps) const {

@@ -19,6 +19,12 @@
 // map, SetMapDepth) a new landmark takes its depth from where the anchor's ray meets the map, if that
 // depth reprojects within max_reprojection_px in every observing camera; else it is triangulated.
 //
+// Reliability scheduling (visual.schedule, docs/METHOD.md "Factor-wise reliability scheduling"): a frame's
+// observations wait for Link, where its tracks are held against the motion the window predicts since each
+// track's previous node and scored (schedule/camera_motion_check.h); with visual.schedule.enabled, while
+// the gate is shut the frame's observations are left out (its tracks still count as seen, for the next
+// frame's check).
+//
 // Node ids are the window's; Reset forgets every landmark (the window restarts with new ids).
 #pragma once
 
@@ -34,10 +40,12 @@
 #include "odometry/estimator/factors/reprojection_factor.h"
 #include "odometry/estimator/init/visual_inertial_poses.h"
 #include "odometry/estimator/providers/sensor_factor_stats.h"
+#include "odometry/estimator/schedule/activation_gate.h"
 #include "odometry/estimator/state/window_node.h"
 #include "odometry/estimator/visual/feature_tracker.h"
 #include "odometry/estimator/window/factor_graph.h"
 #include "odometry/types/camera_model.h"
+#include "odometry/types/keyframe.h"
 #include "odometry/types/se3.h"
 
 namespace uf::estimator {
@@ -90,7 +98,8 @@ class VisualProvider {
   void ObserveNearest(const std::vector<NodeStamp>& nodes);
   // New landmarks take their depth from `depth` when it answers (see above).
   void SetMapDepth(MapDepthOf depth) { map_depth_ = std::move(depth); }
-  // Before a solve: features seen from min_track_length nodes become landmarks when they triangulate, and
+  // Before a solve: the frames observed since the last Link are checked and, while the gate is open, join
+  // their nodes; then features seen from min_track_length nodes become landmarks when they triangulate, and
   // every new observation of a landmark gets its factor.
   void Link(FactorGraph& graph, const PoseBlockOf& pose_of);
   // After a solve: drops the outlier landmarks (see above); returns how many.
@@ -126,6 +135,8 @@ class VisualProvider {
   // The mean reprojection error of the factors at the last DropOutliers (before the drops), pixels.
   double mean_reprojection_px() const { return mean_reprojection_px_; }
   int landmarks_in_graph() const;
+  // The frames checked at nodes stamped up to `until` (scheduling), oldest first; earlier ones are dropped.
+  std::vector<CameraCheck> TakeChecks(Stamp until);
   // Its part of the window's report: factors added, landmarks forgotten without having triangulated (the
   // parallax, depth or reprojection out of range while they were in the window), outliers.
   void Report(SensorFactorStats& stats) const;
@@ -150,10 +161,19 @@ class VisualProvider {
     double td0 = 0;
     std::vector<TrackedFeature> features;
   };
+  struct PendingFrame {  // observed by a node, not yet checked and applied (Link)
+    long node = 0;
+    Stamp node_stamp = 0;
+    double td0 = 0;
+    std::vector<TrackedFeature> features;
+  };
 
-  VisualProvider(const VisualFactorConfig& config, FeatureTracker tracker, double focal_px,
+  VisualProvider(const VisualFactorConfig& config, FeatureTracker tracker, const PinholeIntrinsics& pinhole,
                  const SE3& T_body_camera);
-  void ObserveFrame(long id, const WaitingFrame& frame, double td0);
+  void ObserveFrame(long id, Stamp node_stamp, const WaitingFrame& frame, double td0);
+  // Scores the pending frame against the predicted motion, updates the gate; returns whether it is active.
+  bool CheckFrame(const PendingFrame& frame, const PoseBlockOf& pose_of);
+  void ApplyFrame(const PendingFrame& frame);
   bool StartLandmark(FactorGraph& graph, Landmark& landmark, const PoseBlockOf& pose_of);
   // The map's inverse depth for the landmark, if it reprojects within max_reprojection_px everywhere.
   std::optional<double> MapInverseDepth(const Landmark& landmark, const std::vector<SE3>& cameras) const;
@@ -166,6 +186,7 @@ class VisualProvider {
 
   VisualFactorConfig config_;
   FeatureTracker tracker_;
+  PinholeIntrinsics pinhole_;              // the grid of the scheduling's score
   double sqrt_information_;                // focal / pixel sigma
   SE3 given_extrinsic_;                    // T_body_camera as configured
   PoseArray extrinsic_;                    // T_body_camera, pose layout (free with estimate_extrinsic)
@@ -174,6 +195,11 @@ class VisualProvider {
   std::map<long, Landmark> landmarks_;     // by feature id; std::map keeps the blocks' addresses
   MapDepthOf map_depth_;
   long last_observed_ = -1;  // ObserveNearest's last node
+  std::vector<PendingFrame> pending_;      // node order
+  std::map<long, Observation> last_seen_;  // by feature id: its latest observation, applied or not
+  ActivationGate gate_;
+  Stamp shut_at_ = 0;  // the node stamp where the gate last shut
+  std::vector<CameraCheck> checks_;
   int added_ = 0, untriangulated_ = 0, rejected_ = 0, map_depths_ = 0;
   double mean_reprojection_px_ = 0;
 };

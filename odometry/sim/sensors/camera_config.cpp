@@ -78,6 +78,10 @@ Status ValidateCameraConfig(const CameraConfig& c) {
     if (Status s = ValidateWindow("occlusions[" + std::to_string(i) + "]", c.occlusions[i]); !s.ok())
       return s;
   }
+  for (std::size_t i = 0; i < c.passing_panels.size(); ++i) {
+    if (Status s = ValidateWindow("passing_panels[" + std::to_string(i) + "]", c.passing_panels[i]); !s.ok())
+      return s;
+  }
   if (c.threads < 0) return FieldError("threads", "must be >= 0 (0: all cores)", c.threads);
   return Status();
 }

@@ -2,8 +2,22 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
+
+#include "odometry/sim/scene/lattice_noise.h"
 
 namespace uf::sim {
+namespace {
+
+// (t - begin) / (end - begin) in the first of the windows holding t, or nullopt.
+std::optional<double> ProgressInFirstWindow(const std::vector<TimeWindow>& windows, Stamp t) {
+  for (const TimeWindow& window : windows)
+    if (window.Contains(t))
+      return static_cast<double>(t - window.begin) / static_cast<double>(window.end - window.begin);
+  return std::nullopt;
+}
+
+}  // namespace
 
 CameraConditions ConditionsAt(const CameraConfig& config, Stamp t) {
   CameraConditions conditions;
@@ -19,13 +33,12 @@ CameraConditions ConditionsAt(const CameraConfig& config, Stamp t) {
     if (window.Contains(t)) exposure_gain *= gain;  // overlapping changes multiply
   }
   conditions.gain = exposure_gain * conditions.illumination;
-  for (const TimeWindow& window : config.occlusions) {
-    if (!window.Contains(t)) continue;
-    conditions.occluded = true;
-    conditions.occluder_progress =
-        static_cast<double>(t - window.begin) / static_cast<double>(window.end - window.begin);
-    break;
-  }
+  const std::optional<double> occluder = ProgressInFirstWindow(config.occlusions, t);
+  conditions.occluded = occluder.has_value();
+  conditions.occluder_progress = occluder.value_or(0.0);
+  const std::optional<double> panel = ProgressInFirstWindow(config.passing_panels, t);
+  conditions.passing = panel.has_value();
+  conditions.passing_progress = panel.value_or(0.0);
   return conditions;
 }
 
@@ -46,6 +59,29 @@ std::vector<float> OccluderTransmission(int width, int supersampling, double pro
     transmission[static_cast<std::size_t>(u)] = static_cast<float>(sum / n);
   }
   return transmission;
+}
+
+PassingPanel PassingPanelAt(int width, int supersampling, double progress) {
+  const double w = width;
+  PassingPanel panel;
+  panel.left_px = -0.5 * w + progress * 1.5 * w;
+  const double right = panel.left_px + 0.5 * w;
+  const int n = supersampling;
+  panel.cover.resize(static_cast<std::size_t>(width));
+  for (int u = 0; u < width; ++u) {
+    int inside = 0;
+    for (int sx = 0; sx < n; ++sx) {
+      const double x = u + (sx + 0.5) / n;
+      inside += x >= panel.left_px && x < right;
+    }
+    panel.cover[static_cast<std::size_t>(u)] = static_cast<float>(inside) / static_cast<float>(n);
+  }
+  return panel;
+}
+
+float PanelRadiance(const PassingPanel& panel, double x, double y) {
+  constexpr std::uint32_t kSalt = 0x7A11E5u;
+  return static_cast<float>(0.05 + 0.6 * noise::ValueNoise(x - panel.left_px, y, kPanelTextureCellPx, kSalt));
 }
 
 }  // namespace uf::sim

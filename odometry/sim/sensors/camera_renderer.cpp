@@ -157,6 +157,8 @@ Expected<CameraFrame> CameraRenderer::Render(Stamp t, int camera_index) const {
   const std::vector<float> occluder = conditions.occluded
                                           ? OccluderTransmission(width, n, conditions.occluder_progress)
                                           : std::vector<float>();
+  const PassingPanel panel =
+      conditions.passing ? PassingPanelAt(width, n, conditions.passing_progress) : PassingPanel();
 
   CameraFrame frame;
   frame.stamp = t;
@@ -210,14 +212,20 @@ Expected<CameraFrame> CameraRenderer::Render(Stamp t, int camera_index) const {
             }
           }
 
-          // Occluder, gain, sRGB encoding, noise in DN (the same draws for every content: one 64-bit output
-          // gives four 16-bit normal samples), rounding to 8 bits.
+          // Passing panel, occluder, gain, sRGB encoding, noise in DN (the same draws for every content: one
+          // 64-bit output gives four 16-bit normal samples), rounding to 8 bits.
           std::mt19937_64 rng(SplitMix64(frame_seed ^ SplitMix64(row)));
           std::uint64_t bits = 0;
           int bits_left = 0;
           std::uint8_t* out = &image.pixels[row * static_cast<std::size_t>(width) * 3];
           for (int u = 0; u < width; ++u) {
             Eigen::Vector3f linear = radiance[static_cast<std::size_t>(u)] * gain;
+            if (!panel.cover.empty() && panel.cover[static_cast<std::size_t>(u)] > 0.0f) {
+              const float cover = panel.cover[static_cast<std::size_t>(u)];
+              const float panel_radiance = PanelRadiance(panel, u + 0.5, static_cast<double>(row) + 0.5) *
+                                           static_cast<float>(conditions.gain);
+              linear = linear * (1.0f - cover) + Eigen::Vector3f::Constant(cover * panel_radiance);
+            }
             if (!occluder.empty()) {
               const float transmission = occluder[static_cast<std::size_t>(u)];
               linear = linear * transmission +

@@ -1,7 +1,7 @@
 // The simulated pinhole camera: renders a Scene through the RayCaster as an 8-bit sRGB image at a true time
 // t (global shutter, mid-exposure), with exact radial-tangential distortion, Lambert shading under a sun,
 // a sky for rays that miss, supersampling, Gaussian pixel noise and scripted events (darkness, exposure
-// changes, a dark occluder sliding across the lens).
+// changes, a dark occluder sliding across the lens, a textured panel passing in front of the camera).
 //
 // Frames: camera axes are OpenCV's (x right, y down, z forward); T_world_camera(t) = T_world_body(t) *
 // T_body_camera with T_world_body(t) from the TrajectorySpline. World z is up.
@@ -40,6 +40,10 @@ struct CameraConfig {
   // A dark blurry occluder close to the lens (wiper, hand): a vertical band 1/3 of the image wide with soft
   // edges, sliding from the left to the right side of the image over the window.
   std::vector<TimeWindow> occlusions;
+  // A textured panel passing close in front of the camera (a vehicle crossing the view): a band half the
+  // image wide entering at the left border and leaving at the right over the window, its texture moving
+  // with it (camera_events.h).
+  std::vector<TimeWindow> passing_panels;
   int threads = 0;  // render threads; 0: hardware concurrency. The output does not depend on it.
 };
 

@@ -68,6 +68,7 @@ inline SimulationConfig NonDefaultConfig() {
   m.darkness = {Window(s, 1'000'000'001, 2'500'000'000), Window(s, -500'000'000, 1)};
   m.exposure_changes = {{Window(s, 3'000'000'000, 4'000'000'000), 2.0}, {Window(s, 5, 6), 0.3}};
   m.occlusions = {Window(s, 7'123'456'789, 8'000'000'000)};
+  m.passing_panels = {Window(s, 9'000'000'001, 9'500'000'000)};
   c.camera.placement = {sim::ForwardLookingCamera({0.5, -0.1, 0.2}) * Pose(0.01, 0.02, 0.03, 0, 0, 0),
                         -0.02,
                         {0.5, 0.5, -0.5},
@@ -207,6 +208,15 @@ inline estimator::LidarOdometryConfig NonDefaultOdometry() {
   c.visual.tracker.grid_cells = 6;
   c.visual.tracker.min_contrast_dn = 4;
   c.visual.tracker.normalize_exposure = false;
+  c.visual.schedule.enabled = true;
+  c.visual.schedule.tolerance_px = 5;
+  c.visual.schedule.min_tracks = 15;
+  c.visual.schedule.reference_tracks = 60;
+  c.visual.schedule.residual_threshold_px = 3;
+  c.visual.schedule.threshold = 0.6;
+  c.visual.schedule.release_margin = 0.2;
+  c.visual.schedule.release_frames = 4;
+  c.visual.schedule.max_shut_s = 4;
   return c;
 }
 

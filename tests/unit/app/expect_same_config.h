@@ -117,6 +117,7 @@ inline void ExpectSameConfig(const SimulationConfig& a, const SimulationConfig& 
   ExpectSameWindows(ca.darkness, cb.darkness, "camera.darkness");
   ExpectSameEvents(ca.exposure_changes, cb.exposure_changes, "camera.exposure_changes");
   ExpectSameWindows(ca.occlusions, cb.occlusions, "camera.occlusions");
+  ExpectSameWindows(ca.passing_panels, cb.passing_panels, "camera.passing_panels");
   ExpectSamePlacement(a.camera.placement, b.camera.placement, "camera", extrinsic_tolerance);
 
   EXPECT_FIELD(wheel.enabled);
@@ -283,6 +284,15 @@ inline void ExpectSameInertialParts(const Config& a, const Config& b) {
   EXPECT_FIELD(visual.tracker.grid_cells);
   EXPECT_FIELD(visual.tracker.min_contrast_dn);
   EXPECT_FIELD(visual.tracker.normalize_exposure);
+  EXPECT_FIELD(visual.schedule.enabled);
+  EXPECT_FIELD(visual.schedule.tolerance_px);
+  EXPECT_FIELD(visual.schedule.min_tracks);
+  EXPECT_FIELD(visual.schedule.reference_tracks);
+  EXPECT_FIELD(visual.schedule.residual_threshold_px);
+  EXPECT_FIELD(visual.schedule.threshold);
+  EXPECT_FIELD(visual.schedule.release_margin);
+  EXPECT_FIELD(visual.schedule.release_frames);
+  EXPECT_FIELD(visual.schedule.max_shut_s);
 }
 
 inline void ExpectSameLio(const estimator::LidarOdometryConfig& a, const estimator::LidarOdometryConfig& b) {

@@ -48,9 +48,11 @@ struct VioRun {
   int min_landmarks = std::numeric_limits<int>::max();  // the fewest in the window once moving
   double ate_m = std::numeric_limits<double>::infinity();
   KittiDrift drift;
+  std::vector<CameraCheck> camera_checks;  // the reliability scheduling's, every frame checked
 };
 
-VioRun RunVio(const std::filesystem::path& folder, bool estimate_time_offset = false) {
+VioRun RunVio(const std::filesystem::path& folder,
+              const std::function<void(InertialOdometryConfig&)>& adjust = nullptr) {
   VioRun run;
   auto reader = OpenDataset(folder.string());
   EXPECT_TRUE(reader.ok()) << reader.error();
@@ -58,12 +60,12 @@ VioRun RunVio(const std::filesystem::path& folder, bool estimate_time_offset = f
   config.visual.max_solver_time_s = 10;  // only the iteration budget: the results do not depend on the load
   config.use_wheel = false;
   config.use_camera = true;
-  config.visual.estimate_time_offset = estimate_time_offset;
   for (const StreamInfo& stream : (*reader)->description().streams)
     if (stream.kind == SensorKind::kCamera && stream.T_body_sensor) {
       config.camera = stream.camera_model;
       config.T_body_camera = *stream.T_body_sensor;
     }
+  if (adjust) adjust(config);
   auto vio = InertialOdometry::Create(config);
   EXPECT_TRUE(vio.ok()) << vio.error();
   if (!vio) return run;
@@ -88,6 +90,7 @@ VioRun RunVio(const std::filesystem::path& folder, bool estimate_time_offset = f
     if (run.estimate.empty()) run.first_speed_mps = k.velocity.norm();
     run.estimate.stamps.push_back(k.stamp);
     run.estimate.poses.push_back(k.T_world_body);
+    run.camera_checks.insert(run.camera_checks.end(), k.camera_checks.begin(), k.camera_checks.end());
   }
   run.frames = static_cast<int>(vio->TakeTrackedFrames().size());
   run.warnings = vio->warnings();
@@ -130,7 +133,7 @@ TEST(VisualInertialOdometry, ADelayedCameraIsFoundByTheTimeOffset) {
   uf::testing::TempDir dir;
   const std::filesystem::path delayed =
       Simulate(dir, 20.0, "", [](sim::SimulationConfig& c) { c.camera.placement.stamp_delay_s = 0.02; });
-  const VioRun run = RunVio(delayed, /*estimate_time_offset=*/true);
+  const VioRun run = RunVio(delayed, [](InertialOdometryConfig& c) { c.visual.estimate_time_offset = true; });
   ASSERT_FALSE(run.estimate.empty()) << Joined(run.warnings);
   // Measured: t_d -0.0182 s over these 20 s (-0.0198 s over 60 s, bench/bench_vio.sh --delay 0.02), ATE
   // 0.76 m. Bounds: 2x the error, StaticStartTracksTheTruth's bound.
@@ -200,6 +203,40 @@ TEST(VisualInertialOdometry, BlackFramesLeaveTheImuToCarryTheWindow) {
   EXPECT_LT(run.ate_m, 0.6);
 }
 
+TEST(VisualInertialOdometry, APanelCrossingTheViewRaisesTheCameraScoreThereOnly) {
+  // A textured panel half the image wide passes in front of the camera over 6-9 s (a vehicle crossing the
+  // view): its corners move with it, and while it covers enough of the image the front end's RANSAC keeps
+  // them and rejects the scene's. Every frame is scored against the IMU's prediction: the panel's frames
+  // reach D = 1, the others stay below the gate's threshold. With the gate on (opt-in) the frames left out
+  // are the panel's.
+  const Stamp t0 = 1'700'000'000'000'000'000;  // the simulator's default start
+  const Stamp begin = t0 + 6'000'000'000, end = t0 + 9'000'000'000;
+  uf::testing::TempDir dir;
+  const std::filesystem::path sequence = Simulate(dir, 14.0, "", [&](sim::SimulationConfig& c) {
+    c.camera.model.passing_panels.push_back({begin, end});
+  });
+  const VioRun scored = RunVio(sequence);
+  EXPECT_GT(scored.camera_checks.size(), 100u);  // every moving frame
+  double worst_inside = 0;
+  for (const CameraCheck& check : scored.camera_checks) {
+    EXPECT_TRUE(check.active);  // the gate is off by default
+    if (check.stamp >= begin && check.stamp < end)
+      worst_inside = std::max(worst_inside, check.score);
+    else
+      EXPECT_LE(check.score, 0.5) << ToSeconds(check.stamp - t0);
+  }
+  EXPECT_DOUBLE_EQ(worst_inside, 1.0);
+  const VioRun gated = RunVio(sequence, [](InertialOdometryConfig& c) { c.visual.schedule.enabled = true; });
+  int left_out = 0;
+  for (const CameraCheck& check : gated.camera_checks) {
+    if (check.active) continue;
+    ++left_out;
+    EXPECT_GE(check.stamp, begin) << ToSeconds(check.stamp - t0);
+    EXPECT_LE(check.stamp, end + 300'000'000) << ToSeconds(check.stamp - t0);  // 3 frames' release
+  }
+  EXPECT_GE(left_out, 5);
+}
+
 TEST(VisualInertialOdometry, ConfigValidateNamesTheField) {
   const auto message = [](const std::function<void(InertialOdometryConfig&)>& edit) {
     InertialOdometryConfig config;
@@ -224,6 +261,13 @@ TEST(VisualInertialOdometry, ConfigValidateNamesTheField) {
               c.visual.time_offset_s = 2;
             }).find("wio.visual.time_offset_s: must be in [-1, 1]"),
             std::string::npos);
+  EXPECT_NE(message([](auto& c) {
+              c.visual.schedule.release_margin = 0.6;
+            }).find("wio.visual.schedule.release_margin: must be in [0, threshold)"),
+            std::string::npos);
+  EXPECT_NE(
+      message([](auto& c) { c.visual.schedule.tolerance_px = -1; }).find("wio.visual.schedule.tolerance_px"),
+      std::string::npos);
 }
 
 }  // namespace

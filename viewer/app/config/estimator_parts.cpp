@@ -217,6 +217,25 @@ Schema<estimator::FeatureTrackerConfig> TrackerSchema() {
   return s;
 }
 
+Schema<estimator::VisualScheduleConfig> VisualScheduleSchema() {
+  using S = estimator::VisualScheduleConfig;
+  Schema<S> s;
+  s.Key("enabled", &S::enabled, "",
+        "leave a frame out while its tracks disagree with the window's predicted motion (reliability "
+        "scheduling; the frames are scored either way)");
+  s.Key("tolerance_px", &S::tolerance_px, "px", "a track agrees with the predicted motion within this");
+  s.Key("min_tracks", &S::min_tracks, "tracks", "fewer agreeing tracks than this scores the frame 1");
+  s.Key("reference_tracks", &S::reference_tracks, "tracks", "this many agreeing tracks or more adds nothing");
+  s.Key("residual_threshold_px", &S::residual_threshold_px, "px",
+        "the checked tracks' median error saturating the score's residual term");
+  s.Key("threshold", &S::threshold, "", "the frame is left out at a score above this");
+  s.Key("release_margin", &S::release_margin, "",
+        "and frames are admitted again once the score is at most threshold - this ...");
+  s.Key("release_frames", &S::release_frames, "frames", "... over this many frames in a row");
+  s.Key("max_shut_s", &S::max_shut_s, "s", "after this long left out the frames are taken again");
+  return s;
+}
+
 }  // namespace
 
 Schema<estimator::VisualFactorConfig> VisualSchema() {
@@ -247,6 +266,7 @@ Schema<estimator::VisualFactorConfig> VisualSchema() {
   s.Key("max_static_flow_px", &V::max_static_flow_px, "px per frame",
         "vio's static start: the tracked features' mean motion below this (else the visual-inertial start)");
   s.Nest("tracker", &V::tracker, TrackerSchema());
+  s.Nest("schedule", &V::schedule, VisualScheduleSchema());
   return s;
 }
 

@@ -223,6 +223,9 @@ void AddCamera(Schema<SimulationConfig>& s) {
   Windows(
       s, "camera.occlusions", [](auto& c) -> auto& { return c.camera.model.occlusions; },
       "[[begin_s, end_s], ...]: a dark band sliding across the lens");
+  Windows(
+      s, "camera.passing_panels", [](auto& c) -> auto& { return c.camera.model.passing_panels; },
+      "[[begin_s, end_s], ...]: a textured panel half the image wide passing across the view");
   AddPlacement(s, "camera", &SimulationConfig::camera);
 }
 

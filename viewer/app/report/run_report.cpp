@@ -207,6 +207,19 @@ std::string FormatImuReliability(const pipeline::OdometrySummary& o) {
   return md + PlotLink("IMU reliability", o.imu_reliability_plot);
 }
 
+// With the camera: where its frames were left out.
+std::string FormatCameraReliability(const pipeline::OdometrySummary& o) {
+  std::string md = "\n## Reliability (camera)\n\n";
+  md +=
+      "Per frame, the score D of its tracks held against the window's predicted motion (agreeing tracks, "
+      "their grid occupancy, the median disagreement; docs/METHOD.md \"Factor-wise reliability "
+      "scheduling\"), in `reliability.csv` with its inputs; the frame's observations are left out while the "
+      "gate is shut (an object crossing the view, frames whose tracks are noise).\n\n";
+  md += CountAndSpans(o.camera_suppressed,
+                      " of " + std::to_string(o.camera_scored) + " checked frames left out", "frames");
+  return md + PlotLink("Camera reliability", o.camera_reliability_plot);
+}
+
 // V modes: the camera's landmarks per step (node or scan) and their reprojection error.
 std::string FormatVisual(const pipeline::OdometrySummary::Visual& v, const std::string& step) {
   std::string md = "\n## Camera in the window\n\n";
@@ -263,6 +276,7 @@ std::string FormatRunReport(const pipeline::RunSummary& r) {
   if (o.wheel_scored > 0) md += FormatWheelReliability(o);
   if (o.gnss_scored > 0) md += FormatGnssReliability(o);
   if (o.imu_scored > 0) md += FormatImuReliability(o);
+  if (o.camera_scored > 0) md += FormatCameraReliability(o);
   if (o.online_calibration && o.calibration_estimates)
     md += FormatOnlineCalibration(*o.online_calibration, *o.calibration_estimates);
   md += "\n## Timing per " + o.step + " (" + (o.step == "scan" ? "AddScan" : "the node's solve") +

@@ -43,9 +43,10 @@ Status CollectFinished(const OdometryStageInput& in, OdometryStageOutput& out, C
       continue;  // keep stamps increasing
     collected.pose_stamps.push_back(k.stamp);
     collected.poses.push_back(k.T_world_body);
-    if (k.lidar_degeneracy || k.wheel_consistency || !k.gnss_checks.empty() || k.imu_reliability)
-      collected.scored.push_back(
-          {k.stamp, k.lidar_degeneracy, k.wheel_consistency, k.gnss_checks, k.imu_reliability});
+    if (k.lidar_degeneracy || k.wheel_consistency || !k.gnss_checks.empty() || k.imu_reliability ||
+        !k.camera_checks.empty())
+      collected.scored.push_back({k.stamp, k.lidar_degeneracy, k.wheel_consistency, k.gnss_checks,
+                                  k.imu_reliability, k.camera_checks});
     if (in.frames.mode == OdometryMode::kWio) {
       const std::optional<Georeference> georef = in.odometry->georeference();
       collected.T_enu_world_at_pose.push_back(georef ? std::optional<SE3>(georef->T_enu_world)
@@ -195,14 +196,17 @@ Status WriteOdometryFiles(const OdometryStageInput& in, const OdometryStageOutpu
     summary.wheel_reliability_plot = written->wheel_plot;
     summary.gnss_reliability_plot = written->gnss_plot;
     summary.imu_reliability_plot = written->imu_plot;
+    summary.camera_reliability_plot = written->camera_plot;
     summary.lidar_degenerate = DegenerateSpans(scored, kDegenerateReported);
     summary.wheel_suppressed = SuppressedWheelSpans(scored);
     summary.imu_clipped = ClippedImuSpans(scored);
+    summary.camera_suppressed = SuppressedCameraSpans(scored);
     double imu_scores = 0;
     double gnss_scores = 0;
     for (const ScoredKeyframe& k : scored) {
       summary.lidar_scored += k.lidar.has_value();
       summary.wheel_scored += k.wheel.has_value();
+      summary.camera_scored += static_cast<std::int64_t>(k.camera.size());
       if (k.imu) {
         ++summary.imu_scored;
         imu_scores += k.imu->score;

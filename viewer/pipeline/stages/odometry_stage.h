@@ -86,6 +86,10 @@ struct OdometrySummary {
   double imu_mean_score = 0;
   std::vector<DegenerateSpan> imu_clipped;
   std::string imu_reliability_plot;
+  // With the camera: frames checked, the spans where their observations were left out, the plot.
+  std::int64_t camera_scored = 0;
+  std::vector<DegenerateSpan> camera_suppressed;
+  std::string camera_reliability_plot;
 };
 
 // The stream whose messages pace the odometry, for the progress line: the LiDAR's, or the IMU's in WIO.

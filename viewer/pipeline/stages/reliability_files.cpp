@@ -40,11 +40,12 @@ const char* kHeader =
     "matches,translation_isotropy,rotation_isotropy,weak_x,weak_y,weak_z,"  // lidar
     "speed_error_mps,speed_change_error_mps,yaw_rate_error_rad_s,"          // wheel
     "fix_quality,covariance_trace_m2,innovation_d2,"                        // gnss
-    "excitation,preintegration_chi2,clipped_steps\n";                       // imu
+    "excitation,preintegration_chi2,clipped_steps,"                         // imu
+    "tracks_checked,tracks_agreeing,grid_occupancy,motion_error_px\n";      // camera
 
 // The modalities' blocks of columns in the header's order, and how many columns each has.
-enum Block { kLidarBlock, kWheelBlock, kGnssBlock, kImuBlock, kBlocks };
-constexpr int kBlockColumns[kBlocks] = {6, 3, 3, 3};
+enum Block { kLidarBlock, kWheelBlock, kGnssBlock, kImuBlock, kCameraBlock, kBlocks };
+constexpr int kBlockColumns[kBlocks] = {6, 3, 3, 3, 4};
 
 // One modality's D over time, for its plot.
 struct Series {
@@ -81,6 +82,21 @@ std::vector<DegenerateSpan> SuppressedWheelSpans(const std::vector<ScoredKeyfram
   });
 }
 
+// A span per run of consecutive left-out frames (the frames are the unit here, not the keyframes).
+std::vector<DegenerateSpan> SuppressedCameraSpans(const std::vector<ScoredKeyframe>& scored) {
+  std::vector<ScoredKeyframe> frames;
+  for (const ScoredKeyframe& k : scored)
+    for (const CameraCheck& c : k.camera) {
+      frames.push_back({});
+      frames.back().stamp = c.stamp;
+      frames.back().camera = {c};
+    }
+  return Spans(frames, [](const ScoredKeyframe& k) -> std::optional<std::optional<double>> {
+    const CameraCheck& c = k.camera.front();
+    return c.active ? std::nullopt : std::optional<double>(c.score);
+  });
+}
+
 std::vector<DegenerateSpan> ClippedImuSpans(const std::vector<ScoredKeyframe>& scored) {
   return Spans(scored, [](const ScoredKeyframe& k) -> std::optional<std::optional<double>> {
     if (!k.imu) return std::nullopt;
@@ -100,6 +116,8 @@ Expected<ReliabilityFiles> WriteReliabilityFiles(const std::filesystem::path& fo
               "GNSS fixes (0: RTK fixed, as predicted; 1: no quality, far off the prediction)"};
   Series imu{"plots/reliability_imu.png", "IMU D",
              "IMU per interval (excitation, preintegration residual, clipped readings; 1: none reliable)"};
+  Series camera{"plots/reliability_camera.png", "camera D",
+                "Camera frames against the predicted motion (0: agree; left out above the threshold)"};
   // A row in the CSV and a point in its modality's plot.
   const auto add = [&](Series& series, Stamp stamp, const char* modality, double score, bool active,
                        Block block, const std::string& own) {
@@ -123,6 +141,10 @@ Expected<ReliabilityFiles> WriteReliabilityFiles(const std::filesystem::path& fo
     if (const std::optional<ImuReliability>& m = k.imu)
       add(imu, k.stamp, "imu", m->score, true, kImuBlock,
           PrintfText("%.4f,%.3f,%.0f", m->excitation, m->preintegration_chi2, m->clipped_steps));
+    for (const CameraCheck& c : k.camera)
+      add(camera, c.stamp, "camera", c.score, c.active, kCameraBlock,
+          PrintfText("%.0f,%.0f,%.4f,%.3f", c.tracks_checked, c.tracks_agreeing, c.grid_occupancy,
+                     c.motion_error_px));
   }
   if (Status s = WriteTextFileAtomically(folder / "reliability.csv", csv); !s.ok()) return s;
   ReliabilityFiles written;
@@ -134,7 +156,8 @@ Expected<ReliabilityFiles> WriteReliabilityFiles(const std::filesystem::path& fo
   const std::pair<const Series*, std::string*> plots[] = {{&lidar, &written.lidar_plot},
                                                           {&wheel, &written.wheel_plot},
                                                           {&gnss, &written.gnss_plot},
-                                                          {&imu, &written.imu_plot}};
+                                                          {&imu, &written.imu_plot},
+                                                          {&camera, &written.camera_plot}};
   for (const auto& [series, plot] : plots) {
     if (series->t.empty()) continue;
     if (Status s = WriteSeriesPlot((folder / series->plot).string(), series->t, series->d, series->name,

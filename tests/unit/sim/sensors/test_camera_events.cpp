@@ -97,6 +97,35 @@ TEST(CameraRenderer, OccluderCoversAThirdOfTheImageAndSlidesAcrossIt) {
   EXPECT_NEAR(mean_columns[2], 160.0 * 5.0 / 6.0 - 160.0 / 30.0 - 0.5, 2.0);
 }
 
+TEST(CameraRenderer, PassingPanelCoversHalfTheImageAndCarriesItsTextureWithIt) {
+  EventFixture f;
+  f.config.passing_panels = {{2 * kSecond, 4 * kSecond}};
+  const CameraRenderer renderer = MakeRenderer(f.config, f.caster, f.spline, LookAlongX());
+  const cv::Mat clear = LinearGray(RenderImage(renderer, kSecond));
+  // Progress 0.4 and 0.5: the left edge at x' = 16 and 40 (-W/2 + 1.5 W progress), the band W/2 = 80 wide.
+  const cv::Mat a = LinearGray(RenderImage(renderer, 2 * kSecond + FromSeconds(0.8)));
+  const cv::Mat b = LinearGray(RenderImage(renderer, 3 * kSecond));
+  int changed = 0, same_after_shift = 0, compared = 0;
+  for (int v = 0; v < clear.rows; ++v) {
+    for (int u = 0; u < clear.cols; ++u) {
+      const bool inside = u >= 16 && u < 96;
+      if (!inside) {
+        EXPECT_EQ(a.at<float>(v, u), clear.at<float>(v, u)) << u << "," << v;
+        continue;
+      }
+      changed += std::abs(a.at<float>(v, u) - clear.at<float>(v, u)) > 1e-3f;
+      // The texture moved 24 px to the right with the panel.
+      ++compared;
+      same_after_shift += std::abs(b.at<float>(v, u + 24) - a.at<float>(v, u)) <= 0.01f;
+    }
+  }
+  EXPECT_GT(changed, compared * 9 / 10);
+  EXPECT_EQ(same_after_shift, compared);
+  // Before it enters and after it leaves, the view is clear.
+  EXPECT_EQ(RenderImage(renderer, 2 * kSecond).pixels, RenderImage(renderer, kSecond).pixels);
+  EXPECT_EQ(RenderImage(renderer, 4 * kSecond).pixels, RenderImage(renderer, kSecond).pixels);
+}
+
 // ---- Determinism ----
 
 TEST(CameraRenderer, OutputDependsOnlyOnSeedAndTimeNotOnThreads) {
