@@ -43,7 +43,8 @@ CameraCheck ScoreCameraMotion(Stamp stamp, const std::vector<CheckedTrack>& trac
   std::vector<double> errors;
   std::set<int> cells;
   for (const CheckedTrack& track : tracks) {
-    errors.push_back(track.check.error_px);
+    // A non-finite error (a diverged pose) counts as the worst: NaN would break the median's ordering.
+    errors.push_back(std::isnan(track.check.error_px) ? INFINITY : track.check.error_px);
     if (!track.check.agrees) continue;
     ++check.tracks_agreeing;
     const int cx = std::clamp(static_cast<int>(track.pixel.x() * grid_cells / width), 0, grid_cells - 1);

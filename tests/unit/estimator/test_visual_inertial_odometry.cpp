@@ -235,6 +235,20 @@ TEST(VisualInertialOdometry, APanelCrossingTheViewRaisesTheCameraScoreThereOnly)
     EXPECT_LE(check.stamp, end + 300'000'000) << ToSeconds(check.stamp - t0);  // 3 frames' release
   }
   EXPECT_GE(left_out, 5);
+  // Shut longer than max_shut_s, a frame is taken back whatever its score: no more than 0.5 s (5 frames)
+  // left out in a row, and frames inside the panel's window taken back at D above the threshold.
+  const VioRun bounded = RunVio(sequence, [](InertialOdometryConfig& c) {
+    c.visual.schedule.enabled = true;
+    c.visual.schedule.max_shut_s = 0.5;
+  });
+  int in_a_row = 0, longest = 0, taken_back = 0;
+  for (const CameraCheck& check : bounded.camera_checks) {
+    in_a_row = check.active ? 0 : in_a_row + 1;
+    longest = std::max(longest, in_a_row);
+    taken_back += check.active && check.score > 0.5;
+  }
+  EXPECT_EQ(longest, 5);
+  EXPECT_GE(taken_back, 1);
 }
 
 TEST(VisualInertialOdometry, ConfigValidateNamesTheField) {

@@ -117,7 +117,9 @@ Expected<ReliabilityFiles> WriteReliabilityFiles(const std::filesystem::path& fo
   Series imu{"plots/reliability_imu.png", "IMU D",
              "IMU per interval (excitation, preintegration residual, clipped readings; 1: none reliable)"};
   Series camera{"plots/reliability_camera.png", "camera D",
-                "Camera frames against the predicted motion (0: agree; left out above the threshold)"};
+                "Camera frames against the predicted motion (0: agree; with the gate on, left out above its "
+                "threshold)",
+                SeriesLevel{0.5, "the gate's default threshold (visual.schedule.threshold)"}};
   // A row in the CSV and a point in its modality's plot.
   const auto add = [&](Series& series, Stamp stamp, const char* modality, double score, bool active,
                        Block block, const std::string& own) {

@@ -90,6 +90,9 @@ TEST(CameraMotionCheck, AFrameScoresItsAgreeingTracksTheirGridAndTheMedianError)
   EXPECT_EQ(bad.tracks_agreeing, 30);
   EXPECT_DOUBLE_EQ(bad.grid_occupancy, 30.0 / 64);
   EXPECT_NEAR(bad.score, 0.6828125, 1e-12);
+  // A diverged pose's NaN errors count as the worst, not as noise in the median.
+  for (int i = 0; i < 60; ++i) tracks[static_cast<std::size_t>(i)].check.error_px = NAN;
+  EXPECT_EQ(ScoreCameraMotion(42, tracks, 640, 480, 8, config).motion_error_px, INFINITY);
   // Fewer agreeing tracks than N_min: 1.
   for (int i = 50; i < 70; ++i) tracks[static_cast<std::size_t>(i)].check = {10.0, false};
   EXPECT_DOUBLE_EQ(ScoreCameraMotion(42, tracks, 640, 480, 8, config).score, 1.0);
