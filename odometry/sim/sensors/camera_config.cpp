@@ -3,6 +3,7 @@
 #include <sstream>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "odometry/sim/sensors/camera_renderer.h"
 
@@ -27,6 +28,13 @@ Status ValidateWindow(const std::string& field, const TimeWindow& window) {
   std::ostringstream got;  // (a stream, not string concatenation: gcc 12 warns falsely on the latter here)
   got << "[" << FormatSeconds(window.begin) << ", " << FormatSeconds(window.end) << "] s";
   return FieldError(field, "end must be after begin", got.str());
+}
+
+// Each window of a list, named "<field>[i]".
+Status ValidateWindows(const std::string& field, const std::vector<TimeWindow>& windows) {
+  for (std::size_t i = 0; i < windows.size(); ++i)
+    if (Status s = ValidateWindow(field + "[" + std::to_string(i) + "]", windows[i]); !s.ok()) return s;
+  return Status();
 }
 
 }  // namespace
@@ -64,9 +72,7 @@ Status ValidateCameraConfig(const CameraConfig& c) {
   }
   if (!(c.ambient >= 0.0 && c.ambient <= 1.0)) return FieldError("ambient", "must be in [0, 1]", c.ambient);
   if (!PositiveFinite(c.exposure)) return FieldError("exposure", "must be positive and finite", c.exposure);
-  for (std::size_t i = 0; i < c.darkness.size(); ++i) {
-    if (Status s = ValidateWindow("darkness[" + std::to_string(i) + "]", c.darkness[i]); !s.ok()) return s;
-  }
+  if (Status s = ValidateWindows("darkness", c.darkness); !s.ok()) return s;
   for (std::size_t i = 0; i < c.exposure_changes.size(); ++i) {
     const std::string field = "exposure_changes[" + std::to_string(i) + "]";
     if (Status s = ValidateWindow(field, c.exposure_changes[i].first); !s.ok()) return s;
@@ -74,14 +80,8 @@ Status ValidateCameraConfig(const CameraConfig& c) {
       return FieldError(field + ".gain", "must be positive and finite", c.exposure_changes[i].second);
     }
   }
-  for (std::size_t i = 0; i < c.occlusions.size(); ++i) {
-    if (Status s = ValidateWindow("occlusions[" + std::to_string(i) + "]", c.occlusions[i]); !s.ok())
-      return s;
-  }
-  for (std::size_t i = 0; i < c.passing_panels.size(); ++i) {
-    if (Status s = ValidateWindow("passing_panels[" + std::to_string(i) + "]", c.passing_panels[i]); !s.ok())
-      return s;
-  }
+  if (Status s = ValidateWindows("occlusions", c.occlusions); !s.ok()) return s;
+  if (Status s = ValidateWindows("passing_panels", c.passing_panels); !s.ok()) return s;
   if (c.threads < 0) return FieldError("threads", "must be >= 0 (0: all cores)", c.threads);
   return Status();
 }

@@ -11,13 +11,13 @@ namespace uf::pipeline {
 
 namespace {
 
-// Runs of consecutive keyframes that `in` (a value for the span's worst score, or none) puts inside,
-// skipping those `scored` says nothing about.
-template <typename In>
-std::vector<DegenerateSpan> Spans(const std::vector<ScoredKeyframe>& scored, In in) {
+// Runs of consecutive items (keyframes, or camera frames: anything with a stamp) that `in` (a value for the
+// span's worst score, or none) puts inside, skipping those `in` says nothing about.
+template <typename Item, typename In>
+std::vector<DegenerateSpan> Spans(const std::vector<Item>& items, In in) {
   std::vector<DegenerateSpan> spans;
   bool open = false;
-  for (const ScoredKeyframe& k : scored) {
+  for (const Item& k : items) {
     const std::optional<std::optional<double>> inside = in(k);
     if (!inside) continue;  // not scored for this modality
     if (!*inside) {
@@ -84,15 +84,9 @@ std::vector<DegenerateSpan> SuppressedWheelSpans(const std::vector<ScoredKeyfram
 
 // A span per run of consecutive left-out frames (the frames are the unit here, not the keyframes).
 std::vector<DegenerateSpan> SuppressedCameraSpans(const std::vector<ScoredKeyframe>& scored) {
-  std::vector<ScoredKeyframe> frames;
-  for (const ScoredKeyframe& k : scored)
-    for (const CameraCheck& c : k.camera) {
-      frames.push_back({});
-      frames.back().stamp = c.stamp;
-      frames.back().camera = {c};
-    }
-  return Spans(frames, [](const ScoredKeyframe& k) -> std::optional<std::optional<double>> {
-    const CameraCheck& c = k.camera.front();
+  std::vector<CameraCheck> frames;
+  for (const ScoredKeyframe& k : scored) frames.insert(frames.end(), k.camera.begin(), k.camera.end());
+  return Spans(frames, [](const CameraCheck& c) -> std::optional<std::optional<double>> {
     return c.active ? std::nullopt : std::optional<double>(c.score);
   });
 }
