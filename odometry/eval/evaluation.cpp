@@ -1,5 +1,6 @@
 #include "odometry/eval/evaluation.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -45,8 +46,19 @@ Expected<EvalResult> Evaluate(const Trajectory& reference, const Trajectory& est
             : static_cast<double>(k));
   }
 
-  // 2. Align the estimate onto the reference (Umeyama on the matched positions).
-  if (options.align != AlignMode::kNone) {
+  // 2. Align the estimate onto the reference (Umeyama on the matched positions; yaw only: the 2D Procrustes
+  // angle about z, WeightedRigidAlignment).
+  if (options.align == AlignMode::kYaw) {
+    const std::vector<Eigen::Vector3d> source = Positions(result.estimate),
+                                       target = Positions(result.reference);
+    double spread = 0;
+    for (const Eigen::Vector3d& p : source) spread = std::max(spread, (p - source.front()).head<2>().norm());
+    if (spread < 1e-9) return Status::Error("yaw alignment: the estimate does not move horizontally");
+    const std::vector<double> weights(source.size(), 1.0);
+    const SE3 T = WeightedRigidAlignment(source, target, weights, /*yaw_only=*/true);
+    result.alignment = Similarity{T.so3(), T.translation(), 1.0};
+    for (SE3& pose : result.estimate) pose = result.alignment * pose;
+  } else if (options.align != AlignMode::kNone) {
     auto alignment =
         Umeyama(Positions(result.estimate), Positions(result.reference), options.align == AlignMode::kSim3);
     if (!alignment) return alignment.status();

@@ -11,7 +11,10 @@
 
 namespace uf {
 
-enum class AlignMode { kNone, kSe3, kSim3 };
+// kYaw: a rotation about z and a translation only (4 dof), for an estimate whose world is gravity-aligned (z
+// up) like the reference's (LIO, VIO, WIO): a tilt of its world against gravity then counts as error, where
+// an SE3 alignment would turn it away.
+enum class AlignMode { kNone, kSe3, kSim3, kYaw };
 
 struct Similarity {
   SO3 rotation;

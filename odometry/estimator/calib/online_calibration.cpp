@@ -66,6 +66,28 @@ void OnlineCalibration::AddLidarOrientation(Stamp stamp, const SO3& R_world_lida
   if (time_locked_ && rotation_locked_) return;
   if (last_solve_t_ && t - *last_solve_t_ < options_.solve_every_s) return;
   if (t - lidar_t_.front() < options_.time.min_overlap_s + 2 * options_.time.max_shift_s) return;
+  if (lidar_t_.size() >= 2) {  // the sharp-turn guard (see online_calibration.h)
+    const std::size_t n = lidar_t_.size();
+    const double rate = (lidar_R_[n - 2].inverse() * lidar_R_[n - 1]).angle() / (t - lidar_t_[n - 2]);
+    if (rate > options_.max_turn_rate_deg_s * kDegree) {
+      if (!waiting_for_turn_)
+        solves_.push_back(
+            {.stamp = stamp,
+             .worker = time_locked_ ? CalibrationWorker::kRotation : CalibrationWorker::kTimeOffset,
+             .accepted = false,
+             .reason = PrintfText("sharp turn: the LiDAR turns at %.0f deg/s > %.0f; the solve waits",
+                                  rate / kDegree, options_.max_turn_rate_deg_s),
+             .time_offset_s = 0.0,
+             .R_imu_lidar = SO3(),
+             .quality = 0.0,
+             .rms_rad_s = 0.0,
+             .sigma_deg = 0.0,
+             .locked = false});
+      waiting_for_turn_ = true;
+      return;
+    }
+  }
+  waiting_for_turn_ = false;
   last_solve_t_ = t;
   Solve(stamp);
 }

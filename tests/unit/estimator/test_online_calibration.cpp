@@ -44,7 +44,18 @@ struct Rig {
   double gyro_noise = 0.01;          // rad/s per sample
   double lidar_angle_noise = 0.002;  // rad per pose
   bool yaw_only = false;
+  double sharp_turn_at_s = -1;  // when >= 0: a yaw burst of up to 3 rad/s (172 deg/s) over 0.6 s from then
 };
+
+constexpr double kSharpTurnS = 0.6;
+
+// The rig's rate: TrueRate plus its sharp turn (a sin^2 burst about z).
+Eigen::Vector3d RigRate(const Rig& rig, double t) {
+  Eigen::Vector3d w = TrueRate(t, rig.yaw_only);
+  const double u = (t - rig.sharp_turn_at_s) / kSharpTurnS;
+  if (rig.sharp_turn_at_s >= 0 && u > 0 && u < 1) w.z() += 3.0 * std::pow(std::sin(kPi * u), 2);
+  return w;
+}
 
 struct Streams {
   std::vector<ImuSample> imu;
@@ -67,7 +78,7 @@ Streams Simulate(const Rig& rig, double seconds, unsigned seed = 1) {
     if (k % per_imu == 0) {
       ImuSample sample;
       sample.stamp = stamp;
-      sample.gyro = TrueRate(t, rig.yaw_only) + rig.gyro_bias + noise(rig.gyro_noise);
+      sample.gyro = RigRate(rig, t) + rig.gyro_bias + noise(rig.gyro_noise);
       s.imu.push_back(sample);
     }
     if (k % per_lidar == 0) {
@@ -75,7 +86,7 @@ Streams Simulate(const Rig& rig, double seconds, unsigned seed = 1) {
       s.R_world_lidar.push_back(R_world_imu * rig.R_imu_lidar * SO3::Exp(noise(rig.lidar_angle_noise)));
     }
     // Midpoint rule over the fine step.
-    R_world_imu = R_world_imu * SO3::Exp(TrueRate(t + 0.5 / fine, rig.yaw_only) / fine);
+    R_world_imu = R_world_imu * SO3::Exp(RigRate(rig, t + 0.5 / fine) / fine);
   }
   return s;
 }
@@ -265,6 +276,34 @@ TEST(OnlineCalibration, LocksTheOffsetAndTheRotationOfAMultiAxisMotion) {
       EXPECT_GE(seconds, 20.0);
     }
   }
+}
+
+// The turning guard: solves fall due every 2 s from 6 s on; the one due at 10 s comes during a sharp turn
+// (9.7-10.3 s, up to 172 deg/s on top of the rig's own -44 deg/s about z there) and waits for the first
+// pose after it, with one record that says why; the offset still locks on the truth.
+TEST(OnlineCalibration, ASolveDueInASharpTurnWaitsForItsEnd) {
+  Rig rig;
+  rig.lidar_delay_s = 0.05;
+  rig.sharp_turn_at_s = 9.7;
+  const Streams s = Simulate(rig, 30.0, 3);
+  const OnlineCalibration c = Feed(s);
+  const Stamp start = s.lidar_stamps.front();
+  int waits = 0;
+  for (const CalibrationSolve& solve : c.solves()) {
+    const double seconds = ToSeconds(solve.stamp - start);  // the pose's true time (the first one's is 0)
+    if (solve.reason.find("sharp turn") != std::string::npos) {
+      ++waits;
+      EXPECT_GT(seconds, rig.sharp_turn_at_s);
+      EXPECT_LT(seconds, rig.sharp_turn_at_s + kSharpTurnS);
+      continue;
+    }
+    // The odometry's newest interval is above 60 deg/s for about the middle 0.3 s of the turn.
+    EXPECT_FALSE(seconds > rig.sharp_turn_at_s + 0.2 && seconds < rig.sharp_turn_at_s + kSharpTurnS - 0.2)
+        << "a solve at " << seconds << " s, inside the turn";
+  }
+  EXPECT_EQ(waits, 1);
+  ASSERT_TRUE(c.time_offset_locked());
+  EXPECT_NEAR(*c.time_offset_s(), -0.05, 0.002);
 }
 
 // An odometry may release its poses long after the IMU samples of their time (at the end of the data, the

@@ -63,6 +63,7 @@ Expected<EvalOptions> ToOptions(const EvalArguments& a) {
   options.estimate_offset = FromSeconds(a.t_offset);
   options.align = a.align == "none"   ? AlignMode::kNone
                   : a.align == "sim3" ? AlignMode::kSim3
+                  : a.align == "yaw"  ? AlignMode::kYaw
                                       : AlignMode::kSe3;
   options.rpe_unit = a.rpe_unit == "m" ? RpeUnit::kMetres : RpeUnit::kFrames;
   options.rpe_delta = a.rpe_delta;
@@ -131,8 +132,11 @@ Subcommand AddEvalCommand(CLI::App& app) {
       ->capture_default_str();
   eval->add_option("--t-offset", arguments->t_offset, "Offset [s] added to the estimate's stamps")
       ->capture_default_str();
-  eval->add_option("--align", arguments->align, "Alignment of the estimate onto the reference (Umeyama)")
-      ->check(CLI::IsMember({"se3", "sim3", "none"}))
+  eval->add_option(
+          "--align", arguments->align,
+          "Alignment of the estimate onto the reference (Umeyama; yaw: about z and a translation only, "
+          "for gravity-aligned estimates, where a tilt counts as error)")
+      ->check(CLI::IsMember({"se3", "sim3", "yaw", "none"}))
       ->capture_default_str();
   eval->add_option("--rpe-delta", arguments->rpe_delta, "RPE pair spacing")->capture_default_str();
   eval->add_option("--rpe-unit", arguments->rpe_unit, "Unit of --rpe-delta")

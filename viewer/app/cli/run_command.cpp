@@ -83,6 +83,8 @@ void PrintSummary(const fs::path& out, const pipeline::RunSummary& s) {
                                                                           : "not estimated");
   }
   if (s.accuracy.evaluated) std::printf("  ATE (SE3-aligned RMSE): %.4f m\n", s.accuracy.ape_rmse_m);
+  if (s.accuracy.yaw_ape_rmse_m)
+    std::printf("  ATE (yaw-aligned RMSE, a tilt counts): %.4f m\n", *s.accuracy.yaw_ape_rmse_m);
   if (const auto& track = s.accuracy.gnss_track)
     std::printf("  against the GNSS track (%d fixes, %s): horizontal RMSE %.3f m, vertical %.3f m\n",
                 track->fixes, track->aligned ? "fitted" : "georeferenced", track->horizontal_rmse_m,

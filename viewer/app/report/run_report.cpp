@@ -303,6 +303,11 @@ std::string FormatRunReport(const pipeline::RunSummary& r) {
   md += "\n## Accuracy\n\n";
   if (r.accuracy.evaluated) {
     md += "ATE (APE translation RMSE, SE3-aligned): " + FormatValue("%.4f", r.accuracy.ape_rmse_m) + " m\n\n";
+    if (r.accuracy.yaw_ape_rmse_m)
+      md +=
+          "ATE aligned by yaw and translation only (the run's world is gravity-aligned, so a tilt of it "
+          "counts): " +
+          FormatValue("%.4f", *r.accuracy.yaw_ape_rmse_m) + " m\n\n";
     if (r.accuracy.ground_truth_moved_to_output_frame)
       md +=
           "Ground truth: the dataset's, of its body frame, taken to trajectory.tum's frame with the "

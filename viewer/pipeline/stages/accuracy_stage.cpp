@@ -14,7 +14,7 @@ namespace fs = std::filesystem;
 
 GroundTruthCheck EvaluateAgainstGroundTruth(const fs::path& ground_truth, const fs::path& out_folder,
                                             const std::string& estimate_file,
-                                            const std::optional<EnuOrigins>& enu) {
+                                            const std::optional<EnuOrigins>& enu, bool gravity_aligned) {
   GroundTruthCheck check;
   // The same steps and defaults as `ultrafusion eval REF EST --align se3` (eval_command.cpp).
   auto reference = ReadTrajectory(ground_truth.string());
@@ -47,6 +47,12 @@ GroundTruthCheck EvaluateAgainstGroundTruth(const fs::path& ground_truth, const 
   check.evaluated = true;
   check.ape_rmse_m = result->ape.rmse;
   check.matched_poses = result->estimate.size();
+  if (gravity_aligned) {
+    EvalOptions yaw = options;
+    yaw.align = AlignMode::kYaw;
+    if (Expected<EvalResult> yawed = Evaluate(*reference, *estimate, yaw))
+      check.yaw_ape_rmse_m = yawed->ape.rmse;
+  }
   if (enu) {
     Expected<EnuAccuracy> in_enu = EvaluateInEnu(*reference, enu->truth, *estimate, enu->run);
     if (in_enu)
@@ -202,7 +208,10 @@ GroundTruthCheck RunAccuracyStage(const DatasetDescription& description, const f
   std::optional<EnuOrigins> enu;
   if (georef && description.ground_truth && description.ground_truth_enu_origin)
     enu = EnuOrigins{*description.ground_truth_enu_origin, georef->origin};
-  accuracy = EvaluateAgainstGroundTruth(ground_truth, out, "trajectory.tum", enu);
+  // The yaw-aligned ATE needs both worlds gravity-aligned: a ground-truth file's is taken to be (the
+  // simulator's, EuRoC's), a reader's reference is not (KITTI raw's starts at its first OXTS pose, tilted).
+  accuracy = EvaluateAgainstGroundTruth(ground_truth, out, "trajectory.tum", enu,
+                                        gnss.gravity_aligned && description.ground_truth.has_value());
   if (!description.ground_truth) accuracy.reference_source = description.reference->source;
   accuracy.ground_truth_moved_to_output_frame = description.ground_truth && *reference;
   if (accuracy.evaluated && georef && !enu)

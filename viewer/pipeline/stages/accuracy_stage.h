@@ -31,6 +31,10 @@ struct EnuAccuracy {
 struct GroundTruthCheck {
   bool evaluated = false;
   double ape_rmse_m = 0;
+  // A gravity-aligned run (any mode but LO) against a ground-truth file (its world taken to have z up): the
+  // ATE aligned by yaw and translation only (`eval --align yaw`), where a tilt of the run's world counts;
+  // none otherwise.
+  std::optional<double> yaw_ape_rmse_m;
   std::size_t matched_poses = 0;   // estimated poses paired with the ground truth
   std::string table;               // as `ultrafusion eval` prints it
   std::vector<std::string> plots;  // paths relative to the output folder
@@ -57,11 +61,13 @@ struct EnuOrigins {
 };
 
 // Reads both trajectories, evaluates and writes the APE/RPE plots into out_folder/plots; with `enu`, the
-// unaligned ENU figures too (EvaluateInEnu). Never fails: problems end up in `note` / `enu_note`.
+// unaligned ENU figures too (EvaluateInEnu); with `gravity_aligned` (the estimate's world has z up), the
+// yaw-aligned ATE too. Never fails: problems end up in `note` / `enu_note`.
 GroundTruthCheck EvaluateAgainstGroundTruth(const std::filesystem::path& ground_truth,
                                             const std::filesystem::path& out_folder,
                                             const std::string& estimate_file,
-                                            const std::optional<EnuOrigins>& enu = std::nullopt);
+                                            const std::optional<EnuOrigins>& enu = std::nullopt,
+                                            bool gravity_aligned = false);
 
 // trajectory_enu (T_enu_F, ENU at run_origin) against the ground truth (its world ENU at truth_origin, same
 // body frame F), matched within 0.01 s.
