@@ -70,19 +70,14 @@ void OnlineCalibration::AddLidarOrientation(Stamp stamp, const SO3& R_world_lida
     const std::size_t n = lidar_t_.size();
     const double rate = (lidar_R_[n - 2].inverse() * lidar_R_[n - 1]).angle() / (t - lidar_t_[n - 2]);
     if (rate > options_.max_turn_rate_deg_s * kDegree) {
-      if (!waiting_for_turn_)
-        solves_.push_back(
-            {.stamp = stamp,
-             .worker = time_locked_ ? CalibrationWorker::kRotation : CalibrationWorker::kTimeOffset,
-             .accepted = false,
-             .reason = PrintfText("sharp turn: the LiDAR turns at %.0f deg/s > %.0f; the solve waits",
-                                  rate / kDegree, options_.max_turn_rate_deg_s),
-             .time_offset_s = 0.0,
-             .R_imu_lidar = SO3(),
-             .quality = 0.0,
-             .rms_rad_s = 0.0,
-             .sigma_deg = 0.0,
-             .locked = false});
+      if (!waiting_for_turn_) {  // one record per turn
+        CalibrationSolve wait;
+        wait.stamp = stamp;
+        wait.worker = time_locked_ ? CalibrationWorker::kRotation : CalibrationWorker::kTimeOffset;
+        wait.reason = PrintfText("sharp turn: the LiDAR turns at %.0f deg/s > %.0f; the solve waits",
+                                 rate / kDegree, options_.max_turn_rate_deg_s);
+        solves_.push_back(std::move(wait));
+      }
       waiting_for_turn_ = true;
       return;
     }

@@ -213,11 +213,9 @@ std::string FormatCameraReliability(const pipeline::OdometrySummary& o) {
   md +=
       "Per frame, the score D of its tracks held against the window's predicted motion (agreeing tracks, "
       "their grid occupancy, the median disagreement; docs/METHOD.md \"Factor-wise reliability "
-      "scheduling\"), in `reliability.csv` with its inputs. With `visual.schedule.enabled` (off by default) "
-      "a "
-      "frame's observations are left out while the gate is shut (an object crossing the view, frames with "
-      "too "
-      "few tracks).\n\n";
+      "scheduling\"), in `reliability.csv` with its inputs. With `visual.schedule.enabled` (off by "
+      "default) a frame's observations are left out while the gate is shut (an object crossing the view, "
+      "frames with too few tracks).\n\n";
   md += CountAndSpans(o.camera_suppressed,
                       " of " + std::to_string(o.camera_scored) + " checked frames left out", "frames");
   return md + PlotLink("Camera reliability", o.camera_reliability_plot);
