@@ -61,6 +61,12 @@ struct LidarOdometryConfig {
   double imu_max_gap_s = 0.05;  // a longer step between IMU samples is a gap: bridged with the
                                 //   constant-velocity prior and a warning
   double imu_max_wait_s = 0.5;  // a scan waits this long (stream time) for the IMU to cover its end
+  // Initialized LIO: each new sweep's points are first corrected by the IMU's motion within the sweep, its
+  // departure from the constant velocity between the sweep's begin and end nodes (ImuSweepCorrection in
+  // lidar_odometry/imu_sweep_correction.h); the window then interpolates between the nodes as before. Off
+  // by default: it tips the 16-beam corridor's LWIO, already stuck far behind the truth, into shutting its
+  // wheel gate (docs/METHOD.md "LiDAR point-to-plane factor").
+  bool imu_deskew = false;
 
   // Wheel odometry factors between consecutive nodes (LWIO; providers/wheel_provider.h). A scan then also
   // waits (at most imu_max_wait_s of stream time) for the wheel samples to cover its end.

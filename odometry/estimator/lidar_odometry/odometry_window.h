@@ -187,6 +187,9 @@ struct LidarOdometry::Impl {
   void Associate(ScanState& scan, bool coarse = false);
   const VoxelHashMap& CoarseMap();
   void InsertIntoMap(ScanState& scan);
+  // Initialized LIO: the new scan's points corrected by the IMU's motion within its sweep beyond the
+  // interpolation between its nodes (imu_sweep_correction.h); unchanged where the IMU has a gap.
+  void CorrectSweepByImu(ScanState& scan);
   void Release(ScanState& scan);
   void PopOldest();
   Matrix6d ScanInformation(const ScanState& scan);

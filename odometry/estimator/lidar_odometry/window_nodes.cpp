@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "odometry/estimator/lidar_odometry/imu_sweep_correction.h"
 #include "odometry/estimator/lidar_odometry/odometry_window.h"
 
 namespace uf::estimator {
@@ -82,6 +83,21 @@ Status LidarOdometry::Impl::AddWheel(const WheelSample& sample) {
 void LidarOdometry::Impl::LinkGnss() {
   if (!gnss || !inertial) return;
   gnss->Link(graph, NodeViews(nodes), warnings);
+}
+
+void LidarOdometry::Impl::CorrectSweepByImu(ScanState& scan) {
+  const Stamp begin = NodeAt(scan.begin_node).stamp, end = NodeAt(scan.end_node).stamp;
+  const NavState begin_state = NodeState(scan.begin_node);
+  std::vector<SE3> predicted{begin_state.T_world_imu};
+  for (int i = 1; i <= ImuSweepCorrection::kSteps; ++i) {
+    const Stamp t = begin + (end - begin) * i / ImuSweepCorrection::kSteps;
+    Expected<ImuPreintegration> pre = imu.Preintegrate(begin, t, NodeAt(scan.begin_node).speed_bias.data());
+    if (!pre) return;  // a gap: the nodes' interpolation alone
+    predicted.push_back(pre->Predict(begin_state).T_world_imu);
+  }
+  const ImuSweepCorrection correction(predicted, config.T_body_lidar);
+  for (std::vector<PreparedPoint>* points : {&scan.points, &scan.map_points, &scan.registration_points})
+    for (PreparedPoint& p : *points) p.point_lidar = correction.Apply(p.point_lidar, p.alpha);
 }
 
 void LidarOdometry::Impl::AddImuFactor(long id, std::unique_ptr<ImuFactor> factor) {

@@ -74,6 +74,8 @@ Schema<LidarOdometryConfig> MakeLoSchema() {
 Schema<LidarOdometryConfig> MakeLioSchema() {
   using C = LidarOdometryConfig;
   Schema<C> s("lio");
+  s.Key("imu_deskew", &C::imu_deskew, "",
+        "correct each sweep's points by the IMU's motion within the sweep beyond constant velocity");
   s.Key("imu_max_gap_s", &C::imu_max_gap_s, "s",
         "a longer step between IMU samples is a gap, bridged by the constant-velocity prior");
   s.Key("imu_max_wait_s", &C::imu_max_wait_s, "s (stream time)",
