@@ -5,18 +5,20 @@
 # configs/run-sim.yaml and only the iteration budget (lo.max_solver_time_s lifted: the figures then do not
 # depend on the machine's load). Prints the ATE (SE3-aligned) per run and the rejected scans / restarts, then
 # per scene and mode the median, the worst and how many seeds met the issue's targets (LO <= 0.05 m,
-# LIO <= 0.03 m).
-#   usage: bench/bench_handheld.sh [--seeds N] [--keep DIR] [SCENE ...]
+# LIO <= 0.03 m). --imu-deskew: LIO with lio.imu_deskew on (the IMU's correction within each sweep).
+#   usage: bench/bench_handheld.sh [--seeds N] [--keep DIR] [--imu-deskew] [SCENE ...]
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 bin="${UF_BIN:-$root/build/bin}/ultrafusion"
 seeds=10
 keep=""
+deskew=false
 scenes=()
 while (($#)); do
   case "$1" in
     --seeds) seeds="$2"; shift 2 ;;
     --keep) keep="$2"; shift 2 ;;
+    --imu-deskew) deskew=true; shift ;;
     *) scenes+=("$1"); shift ;;
   esac
 done
@@ -24,8 +26,10 @@ done
 work="${keep:-$(mktemp -d)}"
 [[ -n "$keep" ]] || trap 'rm -rf "$work"' EXIT
 mkdir -p "$work"
-sed 's/^lo:$/lo:\n  max_solver_time_s: 100/' "$root/configs/run-sim.yaml" >"$work/run.yaml"
-echo "bench_handheld: ${seeds} seeds, load average $(cut -d' ' -f1-3 /proc/loadavg)"
+sed -e 's/^lo:$/lo:\n  max_solver_time_s: 100/' -e "s/^  imu_deskew: false /  imu_deskew: $deskew /" \
+  "$root/configs/run-sim.yaml" >"$work/run.yaml"
+grep -q "^  imu_deskew: $deskew " "$work/run.yaml" || { echo "configs/run-sim.yaml: no imu_deskew line"; exit 1; }
+echo "bench_handheld: ${seeds} seeds, lio.imu_deskew $deskew, load average $(cut -d' ' -f1-3 /proc/loadavg)"
 printf '%-10s %5s %-4s %10s %9s\n' scene seed mode ATE_m rejected
 for scene in "${scenes[@]}"; do
   for mode in lo lio; do : >"$work/$scene-$mode.ate"; done
