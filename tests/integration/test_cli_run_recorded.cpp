@@ -54,6 +54,11 @@ TEST(CliRunKitti, FirstTenKeyframesRunAndReportTheAccuracy) {
       "point times of velodyne: clockwise from behind (chosen by the check on the first scans";
   EXPECT_NE(result.output.find(said), std::string::npos) << result.output;
   EXPECT_NE(testing::ReadText(run + "/report.md").find(said), std::string::npos);
+  // The HDL-64E's 64 rings, read from the order of the points: the ring gate's auto takes 2.
+  EXPECT_NE(testing::ReadText(run + "/report.md")
+                .find("LiDAR map: planes only from blocks spanning >= 2 LiDAR rings (lo.map.min_plane_rings "
+                      "auto: a LiDAR of 32 rings or more)"),
+            std::string::npos);
   EXPECT_NE(testing::ReadText(run + "/config.yaml").find("point_time_convention: clockwise_from_behind"),
             std::string::npos);
   // 18 m driven in 1.9 s. Only "not lost" is asserted here (LO's accuracy is its own tests' and bench's

@@ -19,8 +19,8 @@ Status VoxelMapConfig::Validate() const {
     return FieldError("plane_eigen_ratio", "in (0, 1]", plane_eigen_ratio);
   if (min_plane_points < 3) return FieldError("min_plane_points", ">= 3", min_plane_points);
   if (!(min_plane_sigma_m >= 0)) return FieldError("min_plane_sigma_m", ">= 0", min_plane_sigma_m);
-  if (min_plane_rings < 1 || min_plane_rings > 63)
-    return FieldError("min_plane_rings", "in [1, 63]", min_plane_rings);
+  if (min_plane_rings < 0 || min_plane_rings > 63)
+    return FieldError("min_plane_rings", "in [0, 63] (0: auto)", min_plane_rings);
   return {};
 }
 

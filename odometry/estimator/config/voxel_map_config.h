@@ -15,8 +15,10 @@ struct VoxelMapConfig {
   double min_plane_sigma_m = 0.05;  // floor of Plane::sigma, m
   // Distinct LiDAR rings needed in the 3x3x3 block for a plane, when every point's ring is known (1: off).
   // One ring is one scan line: a curve on the beam's cone, whose PCA plane may be the cone's, not the
-  // surface's.
-  int min_plane_rings = 1;
+  // surface's. 0: auto, 2 once a point of ring kAutoGateFromRing or higher was inserted (a LiDAR of 32 rings
+  // or more), else 1: a sparser LiDAR's rings lie metres apart on the ground, where a block holds one.
+  int min_plane_rings = 0;
+  static constexpr int kAutoGateFromRing = 31;
 
   // "lidar_map.<field>: must be ..., got <value>" for the first bad field.
   Status Validate() const;

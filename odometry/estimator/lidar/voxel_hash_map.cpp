@@ -1,5 +1,6 @@
 #include "odometry/estimator/lidar/voxel_hash_map.h"
 
+#include <algorithm>
 #include <bit>
 #include <cassert>
 #include <string>
@@ -83,7 +84,9 @@ void VoxelHashMap::Insert(const std::vector<Eigen::Vector3d>& world_points, cons
     if (static_cast<int>(voxel.points.size()) >= config_.max_points_per_voxel) continue;
     voxel.points.push_back(p.cast<float>());
     voxel.moments.Add(p - CenterOf(index));
-    voxel.rings |= RingBit(k < rings.size() ? rings[k] : -1);
+    const int ring = k < rings.size() ? rings[k] : -1;
+    voxel.rings |= RingBit(ring);
+    highest_ring_ = std::max(highest_ring_, ring);
     ++point_count_;
   }
 }
@@ -124,8 +127,13 @@ std::optional<Plane> VoxelHashMap::FitBlockAround(const VoxelIndex& index) const
   return FitPlane(block.Total(), CenterOf(index), gate_);
 }
 
+int VoxelHashMap::min_plane_rings_in_use() const {
+  if (config_.min_plane_rings > 0) return config_.min_plane_rings;
+  return highest_ring_ >= VoxelMapConfig::kAutoGateFromRing ? 2 : 1;
+}
+
 bool VoxelHashMap::EnoughRings(std::uint64_t rings) const {
-  return (rings & kUnknownRing) != 0 || std::popcount(rings) >= config_.min_plane_rings;
+  return (rings & kUnknownRing) != 0 || std::popcount(rings) >= min_plane_rings_in_use();
 }
 
 std::uint64_t VoxelHashMap::QueryKey(const Eigen::Vector3d& world_point) const {

@@ -57,6 +57,8 @@ class VoxelHashMap {
   std::vector<Eigen::Vector3d> Points() const;  // all stored points (for viewers and tests), any order
   void Clear();
   const VoxelMapConfig& config() const { return config_; }
+  // config().min_plane_rings, or what its auto (0) stands for given the rings inserted so far.
+  int min_plane_rings_in_use() const;
 
  private:
   // Slot of a voxel in voxels_; the 27 voxels of a block are linked by slot so that fitting the block of a
@@ -93,6 +95,7 @@ class VoxelHashMap {
   absl::flat_hash_map<std::uint64_t, Slot, VoxelKeyHash> slot_of_;
   std::size_t point_count_ = 0;
   std::uint64_t revision_ = 0;
+  int highest_ring_ = -1;  // of every point inserted, Clear included: a property of the LiDAR
 };
 
 }  // namespace uf::estimator

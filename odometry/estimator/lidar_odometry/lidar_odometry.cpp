@@ -248,6 +248,7 @@ SensorFactorStats LidarOdometry::sensor_factors() const {
   if (impl_->wheel) impl_->wheel->Report(stats);
   if (impl_->gnss) impl_->gnss->Report(stats);
   if (impl_->visual) impl_->visual->Report(stats);
+  stats.lidar_plane_rings = impl_->map.min_plane_rings_in_use();
   return stats;
 }
 

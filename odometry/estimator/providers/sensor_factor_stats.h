@@ -35,6 +35,9 @@ struct SensorFactorStats {
   double camera_time_offset_s = 0;
   int visual_map_depths = 0;            // LVIO: landmarks whose depth came from the LiDAR map
   std::optional<SE3> camera_extrinsic;  // T_body_camera at the end, when it was estimated
+  // LiDAR modes: the rings a map block needed for a plane (lo.map.min_plane_rings, or what its auto chose
+  // for the LiDAR); 0 without LiDAR.
+  int lidar_plane_rings = 0;
 };
 
 }  // namespace uf::estimator

@@ -7,6 +7,7 @@
 #include "odometry/io/folders/merged_streams.h"
 #include "odometry/io/folders/point_cloud_files.h"
 #include "odometry/io/trajectory_file.h"
+#include "odometry/types/rings_from_storage_order.h"
 
 namespace uf {
 namespace {
@@ -36,6 +37,7 @@ class KittiScanSource : public StreamSource {
     PointCloudFileInfo file_info;
     auto scan = file.extension() == ".pcd" ? ReadPcdFile(file, &file_info) : ReadKittiBin(file, &file_info);
     if (!scan) return scan.status();
+    DeriveRingsFromStorageOrder(*scan);
     if (file_info.dropped_non_finite > 0)
       warnings.Add(stream_, "points with NaN/Inf values dropped", file_info.dropped_non_finite);
     switch (file_info.point_time) {

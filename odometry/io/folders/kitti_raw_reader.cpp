@@ -13,6 +13,7 @@
 #include "odometry/io/folders/kitti_raw_oxts.h"
 #include "odometry/io/folders/point_cloud_files.h"
 #include "odometry/types/azimuth_convention.h"
+#include "odometry/types/rings_from_storage_order.h"
 
 namespace uf {
 namespace {
@@ -93,6 +94,7 @@ Expected<std::unique_ptr<StreamSource>> LidarSource(const fs::path& folder, cons
       warnings.Add(name, "damaged scan files skipped (" + scan.error() + ")");
       return std::optional<MeasurementData>();
     }
+    DeriveRingsFromStorageOrder(*scan);
     dropped += info.dropped_non_finite;
     if (dropped > 0) warnings.Add(name, "points with NaN/Inf values dropped", dropped);
     const auto [first, last] = sweeps.Of(frame);

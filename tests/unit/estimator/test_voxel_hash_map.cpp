@@ -232,7 +232,8 @@ TEST(VoxelHashMap, ValidatesItsConfig) {
   EXPECT_FALSE(VoxelMapConfig{.max_points_per_voxel = 0}.Validate().ok());
   EXPECT_FALSE(VoxelMapConfig{.plane_eigen_ratio = 1.5}.Validate().ok());
   EXPECT_FALSE(VoxelMapConfig{.min_plane_points = 2}.Validate().ok());
-  EXPECT_FALSE(VoxelMapConfig{.min_plane_rings = 0}.Validate().ok());
+  EXPECT_TRUE(VoxelMapConfig{.min_plane_rings = 0}.Validate().ok());  // auto
+  EXPECT_FALSE(VoxelMapConfig{.min_plane_rings = -1}.Validate().ok());
   EXPECT_FALSE(VoxelMapConfig{.min_plane_rings = 64}.Validate().ok());
 }
 
@@ -256,7 +257,7 @@ TEST(VoxelHashMap, SingleScanLineAcrossATrunkGivesAPlaneOnlyWithoutTheRingGate) 
   const std::vector<int> rings(line.size(), 15);
   const Eigen::Vector3d on_trunk = line[line.size() / 2] + Eigen::Vector3d(0, 0, 0.3);
 
-  VoxelHashMap ungated;
+  VoxelHashMap ungated(VoxelMapConfig{.min_plane_rings = 1});
   ungated.Insert(line, rings);
   const auto fake = ungated.PlaneNear(on_trunk);
   ASSERT_TRUE(fake);
@@ -271,6 +272,27 @@ TEST(VoxelHashMap, SingleScanLineAcrossATrunkGivesAPlaneOnlyWithoutTheRingGate) 
   VoxelHashMap unknown_rings(VoxelMapConfig{.min_plane_rings = 2});
   unknown_rings.Insert(line);
   EXPECT_TRUE(unknown_rings.PlaneNear(on_trunk));
+}
+
+// min_plane_rings 0 (auto, the default) gates once the LiDAR shows a ring index of 31 or more (32 rings or
+// more): the trunk's single scan line of ring 15 keeps its cone plane while the map has seen rings 0-30 only
+// (a 16- or 31-ring LiDAR), and loses it once a point of ring 31 arrives anywhere in the map.
+TEST(VoxelHashMap, AutoRingGateTurnsOnForALidarOf32RingsOrMore) {
+  std::vector<Eigen::Vector3d> line;
+  for (double y = -0.7; y <= 0.7; y += 0.05) line.emplace_back(50, y, 0.01 * y * y);  // a shallow arc
+  const Eigen::Vector3d on_line = line[line.size() / 2];
+  VoxelHashMap map;
+  ASSERT_EQ(map.config().min_plane_rings, 0);
+  map.Insert(line, std::vector<int>(line.size(), 15));
+  map.Insert({Eigen::Vector3d(-20, 0, 0)}, {30});
+  EXPECT_EQ(map.min_plane_rings_in_use(), 1);
+  EXPECT_TRUE(map.PlaneNear(on_line));
+  map.Insert({Eigen::Vector3d(-20, 5, 0)}, {31});
+  EXPECT_EQ(map.min_plane_rings_in_use(), 2);
+  EXPECT_FALSE(map.PlaneNear(on_line));
+  map.Clear();  // the LiDAR stays the same
+  EXPECT_EQ(map.min_plane_rings_in_use(), 2);
+  EXPECT_EQ(VoxelHashMap(VoxelMapConfig{.min_plane_rings = 3}).min_plane_rings_in_use(), 3);
 }
 
 // Two rings on a flat facade x = 50: each ring alone is a straight line (no plane), the two together span

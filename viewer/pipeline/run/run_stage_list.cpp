@@ -89,6 +89,18 @@ std::string VisualNote(const RunPlan& plan, const estimator::SensorFactorStats& 
   return note;
 }
 
+// The LiDAR map's ring gate as the run used it (docs/METHOD.md "Voxel-hash map and PCA planes").
+std::string RingGateNote(const RunPlan& plan, int rings) {
+  const bool automatic = plan.lo_config.map.min_plane_rings == 0;
+  if (rings == 1)
+    return std::string(
+               "LiDAR map: planes from blocks of any number of LiDAR rings (lo.map.min_plane_rings ") +
+           (automatic ? "auto: the scans' rings are unknown or fewer than 32)" : "1)");
+  return "LiDAR map: planes only from blocks spanning >= " + std::to_string(rings) +
+         " LiDAR rings (lo.map.min_plane_rings " +
+         (automatic ? "auto: a LiDAR of 32 rings or more)" : "set)");
+}
+
 // The map stage on the odometry's keyframes, or (--from map) on the earlier trajectory and the scans.
 Status RunMap(RunPlan& plan, const fs::path& out, StageOutputs& o, StageContext& context) {
   MapStageInput in;
@@ -224,6 +236,7 @@ void Summarize(const RunPlan& plan, StageOutputs& o, RunSummary& summary) {
       summary.notes.push_back(init.empty() ? "WIO never initialized: no pose (see warnings)"
                                            : "WIO initialized: " + init);
     const estimator::SensorFactorStats& factors = summary.odometry.sensor_factors;
+    if (factors.lidar_plane_rings > 0) summary.notes.push_back(RingGateNote(plan, factors.lidar_plane_rings));
     if (plan.mode.wheel) {
       char scale[32];
       std::snprintf(scale, sizeof(scale), "%.4f", factors.wheel_scale);

@@ -4,14 +4,19 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <variant>
+#include <vector>
 
 #include "odometry/io/dataset_reader.h"
 #include "odometry/io/folders/folder_readers.h"
 #include "odometry/io/folders/kitti_raw_files.h"
 #include "odometry/io/folders/kitti_raw_oxts.h"
+#include "odometry/io/folders/point_cloud_files.h"
 #include "odometry/io/trajectory_file.h"
+#include "odometry/types/rings_from_storage_order.h"
 #include "tests/support/read_all.h"
 #include "tests/support/temp_dir.h"
 #include "tests/unit/io/folders/folder_fixtures.h"
@@ -105,6 +110,7 @@ TEST(KittiRawDrive, RealDriveCountsStampsAndOneOxtsRecord) {
   EXPECT_EQ(first_scan->end, *ParseKittiWallClock("2011-09-26 13:08:25.009036215"));
   EXPECT_EQ(last_scan->stamp, *ParseKittiWallClock("2011-09-26 13:08:30.077665900"));
   EXPECT_TRUE(first_scan->has_point_times && first_scan->point_times_from_azimuth);
+  EXPECT_TRUE(first_scan->has_ring);  // from the order the file stores the points in
   EXPECT_GT(first_scan->points.size(), 110000u);
   EXPECT_EQ(first_image->stamp, *ParseKittiWallClock("2011-09-26 13:08:24.967930880"));
   EXPECT_EQ(first_image->camera, 2);
@@ -125,6 +131,28 @@ TEST(KittiRawDrive, RealDriveCountsStampsAndOneOxtsRecord) {
   EXPECT_TRUE(images_missing);
   EXPECT_LT(d.streams[imu].nominal_rate_hz, 11);
   EXPECT_NE(d.streams[imu].note.find("10 Hz"), std::string::npos) << d.streams[imu].note;
+}
+
+// The HDL-64E's scans are stored ring by ring, top laser first (rings_from_storage_order.h): the 64 rings
+// derived from that order must run from the top (about +2 deg) to the bottom (about -24 deg), each ring's
+// median elevation below the one before.
+TEST(KittiRawDrive, RingsFromTheStorageOrderRunFromTheTopLaserDown) {
+  SKIP_WITHOUT_DRIVE();
+  auto scan = ReadKittiBin(drive / "velodyne_points" / "data" / "0000000000.bin.xz");
+  ASSERT_TRUE(scan.ok()) << scan.error();
+  ASSERT_EQ(DeriveRingsFromStorageOrder(*scan), 64);
+  std::vector<std::vector<double>> elevations(64);
+  for (const LidarPoint& p : scan->points)
+    elevations[p.ring].push_back(std::atan2(p.z, std::hypot(p.x, p.y)) * 180 / M_PI);
+  std::vector<double> medians;
+  for (std::vector<double>& ring : elevations) {
+    ASSERT_GT(ring.size(), 1000u);  // ~1900 returns per ring
+    std::nth_element(ring.begin(), ring.begin() + ring.size() / 2, ring.end());
+    medians.push_back(ring[ring.size() / 2]);
+  }
+  EXPECT_NEAR(medians.front(), 2.5, 1.0);
+  EXPECT_NEAR(medians.back(), -24, 1.0);
+  for (int r = 1; r < 64; ++r) EXPECT_LT(medians[r], medians[r - 1]) << "ring " << r;
 }
 
 TEST(KittiRawDrive, RealCalibrationProjectsAsKittisFormula) {
