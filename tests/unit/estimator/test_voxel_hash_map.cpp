@@ -275,8 +275,8 @@ TEST(VoxelHashMap, SingleScanLineAcrossATrunkGivesAPlaneOnlyWithoutTheRingGate) 
 }
 
 // min_plane_rings 0 (auto, the default) gates once the LiDAR shows a ring index of 31 or more (32 rings or
-// more): the trunk's single scan line of ring 15 keeps its cone plane while the map has seen rings 0-30 only
-// (a 16- or 31-ring LiDAR), and loses it once a point of ring 31 arrives anywhere in the map.
+// more): a single scan line of ring 15 (a shallow arc on a facade) keeps its plane while the map has seen
+// rings 0-30 only (a 16- or 31-ring LiDAR), and loses it once a point of ring 31 arrives anywhere in the map.
 TEST(VoxelHashMap, AutoRingGateTurnsOnForALidarOf32RingsOrMore) {
   std::vector<Eigen::Vector3d> line;
   for (double y = -0.7; y <= 0.7; y += 0.05) line.emplace_back(50, y, 0.01 * y * y);  // a shallow arc

@@ -1,5 +1,6 @@
 // Rings recovered from the stored order of a scan (rings_from_storage_order.h), on made-up scans whose rings
-// are known: stored ring by ring they come back exactly; stored in any other order they are not guessed.
+// are known: stored ring by ring they come back (but for a few points where a ring starts a little before
+// or after the first ring did); stored in any other order they are not guessed.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -14,7 +15,7 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 
 // A spinning LiDAR's scan stored ring by ring: ring r at elevation 10 - 0.5 r deg, each ring one turn of
-// azimuth (counter-clockwise) from `start_deg` (+ a per-ring offset of up to 1 deg, as real lasers have),
+// azimuth (counter-clockwise) from `start_deg` (+ a per-ring offset of up to 0.5 deg, as real lasers have),
 // one point per `step_deg` except inside the azimuth gap [gap_from, gap_to) deg (no returns), ranges 5-40 m.
 LidarScan RingOrderedScan(int rings, double start_deg, double step_deg, double gap_from = 0,
                           double gap_to = 0) {

@@ -134,7 +134,7 @@ TEST(KittiRawDrive, RealDriveCountsStampsAndOneOxtsRecord) {
 }
 
 // The HDL-64E's scans are stored ring by ring, top laser first (rings_from_storage_order.h): the 64 rings
-// derived from that order must run from the top (about +2 deg) to the bottom (about -24 deg), each ring's
+// derived from that order must run from the top (about +2.5 deg) to the bottom (about -24 deg), each ring's
 // median elevation below the one before.
 TEST(KittiRawDrive, RingsFromTheStorageOrderRunFromTheTopLaserDown) {
   SKIP_WITHOUT_DRIVE();
