@@ -92,13 +92,13 @@ std::string VisualNote(const RunPlan& plan, const estimator::SensorFactorStats& 
 // The LiDAR map's ring gate as the run used it (docs/METHOD.md "Voxel-hash map and PCA planes").
 std::string RingGateNote(const RunPlan& plan, int rings) {
   const bool automatic = plan.lo_config.map.min_plane_rings == 0;
+  const std::string setting =
+      "lo.map.min_plane_rings " + (automatic ? std::string("auto: ") : std::to_string(rings));
   if (rings == 1)
-    return std::string(
-               "LiDAR map: planes from blocks of any number of LiDAR rings (lo.map.min_plane_rings ") +
-           (automatic ? "auto: the scans' rings are unknown or fewer than 32)" : "1)");
-  return "LiDAR map: planes only from blocks spanning >= " + std::to_string(rings) +
-         " LiDAR rings (lo.map.min_plane_rings " +
-         (automatic ? "auto: a LiDAR of 32 rings or more)" : "set)");
+    return "LiDAR map: planes from blocks of any number of LiDAR rings (" + setting +
+           (automatic ? "the scans' rings are unknown or fewer than 32)" : ")");
+  return "LiDAR map: planes only from blocks spanning >= " + std::to_string(rings) + " LiDAR rings (" +
+         setting + (automatic ? "a LiDAR of 32 rings or more)" : ")");
 }
 
 // The map stage on the odometry's keyframes, or (--from map) on the earlier trajectory and the scans.
