@@ -29,7 +29,7 @@ int DeriveRingsFromStorageOrder(LidarScan& scan) {
   }
   const double turns = turned.back() / kTurn;
   const double rings = std::ceil(turns - kPastWhole);
-  if (rings < kMinDerivedRings || turns < rings - kShortOfWhole) return 0;
+  if (rings < kMinDerivedRings || rings > kMaxDerivedRings || turns < rings - kShortOfWhole) return 0;
   for (std::size_t i = 0; i < scan.points.size(); ++i)
     scan.points[i].ring =
         static_cast<std::uint16_t>(std::min(rings - 1, std::max(0.0, std::floor(turned[i] / kTurn))));

@@ -10,13 +10,15 @@
 
 namespace uf {
 
-// Rings a scan must show for them to be derived: fewer turns are no multi-beam ring order.
+// Rings a scan must show for them to be derived: fewer turns are no multi-beam ring order, more are no
+// LiDAR's (the densest spin 128 lasers).
 inline constexpr int kMinDerivedRings = 8;
+inline constexpr int kMaxDerivedRings = 512;
 
 // When the scan has no rings and its stored order is ring by ring (the unwrapped azimuth never steps back
 // by more than 2 deg and ends within a quarter turn short of, or 0.05 turn past, a whole number of turns
-// >= kMinDerivedRings), sets each point's ring to the number of whole turns before it, sets has_ring and
-// returns the number of rings; otherwise leaves the scan as it is and returns 0.
+// in [kMinDerivedRings, kMaxDerivedRings]), sets each point's ring to the number of whole turns before it,
+// sets has_ring and returns the number of rings; otherwise leaves the scan as it is and returns 0.
 int DeriveRingsFromStorageOrder(LidarScan& scan);
 
 }  // namespace uf

@@ -75,6 +75,15 @@ TEST(RingsFromStorageOrder, AnyOtherOrderIsNotGuessed) {
   LidarScan few = RingOrderedScan(kMinDerivedRings - 1, 0, 0.2);
   EXPECT_EQ(DeriveRingsFromStorageOrder(few), 0);
 
+  LidarScan spinning_on;  // 2000 points 179 deg apart: 994 turns, more rings than any LiDAR has
+  for (int i = 0; i < 2000; ++i) {
+    const double a = std::remainder(i * 179.0, 360.0) * kPi / 180;
+    LidarPoint& p = spinning_on.points.emplace_back();
+    p.x = static_cast<float>(10 * std::cos(a));
+    p.y = static_cast<float>(10 * std::sin(a));
+  }
+  EXPECT_EQ(DeriveRingsFromStorageOrder(spinning_on), 0);
+
   LidarScan cut = RingOrderedScan(32, 0, 0.2);  // the last ring stops half way: not whole turns
   cut.points.resize(cut.points.size() - 900);
   EXPECT_EQ(DeriveRingsFromStorageOrder(cut), 0);
