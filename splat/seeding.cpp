@@ -85,13 +85,22 @@ Expected<SeedResult> SeedGaussians(const mapping::PointSource& map, const SeedOp
   if (Status s = options.Validate(); !s.ok()) return s;
   SeedResult result;
   result.map_points = map.size();
-  result.thinning =
-      std::max<std::size_t>(1, (map.size() + options.max_gaussians - 1) / options.max_gaussians);
-  // Gather the seeded points (every thinning-th) with what the Gaussians need.
+  std::size_t coloured = 0;
+  if (options.seen_points_only)
+    map.ForEachChunk([&](std::span<const mapping::MapPoint> chunk) {
+      for (const mapping::MapPoint& p : chunk) coloured += p.has_color;
+      return true;
+    });
+  const bool skip_unseen = coloured > 0;
+  if (skip_unseen) result.unseen_left_out = map.size() - coloured;
+  const std::size_t eligible = skip_unseen ? coloured : map.size();
+  result.thinning = std::max<std::size_t>(1, (eligible + options.max_gaussians - 1) / options.max_gaussians);
+  // Gather the seeded points (every thinning-th of those left in) with what the Gaussians need.
   std::vector<Eigen::Vector3f> positions, normals, colours;
   std::size_t index = 0;
   map.ForEachChunk([&](std::span<const mapping::MapPoint> chunk) {
     for (const mapping::MapPoint& p : chunk) {
+      if (skip_unseen && !p.has_color) continue;
       if (index++ % result.thinning != 0 || !p.position.allFinite()) continue;
       positions.push_back(p.position.cast<float>());
       normals.push_back(p.normal.allFinite() ? p.normal : Eigen::Vector3f::Zero());

@@ -220,7 +220,8 @@ TEST_F(CliSplat, AMapWithoutColourIsSeededGreyWithAWarning) {
       << result.output;
   const nlohmann::json m = ReadJson(fs::path(run) / "metrics.json");
   EXPECT_EQ(m["uncoloured_seeds"], m["map_seeds"]);
-  EXPECT_EQ(m["gaussians_initial"].get<int>(), m["map_seeds"].get<int>() + m["sky_gaussians"].get<int>());
+  EXPECT_EQ(m["gaussians_initial"].get<int>(),
+            m["map_seeds"].get<int>() + m["feature_seeds"].get<int>() + m["sky_gaussians"].get<int>());
   EXPECT_EQ(m["sky_gaussians"], 30000);
 }
 

@@ -235,6 +235,7 @@ void LidarOdometry::Finish() {
   }
   w.config.marginalize = false;  // nothing is solved after this: no prior needed
   while (!w.window.empty()) w.PopOldest();
+  w.ReleaseHeld(SE3());  // never initialized: they stay in the LO frame
 }
 
 const std::vector<std::string>& LidarOdometry::warnings() const { return impl_->warnings; }

@@ -111,7 +111,9 @@ class LidarOdometry {
   Status AddGnss(const GnssFix& fix);
   // Keyframes whose state has left the window (final) since the last call: stamp = the scan's middle
   // (stamp + (end - stamp) / 2), T_world_body = pose at that time, scan_world = deskewed points (world),
-  // scan_intensity, velocity from the estimate.
+  // scan_intensity, velocity from the estimate. LIO holds them back until its initialization and rotates
+  // them into the gravity-aligned world with the window (at most 200; docs/METHOD.md "Observability-aware
+  // initialization").
   std::vector<Keyframe> TakeFinished();
   // Optimises once more and releases every remaining state (end of data).
   void Finish();

@@ -121,6 +121,11 @@ struct LidarOdometry::Impl {
   std::deque<ScanState> window;
   long next_scan_id = 0;
   std::vector<Keyframe> finished;
+  // LIO before initialization: the keyframes that left the window in the LO frame, held until the alignment
+  // rotates them into the gravity-aligned world with the window (at most kMaxHeldKeyframes; see Release).
+  std::deque<Keyframe> held_for_alignment;
+  static constexpr std::size_t kMaxHeldKeyframes = 200;
+  bool released_unaligned = false;  // kMaxHeldKeyframes was exceeded (warned once)
   std::vector<std::string> warnings;
   OdometryStats stats;
   std::vector<OdometryStats> processed;  // since the last TakeProcessedStats
@@ -191,6 +196,7 @@ struct LidarOdometry::Impl {
   // interpolation between its nodes (imu_sweep_correction.h); unchanged where the IMU has a gap.
   void CorrectSweepByImu(ScanState& scan);
   void Release(ScanState& scan);
+  void ReleaseHeld(const SE3& T_world_lo);
   void PopOldest();
   Matrix6d ScanInformation(const ScanState& scan);
   void DropWeakDirections(ScanState& scan);

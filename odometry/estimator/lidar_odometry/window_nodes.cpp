@@ -156,6 +156,7 @@ void LidarOdometry::Impl::ApplyInertialAlignment(const InertialAlignment& alignm
   inertial = true;
   for (long id = first_node_id; id <= LastNodeId(); ++id)
     NodeAt(id).pose = PoseBlock(T_gravity_lo * NodePose(id));
+  ReleaseHeld(T_gravity_lo);  // the keyframes that left the window before, in the same world
   gravity_reference = GravityReference{NodePose(LastNodeId()).so3(), config.T_body_lidar.so3()};
   SetWorldGravity();  // along -z: the world is aligned with gravity now
   for (long id = first_node_id; id <= LastNodeId(); ++id) {

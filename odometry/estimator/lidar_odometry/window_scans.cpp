@@ -174,7 +174,39 @@ void LidarOdometry::Impl::Release(ScanState& scan) {
   if (wheel) keyframe.wheel_consistency = wheel->TakeConsistency(scan.end_node);
   if (gnss) keyframe.gnss_checks = gnss->TakeChecks(NodeAt(scan.end_node).stamp);
   if (visual) keyframe.camera_checks = visual->TakeChecks(NodeAt(scan.end_node).stamp);
-  finished.push_back(std::move(keyframe));
+  if (!config.use_imu || inertial) {
+    finished.push_back(std::move(keyframe));
+    return;
+  }
+  // LIO not yet initialized: the pose is in the LO frame (the first IMU pose's), which the alignment will
+  // rotate into the gravity-aligned world. Released now, the trajectory and the map would carry the start's
+  // tilt up to the alignment and jump there (KITTI raw 0009: 3.8 deg of roll). Held keyframes are rotated
+  // with the window (ApplyInertialAlignment); past kMaxHeldKeyframes the oldest leave as they are, with a
+  // warning.
+  held_for_alignment.push_back(std::move(keyframe));
+  if (held_for_alignment.size() > kMaxHeldKeyframes) {
+    if (!released_unaligned)
+      warnings.push_back("LIO not initialized after " + std::to_string(kMaxHeldKeyframes) +
+                         " keyframes: releasing them in the LO frame from " +
+                         StampText(held_for_alignment.front().stamp) +
+                         " on (the trajectory tilts where the initialization comes)");
+    released_unaligned = true;
+    finished.push_back(std::move(held_for_alignment.front()));
+    held_for_alignment.pop_front();
+  }
+}
+
+// The held keyframes into the world: poses, velocities and points turned by T_world_lo.
+void LidarOdometry::Impl::ReleaseHeld(const SE3& T_world_lo) {
+  const Eigen::Matrix3f R = T_world_lo.so3().matrix().cast<float>();
+  const Eigen::Vector3f t = T_world_lo.translation().cast<float>();
+  for (Keyframe& keyframe : held_for_alignment) {
+    keyframe.T_world_body = T_world_lo * keyframe.T_world_body;
+    keyframe.velocity = T_world_lo.so3() * keyframe.velocity;
+    for (Eigen::Vector3f& p : keyframe.scan_world) p = R * p + t;
+    finished.push_back(std::move(keyframe));
+  }
+  held_for_alignment.clear();
 }
 
 // The Gauss-Newton information of the scan's point-to-plane factors, H = sum rho' J^T J (rho': the Huber

@@ -290,6 +290,7 @@ inline SplatConfig NonDefaultSplat() {
   c.holdout_stride = 5;
   c.comparisons = 2;
   c.seed_points = 5000;
+  c.feature_seed_corners = 50;
   c.sky_gaussians = 100;
   c.mask_image = "masks/hood.png";
   c.exposure_compensation = true;

@@ -337,6 +337,7 @@ inline void ExpectSameSplat(const SplatConfig& a, const SplatConfig& b) {
   EXPECT_FIELD(holdout_stride);
   EXPECT_FIELD(comparisons);
   EXPECT_FIELD(seed_points);
+  EXPECT_FIELD(feature_seed_corners);
   EXPECT_FIELD(sky_gaussians);
   EXPECT_FIELD(mask_image);
   EXPECT_FIELD(exposure_compensation);

@@ -156,6 +156,29 @@ TEST(SplatCameraPoses, KeyframesAreSelectedByDistanceOrAngle) {
   EXPECT_TRUE(selector.Select(Pose(0, 0, six, 0.31, 0, 0)));
 }
 
+// Stamps of the held-out views when `count` views (stamped 0, 1, ...) are split with `stride`.
+std::vector<Stamp> HeldOutStamps(int count, int stride) {
+  std::vector<StoredView> selected(count), train, test;
+  for (int i = 0; i < count; ++i) selected[i].stamp = i;
+  SplitHeldOut(std::move(selected), stride, train, test);
+  EXPECT_EQ(train.size() + test.size(), static_cast<std::size_t>(count));
+  for (std::size_t i = 1; i < train.size(); ++i) EXPECT_LT(train[i - 1].stamp, train[i].stamp);
+  std::vector<Stamp> stamps;
+  for (const StoredView& v : test) stamps.push_back(v.stamp);
+  return stamps;
+}
+
+TEST(SplatCameraPoses, HeldOutViewsLieBetweenTrainingViews) {
+  EXPECT_EQ(HeldOutStamps(25, 8), (std::vector<Stamp>{4, 12, 20}));  // KITTI drive 0009's 25 images
+  EXPECT_EQ(HeldOutStamps(21, 8), (std::vector<Stamp>{4, 12}));      // 20 is the last: trained on
+  EXPECT_EQ(HeldOutStamps(7, 2), (std::vector<Stamp>{1, 3, 5}));
+  EXPECT_EQ(HeldOutStamps(6, 2), (std::vector<Stamp>{1, 3}));
+  EXPECT_EQ(HeldOutStamps(5, 8), (std::vector<Stamp>{2}));  // too few for the rule: the middle one
+  EXPECT_EQ(HeldOutStamps(3, 8), (std::vector<Stamp>{1}));
+  EXPECT_TRUE(HeldOutStamps(2, 2).empty());  // the first and the last
+  EXPECT_TRUE(HeldOutStamps(0, 8).empty());
+}
+
 TEST(SplatCameraPoses, CamerasThatCannotBePlacedAreErrorsThatSaySo) {
   Rig rig;
   rig.description.streams[2].camera_model.reset();

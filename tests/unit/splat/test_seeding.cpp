@@ -75,6 +75,33 @@ TEST(SeedGaussians, UncolouredPointsAreGreyAndCountedIsolatedOnesGetTheDefaultSc
   EXPECT_NEAR(model.opacity_logits[0], 0.0f, 1e-7f);
 }
 
+TEST(SeedGaussians, PointsNoCameraSawAreLeftOutOfAColouredMapAndTheBudgetGoesToTheSeenOnes) {
+  // 100 coloured points on z = 0 and 100 uncoloured ones on z = 5 (behind the camera, say).
+  std::vector<mapping::MapPoint> points =
+      PlaneGrid(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(), 10, 0.1, true);
+  for (const mapping::MapPoint& p : PlaneGrid(Eigen::Vector3d(0, 0, 5), Eigen::Vector3d::UnitX(),
+                                              Eigen::Vector3d::UnitY(), 10, 0.1, false))
+    points.push_back(p);
+  SeedOptions options;
+  options.max_gaussians = 50;
+  Expected<SeedResult> seeded = SeedGaussians(mapping::VectorPointSource(points), options);
+  ASSERT_TRUE(seeded.ok());
+  EXPECT_EQ(seeded->map_points, 200u);
+  EXPECT_EQ(seeded->unseen_left_out, 100u);
+  EXPECT_EQ(seeded->uncoloured, 0u);
+  EXPECT_EQ(seeded->thinning, 2u);  // ceil(100 coloured / 50)
+  ASSERT_EQ(seeded->model.size(), 50u);
+  for (const Eigen::Vector3f& p : seeded->model.positions) EXPECT_EQ(p.z(), 0.0f);
+  // Asked to keep them, every point counts again: 200 points thinned by 4, half of them grey.
+  options.seen_points_only = false;
+  seeded = SeedGaussians(mapping::VectorPointSource(points), options);
+  ASSERT_TRUE(seeded.ok());
+  EXPECT_EQ(seeded->unseen_left_out, 0u);
+  EXPECT_EQ(seeded->thinning, 4u);
+  EXPECT_EQ(seeded->model.size(), 50u);
+  EXPECT_EQ(seeded->uncoloured, 25u);
+}
+
 TEST(SeedGaussians, ThinsToTheBudgetAndRejectsBadOptions) {
   const mapping::VectorPointSource map(
       PlaneGrid(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(), 10, 0.1, true));

@@ -50,6 +50,9 @@ void PrintSummary(const std::string& run_dir, const SplatJobResult& result) {
   std::printf(
       "  held-out views: %zu, PSNR %.2f dB (seeded: %.2f dB), SSIM %.3f; training views: %zu, PSNR %.2f dB\n",
       m.views_test, m.test.psnr, m.psnr_test_initial, m.test.ssim, m.views_train, m.train.psnr);
+  std::printf(
+      "  seeds: %zu map points (%zu that no camera saw left out), %zu triangulated corners, %zu sky\n",
+      m.map_seeds, m.unseen_map_points, m.feature_seeds, m.sky_gaussians);
   std::printf("  camera %s: %lld images, %lld outside the trajectory\n", m.camera.c_str(),
               static_cast<long long>(m.images), static_cast<long long>(m.images_outside_trajectory));
   std::printf("  wrote %s: splats.ply, splats.glb, metrics.json, comparisons/, plots/splat_loss.png\n",

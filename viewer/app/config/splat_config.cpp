@@ -89,12 +89,16 @@ Schema<SplatConfig> MakeSplatSchema() {
         "an image is used when the camera moved this far since the last one used");
   s.Key("keyframe_angle_deg", &C::keyframe_angle_deg, "deg", "... or turned this much");
   s.Key("holdout_stride", &C::holdout_stride, "images",
-        "every n-th image used (index % n == 0, as 3DGS) is held out: never trained on, PSNR / SSIM reported "
-        "on them; >= 2");
+        "every n-th image used (index % n == n / 2, never the last: each lies between training images) is "
+        "held out: never trained on, PSNR / SSIM reported on them; >= 2");
   s.Key("comparisons", &C::comparisons, "views",
         "held-out views written to comparisons/ (render, real, side by side, EXR)");
   s.Key("seed_points", &C::seed_points, "points",
         "at most this many map points seed Gaussians (more are thinned evenly)");
+  s.Key(
+      "feature_seed_corners", &C::feature_seed_corners, "corners",
+      "per training image, tracked across them and triangulated with the run's poses into seeds where "
+      "the map has no point (what the LiDAR did not reach; viewer/pipeline/splat/feature_seeds.h); 0: none");
   s.Key("sky_gaussians", &C::sky_gaussians, "Gaussians",
         "on a sphere beyond the map (radius: 1.2 x the 95th percentile distance of the map from the cameras) "
         "that learn the sky and far background (0: none)");
@@ -129,6 +133,8 @@ Status SplatConfig::Validate() const {
   if (holdout_stride < 2) return error("holdout_stride", "must be >= 2", holdout_stride);
   if (comparisons < 0) return error("comparisons", "must be >= 0", comparisons);
   if (seed_points == 0) return error("seed_points", "must be > 0", 0);
+  if (feature_seed_corners < 0 || feature_seed_corners > 100000)
+    return error("feature_seed_corners", "must be in [0, 100000]", feature_seed_corners);
   if (sky_gaussians < 0) return error("sky_gaussians", "must be >= 0", sky_gaussians);
   if (exposure_from < 0) return error("exposure_from", "must be >= 0", exposure_from);
   if (!(exposure_prior >= 0 && std::isfinite(exposure_prior)))

@@ -20,6 +20,7 @@ struct SplatConfig {
   int holdout_stride = 8;             // >= 2
   int comparisons = 4;                // >= 0
   std::size_t seed_points = 200'000;  // at most this many map points seed Gaussians (thinned evenly), > 0
+  int feature_seed_corners = 600;     // corners per training image triangulated into seeds (0: none)
   int sky_gaussians = 30'000;         // Gaussians on a sphere beyond the map for the sky (0: none)
   std::string mask_image;  // PNG of the camera's size, black where the image shows nothing to learn; "": none
   // Exposure compensation (splat/training/exposure.h): each training image's gain and bias per channel are

@@ -4,6 +4,7 @@
 
 #include "odometry/io/dataset_reader.h"
 #include "viewer/pipeline/run/run_record.h"
+#include "viewer/pipeline/splat/feature_seeds.h"
 #include "viewer/pipeline/splat/splat_run_inputs.h"
 #include "viewer/pipeline/splat/splat_training.h"
 
@@ -67,14 +68,22 @@ Expected<SplatJobResult> RunSplatJob(const fs::path& run_dir, const SplatJobOpti
   });
   if (!views) return views.status();
   const std::int64_t selected = static_cast<std::int64_t>(views->train.size() + views->test.size());
-  if (views->train.empty())
+  if (views->test.empty())
     return Status::Error("camera " + views->camera_name + ": " + std::to_string(views->images) + " images, " +
                          std::to_string(views->outside_trajectory) + " outside the trajectory's time span, " +
                          std::to_string(selected) +
-                         " selected as keyframes: at least 2 are needed (one to train on, one held " +
-                         "out); nothing trained");
+                         " selected as keyframes: at least 3 are needed (two to train on, one held " +
+                         "out between them); nothing trained");
 
   const std::size_t map_seeds = seeded->model.size();
+  FeatureSeedStats feature_seeds;
+  if (config.feature_seed_corners > 0) {
+    FeatureSeedOptions seed_options;
+    seed_options.max_features = config.feature_seed_corners;
+    Expected<FeatureSeedStats> added = AddFeatureSeeds(seeded->model, map_seeds, views->train, seed_options);
+    if (!added) return added.status();
+    feature_seeds = *added;
+  }
   AddSky(seeded->model, views->train, config);
 
   const int planned = config.training.iterations;
@@ -109,8 +118,9 @@ Expected<SplatJobResult> RunSplatJob(const fs::path& run_dir, const SplatJobOpti
   m.seconds = trained->seconds;
   m.stopped_by_time = trained->stopped_by_time;
   m.gaussians = model->size(), m.gaussians_initial = seeded->model.size();
-  m.map_seeds = map_seeds, m.sky_gaussians = seeded->model.size() - map_seeds;
-  m.uncoloured_seeds = seeded->uncoloured;
+  m.map_seeds = map_seeds, m.feature_seeds = feature_seeds.added;
+  m.sky_gaussians = seeded->model.size() - map_seeds - feature_seeds.added;
+  m.uncoloured_seeds = seeded->uncoloured, m.unseen_map_points = seeded->unseen_left_out;
   m.device = trainer.device_name(), m.camera = views->camera_name;
   m.width = views->pinhole.width, m.height = views->pinhole.height;
   m.views_train = views->train.size(), m.views_test = views->test.size();

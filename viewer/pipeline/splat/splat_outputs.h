@@ -19,13 +19,14 @@ namespace uf::pipeline {
 // metrics.json. Keys: psnr_test, ssim_test (means over the held-out views, dB / [0, 1]),
 // psnr_test_initial (the seeded model, before training: how well the map and the poses line up),
 // psnr_train, ssim_train (over up to 16 training views), iterations, iterations_planned, iterations_per_s,
-// seconds, stopped_by ("iterations" or "time_budget"), gaussians, gaussians_initial (map seeds + sky),
-// map_seeds, sky_gaussians, uncoloured_seeds,
-// device, camera, resolution [w, h], views_train, views_test, images, images_outside_trajectory,
-// images_undecodable, masked_pixels (of the training resolution: not trained on nor scored), scene_extent_m,
-// sh_degree, test_views [{stamp_ns, psnr, ssim}], exposure_compensation,
-// exposures [{stamp_ns, held_out, gain [r, g, b], bias [r, g, b]}] (every view in stamp order; fitted for
-// the training views, interpolated for the held-out ones; empty without compensation).
+// seconds, stopped_by ("iterations" or "time_budget"), gaussians, gaussians_initial (map seeds + feature
+// seeds + sky), map_seeds, feature_seeds (viewer/pipeline/splat/feature_seeds.h), sky_gaussians,
+// uncoloured_seeds, unseen_map_points (uncoloured, not seeded: splat/seeding.h), device, camera, resolution
+// [w, h], views_train, views_test, images, images_outside_trajectory, images_undecodable, masked_pixels (of
+// the training resolution: not trained on nor scored), scene_extent_m, sh_degree, test_views [{stamp_ns,
+// psnr, ssim}], exposure_compensation, exposures [{stamp_ns, held_out, gain [r, g, b], bias [r, g, b]}]
+// (every view in stamp order; fitted for the training views, interpolated for the held-out ones; empty
+// without compensation).
 struct ViewExposure {
   Stamp stamp = 0;
   bool held_out = false;
@@ -39,6 +40,7 @@ struct SplatMetrics {
   double seconds = 0;
   bool stopped_by_time = false;
   std::size_t gaussians = 0, gaussians_initial = 0, map_seeds = 0, sky_gaussians = 0, uncoloured_seeds = 0;
+  std::size_t unseen_map_points = 0, feature_seeds = 0;
   std::string device, camera;
   int width = 0, height = 0;
   std::size_t views_train = 0, views_test = 0;

@@ -93,6 +93,16 @@ splat::TrainingView ToTrainingView(const StoredView& view) {
   return training;
 }
 
+void SplitHeldOut(std::vector<StoredView> selected, int stride, std::vector<StoredView>& train,
+                  std::vector<StoredView>& test) {
+  const std::size_t n = selected.size();
+  const bool middle_only = n >= 3 && n < static_cast<std::size_t>(stride / 2 + 2);  // the rule holds none out
+  for (std::size_t i = 0; i < n; ++i) {
+    const bool held_out = middle_only ? i == n / 2 : static_cast<int>(i % stride) == stride / 2 && i + 1 < n;
+    (held_out ? test : train).push_back(std::move(selected[i]));
+  }
+}
+
 Expected<SplatViews> LoadSplatViews(MeasurementStream& stream, const SplatCameraStream& camera,
                                     const ViewLoading& loading,
                                     const std::function<void(std::int64_t)>& progress) {
@@ -109,7 +119,7 @@ Expected<SplatViews> LoadSplatViews(MeasurementStream& stream, const SplatCamera
   if (!mask) return mask.status();
   if (*mask) views.masked_pixels = static_cast<std::size_t>(std::count((*mask)->begin(), (*mask)->end(), 0));
   KeyframeSelector selector(config.keyframe_distance_m, config.keyframe_angle_deg);
-  std::int64_t selected = 0;
+  std::vector<StoredView> selected;
   const Status read = ForEachMeasurement(stream, [&](Measurement& m) {
     auto* frame = std::get_if<CameraFrame>(&m.data);
     if (!frame || m.stream != camera.stream) return Status();
@@ -131,10 +141,11 @@ Expected<SplatViews> LoadSplatViews(MeasurementStream& stream, const SplatCamera
     StoredView view = MakeView(frame->image, *camera.model, native, views.pinhole, T_map_camera, frame->stamp,
                                loading.depth_points);
     view.mask = *mask;
-    (selected++ % config.holdout_stride == 0 ? views.test : views.train).push_back(std::move(view));
+    selected.push_back(std::move(view));
     return Status();
   });
   if (!read.ok()) return read;
+  SplitHeldOut(std::move(selected), config.holdout_stride, views.train, views.test);
   return views;
 }
 
