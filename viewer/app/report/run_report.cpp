@@ -42,6 +42,9 @@ SplatSummary Summarize(const pipeline::SplatJobResult& result) {
       {"iterations per second", FormatValue("%.2f", m.iterations_per_s())},
       {"Gaussians: seeded -> trained",
        std::to_string(m.gaussians_initial) + " -> " + std::to_string(m.gaussians)},
+      {"seeds: map points / triangulated corners / sky", std::to_string(m.map_seeds) + " / " +
+                                                             std::to_string(m.feature_seeds) + " / " +
+                                                             std::to_string(m.sky_gaussians)},
       {"resolution [px]", std::to_string(m.width) + " x " + std::to_string(m.height)},
       {"device", m.device},
       {"camera", m.camera + " (" + std::to_string(m.images) + " images)"}};
