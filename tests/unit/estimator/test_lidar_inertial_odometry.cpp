@@ -1,108 +1,24 @@
-// LiDAR-inertial odometry (LIO, and LWIO with wheel factors) end to end on short simulated urban sequences:
-// initialization (static and LiDAR-aided), accuracy against the simulator's ground truth, and bad IMU and
-// wheel input (gaps, stamps going back, NaN samples) that must be bridged with warnings, never a NaN pose.
+// LiDAR-inertial odometry (LIO) end to end on short simulated urban sequences: initialization (static and
+// LiDAR-aided), accuracy against the simulator's ground truth, and bad IMU input (gaps, stamps going back,
+// NaN samples) that must be bridged with warnings, never a NaN pose. With wheel factors (LWIO):
+// test_lidar_wheel_inertial_odometry.cpp.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
-#include <functional>
+#include <limits>
 #include <numbers>
 
-#include "odometry/estimator/lidar_odometry/lidar_odometry.h"
-#include "odometry/eval/evaluation.h"
-#include "odometry/io/dataset_reader.h"
-#include "odometry/io/for_each_measurement.h"
-#include "odometry/io/trajectory_file.h"
-#include "odometry/sim/sequence/sequence_generator.h"
-#include "tests/support/temp_dir.h"
-#include "tests/unit/estimator/lio_test_support.h"
+#include "tests/unit/estimator/lio_sequence_run.h"
 
 namespace uf::estimator {
 namespace {
 
-// The simulator's default LiDAR mount (simulation_config.h): T_imu_lidar.
-const SE3 kImuFromLidar(SO3(), Eigen::Vector3d(0, 0, 0.25));
-
-// A short sequence of `scene` with LiDAR (16 beams, 0.4 deg) and IMU, and with `wheel` the wheel odometry
-// (its radius off by `wheel_radius_error`, relative); `trajectory` (TUM) or the scene's default motion (1 s
-// at rest, then driving off); the accelerometer clipped at `accel_saturation` (0: not).
-std::filesystem::path Simulate(const uf::testing::TempDir& dir, double duration_s,
-                               const std::string& trajectory = "", bool wheel = false,
-                               const std::string& scene = "urban", double wheel_radius_error = 0,
-                               double accel_saturation = 0) {
-  sim::SimulationConfig config;
-  config.scene = scene;
-  config.imu.noise.accel_saturation = accel_saturation;
-  config.duration_s = duration_s;
-  config.wheel.model.radius_error = wheel_radius_error;
-  config.lidar.model.model = "spinning16";
-  config.lidar.model.horizontal_resolution_deg = 0.4;
-  config.camera.enabled = config.gnss.enabled = false;
-  config.wheel.enabled = wheel;
-  config.trajectory.file = trajectory;
-  const std::filesystem::path out = dir.path() / "sequence";
-  auto summary = sim::GenerateSequence(config, out);
-  EXPECT_TRUE(summary.ok()) << summary.error();
-  return out;
-}
-
-struct LioRun {
-  Trajectory estimate;
-  std::vector<std::string> warnings;
-  std::string initialization;
-  InitializationRecord init;
-  SensorFactorStats factors;
-  double ate_m = std::numeric_limits<double>::infinity();
-};
-
-// Runs LIO over the folder; `edit_imu` may change or drop (return false) each IMU sample first. With
-// `edit_wheel`, LWIO: the wheel stream goes in too (each sample through it first), with the wheel's
-// T_body_sensor from the dataset (the body is the IMU).
-LioRun RunLio(
-    const std::filesystem::path& folder,
-    const std::function<bool(ImuSample&)>& edit_imu = [](ImuSample&) { return true; },
-    const std::function<bool(WheelSample&)>& edit_wheel = nullptr, bool evaluate = true,
-    const std::function<void(LidarOdometryConfig&)>& edit_config = nullptr) {
-  LioRun run;
-  auto reader = OpenDataset(folder.string());
-  EXPECT_TRUE(reader.ok()) << reader.error();
-  LidarOdometryConfig config = testing::SimulatedLioConfig(kImuFromLidar);
-  if (edit_config) edit_config(config);
-  if (edit_wheel) {
-    config.use_wheel = true;
-    for (const StreamInfo& stream : (*reader)->description().streams)
-      if (stream.kind == SensorKind::kWheel && stream.T_body_sensor)
-        config.T_body_wheel = *stream.T_body_sensor;
-  }
-  auto lio = LidarOdometry::Create(config);
-  EXPECT_TRUE(lio.ok()) << lio.error();
-  const Status read = ForEachMeasurement(**reader, [&](Measurement& m) {
-    if (const auto* scan = std::get_if<LidarScan>(&m.data)) return lio->AddScan(*scan);
-    if (auto* sample = std::get_if<ImuSample>(&m.data); sample && edit_imu(*sample))
-      return lio->AddImu(*sample);
-    if (auto* wheel = std::get_if<WheelSample>(&m.data); wheel && edit_wheel && edit_wheel(*wheel))
-      return lio->AddWheel(*wheel);
-    return Status();
-  });
-  EXPECT_TRUE(read.ok()) << read.message();
-  lio->Finish();
-  for (const Keyframe& k : lio->TakeFinished()) {
-    EXPECT_TRUE(k.T_world_body.matrix().allFinite() && k.velocity.allFinite()) << ToSeconds(k.stamp);
-    run.estimate.stamps.push_back(k.stamp);
-    run.estimate.poses.push_back(k.T_world_body);
-  }
-  run.warnings = lio->warnings();
-  run.initialization = lio->initialization();
-  run.init = lio->initialization_record();
-  run.factors = lio->sensor_factors();
-  if (!evaluate) return run;  // e.g. a path too straight for the SE3 alignment
-  auto truth = ReadTrajectory((folder / "groundtruth.tum").string());
-  EXPECT_TRUE(truth.ok());
-  auto result = Evaluate(*truth, run.estimate, EvalOptions{});
-  EXPECT_TRUE(result.ok()) << result.error();
-  if (result.ok()) run.ate_m = result->ape.rmse;
-  return run;
-}
+using testing::Joined;
+using testing::LioRun;
+using testing::RunLio;
+using testing::Simulate;
 
 // The admitted state against the ground truth at its stamp: the angle between the estimated and the true
 // "up" seen in the imu frame (deg), and the difference of the velocities seen in the imu frame (m/s); both
@@ -125,12 +41,6 @@ InitErrors InitializationErrors(const InitializationRecord& init, const std::fil
   const Eigen::Vector3d v_true = (after->translation() - before->translation()) / ToSeconds(2 * h);
   out.velocity_mps = (T->so3().inverse() * v_true - init.R_world_imu.inverse() * init.velocity).norm();
   return out;
-}
-
-std::string Joined(const std::vector<std::string>& lines) {
-  std::string text;
-  for (const std::string& line : lines) text += line + "\n";
-  return text;
 }
 
 TEST(LidarInertialOdometry, StaticStartInitializesAndTracks) {
@@ -215,74 +125,6 @@ TEST(LidarInertialOdometry, KeyframesFromBeforeTheInitializationLeaveInTheGravit
     before_alignment += run.estimate.stamps[i] < run.init.admitted_at;
   }
   EXPECT_GE(before_alignment, 5);  // the case this is about: keyframes that had left before the alignment
-}
-
-TEST(LidarInertialOdometry, WheelFactorsJoinTheWindow) {
-  uf::testing::TempDir dir;
-  const LioRun run = RunLio(
-      Simulate(dir, 4.0, "", /*wheel=*/true), [](ImuSample&) { return true; },
-      [](WheelSample&) { return true; });
-  EXPECT_TRUE(run.warnings.empty()) << Joined(run.warnings);
-  // One factor per node interval: the first scan has one node, every later one a begin and an end node that
-  // it shares with the previous scan: 40 scans, 41 nodes, 40 intervals.
-  EXPECT_EQ(run.factors.wheel.added, 40);
-  EXPECT_EQ(run.factors.wheel.skipped, 0);
-  // The simulator's default encoder is ideal: the scale stays at 1 within a percent.
-  EXPECT_NEAR(run.factors.wheel_scale, 1.0, 0.01);
-  EXPECT_LT(run.ate_m, 0.03);  // as LIO's (measured 0.015 m without wheel)
-}
-
-TEST(LidarInertialOdometry, WheelScaleHeldWhereTheLidarDoesNotSeeTheForwardMotion) {
-  // The corridor: featureless walls, LiDAR-degenerate along its axis; 1 s at rest, then driving off to
-  // 1.2 m/s. The encoder is ideal, so the true scale is 1. While the vehicle drives off, the IMU is the only
-  // other witness of the forward motion, and there an accelerometer bias error b looks like a scale of
-  // 1 - b / a: a free scale took the error (0.21 after these 6 s, 0.22 after 6 s of the default 32-beam
-  // corridor, before the observability test). The LiDAR constrains the forward position to several cm per
-  // scan against the wheel's mm, so the scale is held at the truth. (The 6 s path is too straight for an
-  // SE3-aligned ATE.)
-  uf::testing::TempDir dir;
-  const LioRun run = RunLio(
-      Simulate(dir, 6.0, "", /*wheel=*/true, "corridor"), [](ImuSample&) { return true; },
-      [](WheelSample&) { return true; }, /*evaluate=*/false);
-  EXPECT_EQ(run.factors.wheel.added, 60);
-  EXPECT_EQ(run.factors.wheel_scale, 1.0);
-}
-
-TEST(LidarInertialOdometry, WheelScaleEstimatedWhereTheLidarSeesTheForwardMotion) {
-  // Urban streets: the LiDAR pins the forward position to a few mm per scan, so the scale is free and
-  // converges to the truth: a wheel radius 3 % too large makes the odometry report 1.03 times the speed,
-  // true scale 1 / 1.03.
-  uf::testing::TempDir dir;
-  const LioRun run = RunLio(
-      Simulate(dir, 6.0, "", /*wheel=*/true, "urban", 0.03), [](ImuSample&) { return true; },
-      [](WheelSample&) { return true; });
-  // Measured 0.9705 after the 6 s (1 s at rest, 5 s driving off), ATE 0.011 m; the same with the scale
-  // free in every solve: it is observable throughout.
-  EXPECT_NEAR(run.factors.wheel_scale, 1.0 / 1.03, 0.005);
-  EXPECT_LT(run.ate_m, 0.03);  // as WheelFactorsJoinTheWindow's
-}
-
-TEST(LidarInertialOdometry, SkipsBadWheelSamplesWithWarnings) {
-  uf::testing::TempDir dir;
-  int count = 0;
-  Stamp last = 0;
-  const LioRun run = RunLio(
-      Simulate(dir, 4.0, "", /*wheel=*/true), [](ImuSample&) { return true; },
-      [&](WheelSample& w) {
-        ++count;
-        if (count == 60) w.linear_velocity.x() = std::nan("");  // NaN
-        if (count == 90) w.stamp = last - 1'000'000;            // back in time
-        if (count >= 120 && count < 140) return false;          // a 0.4 s gap at 50 Hz
-        last = w.stamp;
-        return true;
-      });
-  const std::string text = Joined(run.warnings);
-  EXPECT_NE(text.find("not finite"), std::string::npos) << text;
-  EXPECT_NE(text.find("not after"), std::string::npos) << text;
-  EXPECT_NE(text.find("wheel factor at"), std::string::npos) << text;  // the intervals inside the gap
-  EXPECT_GT(run.factors.wheel.skipped, 0);
-  EXPECT_EQ(run.estimate.size(), 40u);
-  EXPECT_LT(run.ate_m, 0.03);
 }
 
 TEST(LidarInertialOdometry, BridgesImuGapsAndSkipsBadSamples) {
