@@ -21,7 +21,7 @@ const float kWindow[11] = float[11](0.00102838008447911, 0.007598758135239185, 0
                                     0.007598758135239185, 0.00102838008447911);
 const float kC1 = 0.0001, kC2 = 0.0009;  // 0.01^2, 0.03^2
 const uint kMaxSubgroups = 16;  // 64 invocations in subgroups of >= 4 lanes
-// The partial sums: per band and subgroup kPartialWords words (sum S, sum |r - t|, sum |E - d| as float
+// The partial sums: per band and subgroup kPartialWords words (sum S, sum |r - t|, sum |E - d| / d as float
 // bits, and the number of depth pairs), at (band kMaxSubgroups + subgroup) kPartialWords; the host zeroes the
 // buffer first (slots of subgroups that do not exist stay 0) and adds them all in double. Per-subgroup sums
 // need no barrier(): on lavapipe a shader with barriers runs as coroutines, several times slower here.

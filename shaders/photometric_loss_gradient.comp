@@ -1,10 +1,12 @@
 // Photometric loss, stage 4 of 4 (see photometric_loss.glsl): the column half of the partial-map blur and
-// the whole view-gradient image, with per band and subgroup the sums of |r - t| and |E - d| (the host adds the bands).
+// the whole view-gradient image, with per band and subgroup the sums of |r - t| and |E - d| / d (the host adds
+// the bands).
 // With n = 3 width height, x / y the rendered / target value of a channel and (A, B, C) the blurred (a, b, c):
 //   dL/dx = (1 - l) sign(x - y) / n - l / n (A + 2 x B + y C),
 // (0 where masked: x is the target there, whatever the render), and where the pixel has a depth pair (count
 // of them: m, summed over the slots of stage 1), with
-// E = D / alpha: dL/dE = w_d sign(E - d) / m, dL/dD = dL/dE / alpha, dL/dalpha = -dL/dE E / alpha.
+// E = D / alpha and the relative error |E - d| / d: dL/dE = w_d sign(E - d) / (d m), dL/dD = dL/dE / alpha,
+// dL/dalpha = -dL/dE E / alpha.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
@@ -57,8 +59,8 @@ void main() {
       l1_sum += dot(abs(r - t), vec3(1.0));
       float E = depth[p].y, alpha = rendered.a, dD = 0.0, dalpha = 0.0;
       if (HasDepthPair(wanted.w, alpha, E)) {
-        depth_sum += abs(E - wanted.w);
-        float dE = dE_scale * sign(E - wanted.w);
+        depth_sum += abs(E - wanted.w) / wanted.w;
+        float dE = dE_scale * sign(E - wanted.w) / wanted.w;
         dD = dE / alpha;
         dalpha = -dE * E / alpha;
       }

@@ -100,7 +100,8 @@ PhotometricLoss EvaluatePhotometricLoss(const RenderedView& rendered, const std:
   loss.gradients.alpha.assign(pixels, 0.0f);
   loss.gradients.depth_sum.assign(pixels, 0.0f);
 
-  // Depth: mean |E - d| over the valid pixels; dL/dE = w_d sign(E - d) / count, then through E = D / alpha.
+  // Depth: mean |E - d| / d over the valid pixels; dL/dE = w_d sign(E - d) / (d count), then through
+  // E = D / alpha.
   if (!target_depth.empty()) {
     std::vector<float> dL_dE(pixels, 0.0f);
     double depth_sum = 0;
@@ -111,7 +112,8 @@ PhotometricLoss EvaluatePhotometricLoss(const RenderedView& rendered, const std:
     };
     for (std::size_t p = 0; p < pixels; ++p)
       if (valid(p)) {
-        depth_sum += std::abs(static_cast<double>(rendered.expected_depth[p]) - target_depth[p]);
+        depth_sum +=
+            std::abs(static_cast<double>(rendered.expected_depth[p]) - target_depth[p]) / target_depth[p];
         ++count;
       }
     if (count > 0) {
@@ -119,7 +121,8 @@ PhotometricLoss EvaluatePhotometricLoss(const RenderedView& rendered, const std:
       const float scale = static_cast<float>(weights.depth_weight / static_cast<double>(count));
       for (std::size_t p = 0; p < pixels; ++p)
         if (valid(p))
-          dL_dE[p] = scale * static_cast<float>(Sign(rendered.expected_depth[p] - target_depth[p]));
+          dL_dE[p] = scale * static_cast<float>(Sign(rendered.expected_depth[p] - target_depth[p])) /
+                     target_depth[p];
       AddExpectedDepthGradient(rendered, dL_dE, &loss.gradients);
     }
   }

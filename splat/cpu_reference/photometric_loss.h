@@ -4,8 +4,11 @@
 //   L = (1 - l) L1 + l (1 - SSIM) + w_d L_depth,  l = ssim_weight, w_d = depth_weight,
 //   L1 = mean over pixels and channels of |r - t| (r rendered rgb, t target rgb),
 //   SSIM = Ssim(r, t) of splat/training/image_metrics.h (11 x 11 Gaussian window, zero padding),
-//   L_depth = mean over the pixels with target depth d > 0 and rendered alpha >= 1e-4 of |E - d|, E the
-//             expected depth D / alpha (0 when there is no such pixel or no target depth).
+//   L_depth = mean over the pixels with target depth d > 0 and rendered alpha >= 1e-4 of |E - d| / d, E the
+//             expected depth D / alpha (0 when there is no such pixel or no target depth). The error is
+//             relative: a LiDAR depth projected into an image is as good as the pixel's footprint, which
+//             grows with d, and a floater close to the camera (what the term is for) errs by a large
+//             fraction of d while the far background's metres of slack would otherwise dominate the sum.
 // The gradient goes to ViewGradients: rgb directly; the depth term through E = D / alpha to depth_sum (dL/dD)
 // and alpha (AddExpectedDepthGradient). |.| has the subgradient sign(.) (0 at 0).
 //

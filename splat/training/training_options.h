@@ -21,7 +21,8 @@ struct TrainingOptions {
   double lr_log_scale = 5e-3, lr_rotation = 1e-3, lr_opacity = 0.05, lr_sh_dc = 2.5e-3, lr_sh_rest = 1.25e-4;
   double adam_beta1 = 0.9, adam_beta2 = 0.999, adam_epsilon = 1e-15;
   // Loss: (1 - ssim_weight) L1 + ssim_weight (1 - SSIM) on the rgb image, plus depth_weight times the mean
-  // absolute error of the expected depth on pixels with a LiDAR depth (0: no depth loss).
+  // relative error |E - d| / d of the expected depth E on pixels with a LiDAR depth d (0: no depth loss;
+  // splat/cpu_reference/photometric_loss.h).
   double ssim_weight = 0.2;
   double depth_weight = 0.0;
   // Densification every densify_interval iterations in [densify_from, densify_until): Gaussians whose mean

@@ -15,7 +15,7 @@ namespace uf::splat::vk {
 namespace {
 constexpr int kBandRows = 16;  // rows per workgroup, kBandRows in shaders/photometric_loss.glsl
 // Per band and subgroup slot (kMaxSubgroups, kPartialWords in shaders/photometric_loss.glsl): sum S,
-// sum |r - t|, sum |E - d| (floats), depth pairs (uint).
+// sum |r - t|, sum |E - d| / d (floats), depth pairs (uint).
 constexpr std::size_t kSlotsPerBand = 16, kSlotWords = 4;
 
 struct Push {

@@ -142,7 +142,7 @@ LossCase RandomLossCase(std::uint64_t seed, int width, int height) {
 
 TEST(PhotometricLoss, TermsOfAHandCase) {
   // 12 x 12 pixels, rendered 0.5 everywhere, target 0.25: L1 = 0.25; SSIM of the constant pair from the
-  // closed form (checked above), D-SSIM = 1 - Ssim; depth: one valid pixel with |E - d| = 2.
+  // closed form (checked above), D-SSIM = 1 - Ssim; depth: one valid pixel with |E - d| / d = 2 / 6.
   const int n = 12;
   RenderedView rendered = RenderedView::Sized(n, n);
   std::fill(rendered.rgb.begin(), rendered.rgb.end(), 0.5f);
@@ -154,12 +154,12 @@ TEST(PhotometricLoss, TermsOfAHandCase) {
   const PhotometricLoss loss = EvaluatePhotometricLoss(rendered, target, depth, {0.2f, 0.5f});
   EXPECT_NEAR(loss.l1, 0.25, 1e-12);
   EXPECT_NEAR(loss.dssim, 1.0 - Ssim(rendered.rgb, target, n, n), 1e-12);
-  EXPECT_NEAR(loss.depth, 2.0, 1e-12);
-  EXPECT_NEAR(loss.total, 0.8 * 0.25 + 0.2 * loss.dssim + 0.5 * 2.0, 1e-7);  // weights are floats
-  // E = D / alpha below d: dL/dE = -0.5 / 1 (one pixel); dL/dD = -0.5 / alpha = -1, dL/dalpha = 0.5 E /
-  // alpha.
-  EXPECT_FLOAT_EQ(loss.gradients.depth_sum[7], -1.0f);
-  EXPECT_FLOAT_EQ(loss.gradients.alpha[7], 4.0f);
+  EXPECT_NEAR(loss.depth, 2.0 / 6.0, 1e-7);
+  EXPECT_NEAR(loss.total, 0.8 * 0.25 + 0.2 * loss.dssim + 0.5 * 2.0 / 6.0, 1e-7);  // weights are floats
+  // E = D / alpha below d: dL/dE = -0.5 / (d 1) (one pixel) = -1 / 12; dL/dD = dL/dE / alpha = -1 / 6,
+  // dL/dalpha = -dL/dE E / alpha = 2 / 3.
+  EXPECT_FLOAT_EQ(loss.gradients.depth_sum[7], -1.0f / 6.0f);
+  EXPECT_FLOAT_EQ(loss.gradients.alpha[7], 2.0f / 3.0f);
   EXPECT_EQ(loss.gradients.depth_sum[8], 0.0f);
   // No depth target: no term and no depth gradient.
   const PhotometricLoss no_depth = EvaluatePhotometricLoss(rendered, target, {}, {0.2f, 0.5f});

@@ -165,7 +165,7 @@ TEST_F(VulkanLoss, MatchesTheCpuReference) {
     PhotometricLossValue loss;
     const std::vector<float> gpu = Run(scene, c.weights, &loss);
     ExpectMatchesReference(scene, c.weights, gpu, loss);
-    EXPECT_GT(loss.depth, 0.5);  // not vacuous: depth pairs exist (|E - d| ~ 1 on average)
+    EXPECT_GT(loss.depth, 0.02);  // not vacuous: depth pairs exist (|E - d| / d ~ 0.1 on average)
   }
 }
 

@@ -53,8 +53,9 @@ Schema<SplatConfig> MakeSplatSchema() {
   t.Key("adam_epsilon", &TrainingOptions::adam_epsilon, "", "Adam's epsilon");
   t.Key("ssim_weight", &TrainingOptions::ssim_weight, "", "loss = (1 - w) L1 + w (1 - SSIM)");
   t.Key("depth_weight", &TrainingOptions::depth_weight, "",
-        "+ this times the mean |expected depth - LiDAR depth| (0: no depth loss; > 0 projects the map points "
-        "into every image as its LiDAR depth)");
+        "+ this times the mean relative error |expected depth - LiDAR depth| / LiDAR depth (0: no depth "
+        "loss; > 0 projects the map points into every image as its LiDAR depth, which keeps Gaussians from "
+        "floating in front of what the LiDAR measured)");
   t.Key("densify_from", &TrainingOptions::densify_from, "steps",
         "densification (clone / split by screen-space gradient, then pruning) every densify_interval "
         "iterations in [densify_from, densify_until)");
