@@ -89,6 +89,18 @@ TEST_F(CliSplat, TrainsOnTheRunAndEveryOutputParses) {
   EXPECT_GE(m["views_train"].get<int>(), 4);
   EXPECT_EQ(m["images"], 41);  // 4 s at 10 Hz, both ends
   EXPECT_FALSE(m["device"].get<std::string>().empty());
+  // Where the time went: every device stage and the host's rest, which add up to the training's seconds.
+  const nlohmann::json& stages = m["stage_seconds"];
+  for (const char* stage :
+       {"project", "sort", "rasterize", "loss gradient", "rasterize backward", "adam", "host"})
+    EXPECT_TRUE(stages.contains(stage)) << stage;
+  double stage_sum = 0;
+  for (const auto& [stage, seconds] : stages.items()) {
+    EXPECT_GE(seconds.get<double>(), 0) << stage;
+    stage_sum += seconds.get<double>();
+  }
+  EXPECT_NEAR(stage_sum, m["seconds"].get<double>(), 1e-6 + 1e-3 * m["seconds"].get<double>());
+  EXPECT_NE(result.output.find("time per iteration: project"), std::string::npos) << result.output;
 
   Expected<splat::GaussianModel> ply = exporting::ReadSplatPly(run + "/splats.ply");
   ASSERT_TRUE(ply.ok()) << ply.error();

@@ -50,6 +50,13 @@ void PrintSummary(const std::string& run_dir, const SplatJobResult& result) {
   std::printf(
       "  held-out views: %zu, PSNR %.2f dB (seeded: %.2f dB), SSIM %.3f; training views: %zu, PSNR %.2f dB\n",
       m.views_test, m.test.psnr, m.psnr_test_initial, m.test.ssim, m.views_train, m.train.psnr);
+  if (m.iterations > 0 && !m.stage_seconds.empty()) {
+    std::printf("  time per iteration:");
+    for (std::size_t i = 0; i < m.stage_seconds.size(); ++i)
+      std::printf("%s %s %.1f ms", i == 0 ? "" : ",", m.stage_seconds[i].first.c_str(),
+                  1e3 * m.stage_seconds[i].second / m.iterations);
+    std::printf("\n");
+  }
   std::printf(
       "  seeds: %zu map points (%zu that no camera saw left out), %zu triangulated corners, %zu sky\n",
       m.map_seeds, m.unseen_map_points, m.feature_seeds, m.sky_gaussians);

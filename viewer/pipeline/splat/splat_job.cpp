@@ -116,6 +116,7 @@ Expected<SplatJobResult> RunSplatJob(const fs::path& run_dir, const SplatJobOpti
   m.psnr_test_initial = trained->psnr_test_initial;
   m.iterations = trained->iterations, m.iterations_planned = planned;
   m.seconds = trained->seconds;
+  m.stage_seconds = trained->stage_seconds;
   m.stopped_by_time = trained->stopped_by_time;
   m.gaussians = model->size(), m.gaussians_initial = seeded->model.size();
   m.map_seeds = map_seeds, m.feature_seeds = feature_seeds.added;

@@ -34,6 +34,8 @@ Status WriteSplatMetrics(const fs::path& file, const SplatMetrics& m) {
                          {"held_out", v.held_out},
                          {"gain", v.exposure.gain},
                          {"bias", v.exposure.bias}});
+  nlohmann::json stages = nlohmann::json::object();
+  for (const auto& [name, seconds] : m.stage_seconds) stages[name] = seconds;
   const nlohmann::json json = {{"psnr_test", Number(m.test.psnr)},
                                {"ssim_test", m.test.ssim},
                                {"psnr_test_initial", Number(m.psnr_test_initial)},
@@ -64,7 +66,8 @@ Status WriteSplatMetrics(const fs::path& file, const SplatMetrics& m) {
                                {"sh_degree", m.sh_degree},
                                {"test_views", views},
                                {"exposure_compensation", m.exposure_compensation},
-                               {"exposures", exposures}};
+                               {"exposures", exposures},
+                               {"stage_seconds", stages}};
   AtomicFileWriter writer(file.string());
   if (Status s = writer.status(); !s.ok()) return s;
   writer.stream() << json.dump(2) << "\n";

@@ -26,7 +26,8 @@ namespace uf::pipeline {
 // the training resolution: not trained on nor scored), scene_extent_m, sh_degree, test_views [{stamp_ns,
 // psnr, ssim}], exposure_compensation, exposures [{stamp_ns, held_out, gain [r, g, b], bias [r, g, b]}]
 // (every view in stamp order; fitted for the training views, interpolated for the held-out ones; empty
-// without compensation).
+// without compensation), stage_seconds {stage: s} (where the training time went, summed over the steps:
+// SplatTrainingResult::stage_seconds).
 struct ViewExposure {
   Stamp stamp = 0;
   bool held_out = false;
@@ -50,6 +51,7 @@ struct SplatMetrics {
   int sh_degree = 0;
   bool exposure_compensation = false;
   std::vector<ViewExposure> exposures;
+  std::vector<std::pair<std::string, double>> stage_seconds;  // SplatTrainingResult::stage_seconds
 
   double iterations_per_s() const { return seconds > 0 ? iterations / seconds : 0.0; }
 };

@@ -24,6 +24,16 @@ std::vector<Eigen::Vector3d> CameraCentres(const std::vector<StoredView>& views)
   return centres;
 }
 
+// Adds a step's device time per stage (ms) to the running sums (s), keeping the stages' order.
+void AddStageTimes(const std::vector<std::pair<std::string, double>>& stage_ms,
+                   std::vector<std::pair<std::string, double>>& sums) {
+  for (const auto& [name, ms] : stage_ms) {
+    auto sum = std::find_if(sums.begin(), sums.end(), [&](const auto& s) { return s.first == name; });
+    if (sum == sums.end()) sum = sums.insert(sums.end(), {name, 0.0});
+    sum->second += 1e-3 * ms;
+  }
+}
+
 }  // namespace
 
 void AddSky(splat::GaussianModel& model, const std::vector<StoredView>& train, const SplatConfig& config) {
@@ -79,12 +89,16 @@ Expected<SplatTrainingResult> TrainSplats(const splat::GaussianModel& seed,
     result.loss.push_back(step->loss);
     result.iterations = i + 1;
     result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    AddStageTimes(step->stage_ms, result.stage_seconds);
     if (progress) progress({i + 1, iterations, step->loss, step->gaussians});
     if (config.time_budget_s > 0 && result.seconds >= config.time_budget_s && i + 1 < iterations) {
       result.stopped_by_time = true;
       break;
     }
   }
+  double device_seconds = 0;
+  for (const auto& [name, seconds] : result.stage_seconds) device_seconds += seconds;
+  result.stage_seconds.emplace_back("host", std::max(0.0, result.seconds - device_seconds));
   return result;
 }
 

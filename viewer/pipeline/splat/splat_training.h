@@ -12,6 +12,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "splat/training/exposure.h"
@@ -48,6 +49,10 @@ struct SplatTrainingResult {
   std::vector<double> loss;      // per iteration
   double psnr_test_initial = 0;  // of the seeded model on the held-out views (0 without them)
   std::vector<splat::Exposure> exposures;  // per training view, in the order given ((1, 0) when not fitted)
+  // Where the time of a step went, s summed over the steps, in the order of the step's stages: each device
+  // stage (splat::IterationStats::stage_ms), then "host" (the rest of the wall time: image preparation,
+  // submission, exposure fits, densification).
+  std::vector<std::pair<std::string, double>> stage_seconds;
 };
 
 // The exposure of each of `views` from the training views' (`train` in stamp order, `exposures` theirs):
