@@ -23,6 +23,8 @@ Status CheckNoise(const char* status, const GnssStatusNoise& noise) {
     return Bad(prefix + "nominal_horizontal_sigma_m", "> 0", noise.nominal_horizontal_sigma_m);
   if (!Positive(noise.nominal_vertical_sigma_m))
     return Bad(prefix + "nominal_vertical_sigma_m", "> 0", noise.nominal_vertical_sigma_m);
+  if (!(noise.offset_share >= 0 && noise.offset_share < 1))
+    return Bad(prefix + "offset_share", "in [0, 1)", noise.offset_share);
   return {};
 }
 
@@ -67,6 +69,8 @@ Status GnssFactorConfig::Validate() const {
       {"fix", &fix}, {"sbas", &sbas}, {"rtk_float", &rtk_float}, {"rtk_fixed", &rtk_fixed}};
   for (const auto& [name, noise] : noises)
     if (Status s = CheckNoise(name, *noise); !s.ok()) return s;
+  if (!Positive(offset_correlation_time_s))
+    return Bad("offset_correlation_time_s", "> 0", offset_correlation_time_s);
   if (!Positive(integrity_gate)) return Bad("integrity_gate", "> 0", integrity_gate);
   if (!(std::isfinite(prediction_sigma_m) && prediction_sigma_m >= 0))
     return Bad("prediction_sigma_m", "finite and >= 0", prediction_sigma_m);

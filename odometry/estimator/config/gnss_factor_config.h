@@ -13,12 +13,15 @@ namespace uf::estimator {
 //   Sigma = k^2 Sigma_reported, then every eigenvalue raised to at least min_sigma_m^2,
 // with k = sigma_scale. A fix with an all-zero covariance (ROS' COVARIANCE_TYPE_UNKNOWN) is rejected, unless
 // use_nominal_for_unknown is set: it then gets diag(h^2, h^2, v^2) from the nominal sigmas below (before k
-// and the floor).
+// and the floor). A share `offset_share` of Sigma is a slowly varying offset rather than white noise
+// (factors/gnss_offset_factor.h): the fix's factor whitens with (1 - share) Sigma and the offset state
+// carries the rest; 0 treats every fix as independent.
 struct GnssStatusNoise {
   double min_sigma_m = 0.0;                 // floor of the sigma along every axis, m (> 0)
   double sigma_scale = 1.0;                 // k >= 1: receivers tend to be optimistic
   double nominal_horizontal_sigma_m = 0.0;  // per horizontal axis, m (> 0), for an unknown covariance
   double nominal_vertical_sigma_m = 0.0;    // up, m (> 0), for an unknown covariance
+  double offset_share = 0.0;                // in [0, 1)
 };
 
 struct GnssFactorConfig {
@@ -26,12 +29,19 @@ struct GnssFactorConfig {
   // not used. Must not be kNoFix.
   GnssFixStatus min_status = GnssFixStatus::kFix;
 
-  // Per status, {min_sigma_m, sigma_scale, nominal_horizontal_sigma_m, nominal_vertical_sigma_m}. Floors a
-  // little under the receivers' best case; nominal sigmas of a typical receiver in that mode.
-  GnssStatusNoise fix{0.5, 1.0, 2.5, 5.0};
-  GnssStatusNoise sbas{0.3, 1.0, 1.0, 2.0};
-  GnssStatusNoise rtk_float{0.05, 1.0, 0.3, 0.5};
-  GnssStatusNoise rtk_fixed{0.01, 1.0, 0.03, 0.05};
+  // Per status, {min_sigma_m, sigma_scale, nominal_horizontal_sigma_m, nominal_vertical_sigma_m,
+  // offset_share}. Floors a little under the receivers' best case; nominal sigmas of a typical receiver in
+  // that mode. A single-point or SBAS fix's error is mostly atmospheric and orbital, the same for tens of
+  // seconds, with a receiver noise of decimetres, so about 0.9 of its variance is an offset; that model is
+  // opt-in (offset_share 0: white), because on the simulator's single fixes it gains nothing on average
+  // (docs/METHOD.md "GNSS factor").
+  GnssStatusNoise fix{0.5, 1.0, 2.5, 5.0, 0.0};
+  GnssStatusNoise sbas{0.3, 1.0, 1.0, 2.0, 0.0};
+  GnssStatusNoise rtk_float{0.05, 1.0, 0.3, 0.5, 0.0};
+  GnssStatusNoise rtk_fixed{0.01, 1.0, 0.03, 0.05, 0.0};
+  // The offset's correlation time tau, s (> 0), for the statuses whose offset_share is above 0: the
+  // atmospheric and orbital errors change over minutes, multipath over tens of seconds.
+  double offset_correlation_time_s = 60.0;
   // Use the nominal sigmas for a fix whose covariance is all zero, instead of rejecting it.
   bool use_nominal_for_unknown = false;
 

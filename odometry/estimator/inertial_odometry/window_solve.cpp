@@ -70,7 +70,8 @@ bool InertialOdometry::Impl::Solve(int* iterations, int* outliers) {
   }
   if (config.use_wheel && wheel.scale_free()) request.free.push_back(wheel.scale_block());
   if (visual) visual->AppendFreeBlocks(request.free);
-  if (gnss && gnss->aligned()) request.free.push_back(gnss->alignment_block());
+  if (gnss)
+    for (double* block : gnss->StateBlocks()) request.free.push_back(block);
   request.use_prior = graph.prior() != nullptr;
   request.solver = WindowSolver::kDense;
   request.max_iterations = visual ? config.visual.max_iterations : config.max_iterations;
@@ -93,6 +94,9 @@ void InertialOdometry::Impl::MarginalizeOldest(double* ms) {
     imu_scores[first_node_id + 1] = *score;
   if (visual)
     for (double* inverse_depth : visual->AnchoredBlocks(first_node_id)) leaving.push_back(inverse_depth);
+  const Stamp leaving_stamp = nodes.front().stamp;
+  if (gnss)
+    for (double* offset : gnss->OffsetBlocksUpTo(leaving_stamp)) leaving.push_back(offset);
   if (!config.marginalize) {
     graph.RemoveBlocks(leaving);
   } else if (Status s = graph.Marginalize(leaving, config.marginalization); !s.ok()) {
@@ -100,6 +104,7 @@ void InertialOdometry::Impl::MarginalizeOldest(double* ms) {
                        " failed, prior dropped: " + s.message());
   }
   if (visual) visual->ForgetNode(first_node_id);
+  if (gnss) gnss->DropOffsetsUpTo(leaving_stamp);
   ReleaseOldest();
   if (!graph.prior()) AddGaugePrior();
   TrimStreams();

@@ -1,5 +1,6 @@
 // Solving the window and marginalizing its oldest states (see odometry_window.h): which blocks move and
 // which factors take part; the graph (window/factor_graph.h) does the rest.
+#include <algorithm>
 #include <cmath>
 #include <unordered_map>
 
@@ -33,7 +34,8 @@ bool LidarOdometry::Impl::Solve(int* iterations, bool new_scan_only) {
   }
   if (wheel && wheel->scale_free() && !new_scan_only && WheelScaleObservable())
     request.free.push_back(wheel->scale_block());
-  if (gnss && gnss->aligned() && !new_scan_only) request.free.push_back(gnss->alignment_block());
+  if (gnss && !new_scan_only)
+    for (double* block : gnss->StateBlocks()) request.free.push_back(block);
   if (visual && !new_scan_only) visual->AppendFreeBlocks(request.free);
   if (new_scan_only) {  // the registration: the new scan's planes, and the motion factors at its nodes
     const long scan = window.back().id;
@@ -128,12 +130,18 @@ void LidarOdometry::Impl::MarginalizeBefore(long keep_from, Stamp stamp) {
     leaving.push_back(NodeAt(id).pose.data());
     leaving.push_back(NodeAt(id).speed_bias.data());
   }
+  // The receiver's offsets at the leaving nodes leave with them.
+  const long last_leaving = std::min(keep_from, LastNodeId() + 1) - 1;
+  const bool offsets_leave = gnss && last_leaving >= first_node_id;
+  if (offsets_leave)
+    for (double* offset : gnss->OffsetBlocksUpTo(NodeAt(last_leaving).stamp)) leaving.push_back(offset);
   if (!config.marginalize || keep_from > LastNodeId()) {
     graph.RemoveBlocks(leaving);
   } else if (Status s = graph.Marginalize(leaving, config.marginalization); !s.ok()) {
     // Without a prior the window falls back to holding its oldest pose constant: less information, no harm.
     warnings.push_back("marginalization at " + StampText(stamp) + " failed, prior dropped: " + s.message());
   }
+  if (offsets_leave) gnss->DropOffsetsUpTo(NodeAt(last_leaving).stamp);
   ForgetVisualBefore(keep_from);
 }
 

@@ -71,6 +71,7 @@ void GnssProvider::Link(FactorGraph& graph, std::span<const NodeView> nodes,
                         std::vector<std::string>& warnings) {
   if (nodes.empty()) return;
   const std::vector<Stamp> stamps = Stamps(nodes);
+  if (aligned_ && !offsets_.empty()) ExtendOffsets(graph, nodes);
   const Stamp covered = stamps.back() + FromSeconds(config_.max_snap_s);
   bool new_pairs = false;
   while (!queue_.empty() && queue_.front().stamp <= covered) {
@@ -129,14 +130,73 @@ void GnssProvider::TryStartAlignment(FactorGraph& graph, std::span<const NodeVie
   paired_.clear();
 }
 
+void GnssProvider::ExtendOffsets(FactorGraph& graph, std::span<const NodeView> nodes) {
+  for (const NodeView& node : nodes) {
+    if (!offsets_.empty() && node.stamp <= offsets_.back().stamp) continue;
+    OffsetState& offset = offsets_.emplace_back(OffsetState{node.stamp, {}});
+    graph.AddEuclideanBlock(offset.value.data(), kGnssOffsetSize);
+    if (offsets_.size() == 1) {
+      graph.Add(FactorKind::kGnss, kGnssTag, MakeGnssOffsetPrior(offset_sigma_), nullptr,
+                {offset.value.data()}, /*anchors=*/true);
+      continue;
+    }
+    OffsetState& previous = offsets_[offsets_.size() - 2];
+    const double dt = ToSeconds(offset.stamp - previous.stamp);
+    const double tau = config_.offset_correlation_time_s;
+    // Starts at the process's prediction a b_{k-1}.
+    Eigen::Map<Eigen::Vector3d>(offset.value.data()) =
+        std::exp(-dt / tau) * Eigen::Map<const Eigen::Vector3d>(previous.value.data());
+    graph.Add(FactorKind::kGnss, kGnssTag, MakeGnssOffsetProcessFactor(dt, tau, offset_sigma_), nullptr,
+              {previous.value.data(), offset.value.data()});
+  }
+}
+
+double* GnssProvider::OffsetFor(std::span<const NodeView> nodes, const FixPlacement& at,
+                                GnssFixStatus status) {
+  if (offsets_.empty() || config_.Noise(status).offset_share <= 0) return nullptr;
+  const Stamp node = nodes[at.single_node() || at.alpha < 0.5 ? at.node_a : at.node_b].stamp;
+  const auto it = std::lower_bound(offsets_.begin(), offsets_.end(), node,
+                                   [](const OffsetState& o, Stamp stamp) { return o.stamp < stamp; });
+  return it != offsets_.end() && it->stamp == node ? it->value.data() : nullptr;
+}
+
+std::vector<double*> GnssProvider::StateBlocks() {
+  std::vector<double*> blocks;
+  if (!aligned_) return blocks;
+  blocks.push_back(alignment_.data());
+  for (OffsetState& offset : offsets_) blocks.push_back(offset.value.data());
+  return blocks;
+}
+
+std::vector<double*> GnssProvider::OffsetBlocksUpTo(Stamp stamp) {
+  std::vector<double*> blocks;
+  for (OffsetState& offset : offsets_)
+    if (offset.stamp <= stamp) blocks.push_back(offset.value.data());
+  return blocks;
+}
+
+void GnssProvider::DropOffsetsUpTo(Stamp stamp) {
+  while (!offsets_.empty() && offsets_.front().stamp <= stamp) offsets_.pop_front();
+}
+
 void GnssProvider::AddFactor(FactorGraph& graph, std::span<const NodeView> nodes,
                              const std::vector<Stamp>& stamps, const FixPlacement& at, const QueuedFix& fix,
                              std::vector<std::string>& warnings) {
+  const double share = config_.Noise(fix.status).offset_share;
+  if (share > 0) {
+    offset_sigma_ = (share * fix.covariance.diagonal()).cwiseSqrt();
+    if (offsets_.empty()) ExtendOffsets(graph, nodes);
+  }
+  // The fix less its offset's estimate (zero without one): what the window's prediction should meet.
+  auto corrected = [&](const FixPlacement& place, const QueuedFix& f) -> Eigen::Vector3d {
+    const double* offset = OffsetFor(nodes, place, f.status);
+    return offset ? Eigen::Vector3d(f.enu - Eigen::Map<const Eigen::Vector3d>(offset)) : f.enu;
+  };
   const EnuAlignment alignment = AlignmentFromBlock(alignment_.data());
   const Eigen::Vector3d antenna = AntennaWorld(nodes, at, lever_arm_);
   const double distance_m = last_accepted_antenna_ ? (antenna - *last_accepted_antenna_).norm() : 0.0;
   const IntegrityResult check =
-      CheckIntegrity(antenna, alignment, fix.enu, fix.covariance, distance_m, config_);
+      CheckIntegrity(antenna, alignment, corrected(at, fix), fix.covariance, distance_m, config_);
   if (std::isfinite(check.d2)) {  // a non-finite prediction is rejected below, and not in the statistics
     horizontal_innovations_.push_back(check.innovation.head<2>().norm());
     d2_sum_ += check.d2;
@@ -146,8 +206,8 @@ void GnssProvider::AddFactor(FactorGraph& graph, std::span<const NodeView> nodes
   std::optional<Eigen::Vector3d> previous_now;
   if (last_tested_)
     if (const std::optional<FixPlacement> was = PlaceFix(last_tested_->stamp, stamps, config_))
-      previous_now = CheckIntegrity(AntennaWorld(nodes, *was, lever_arm_), alignment, last_tested_->enu,
-                                    last_tested_->covariance, 0.0, config_)
+      previous_now = CheckIntegrity(AntennaWorld(nodes, *was, lever_arm_), alignment,
+                                    corrected(*was, *last_tested_), last_tested_->covariance, 0.0, config_)
                          .innovation;
   const bool was_holding = step_guard_.holding();
   const bool guard_admits =
@@ -186,14 +246,21 @@ void GnssProvider::AddFactor(FactorGraph& graph, std::span<const NodeView> nodes
         << check.d2_vertical << ")";
     warnings.push_back(why.str());
   }
+  // With an offset the fix keeps only the white share of its covariance.
+  double* offset = OffsetFor(nodes, at, fix.status);
+  const Eigen::Matrix3d white = offset ? Eigen::Matrix3d((1.0 - share) * fix.covariance) : fix.covariance;
   std::unique_ptr<ceres::CostFunction> cost;
   std::vector<double*> blocks;
   if (at.single_node()) {
-    cost = std::make_unique<GnssFactorSinglePose>(fix.enu, fix.covariance, lever_arm_, axes);
+    cost = std::make_unique<GnssFactorSinglePose>(fix.enu, white, lever_arm_, axes);
     blocks = {nodes[at.node_a].pose, alignment_.data()};
   } else {
-    cost = std::make_unique<GnssFactor>(fix.enu, fix.covariance, lever_arm_, at.alpha, axes);
+    cost = std::make_unique<GnssFactor>(fix.enu, white, lever_arm_, at.alpha, axes);
     blocks = {nodes[at.node_a].pose, nodes[at.node_b].pose, alignment_.data()};
+  }
+  if (offset) {
+    cost = std::make_unique<GnssOffsetFactor>(std::move(cost), white, axes);
+    blocks.push_back(offset);
   }
   graph.Add(FactorKind::kGnss, kGnssTag, std::move(cost), nullptr, std::move(blocks), /*anchors=*/true);
   ++counts_.added;
@@ -216,6 +283,7 @@ void GnssProvider::Reset() {
   if (aligned_) last_alignment_ = alignment_;
   aligned_ = false;
   alignment_ = {};
+  offsets_.clear();
   last_accepted_antenna_.reset();
   step_guard_.Reset();
   last_tested_.reset();

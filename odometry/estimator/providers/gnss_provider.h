@@ -13,6 +13,10 @@
 //       nodes are still in the window become factors;
 //     aligned: CheckIntegrity (rejected: counted, a warning with the innovation), else a GnssFactor
 //       (anchors: it ties the window to the Earth, so marginalization keeps it in the prior).
+// A fix whose status has an offset share (config/gnss_factor_config.h) also touches the receiver's offset
+// at the node nearest to it (factors/gnss_offset_factor.h). The first such fix starts the offsets: one
+// Euclidean block per node from then on, linked by the Gauss-Markov process; they leave with their nodes
+// (OffsetBlocksUpTo, DropOffsetsUpTo) and the innovation test compares the fix less the offset's estimate.
 // A re-initialization of the window (Reset: the graph cleared, the world continuing from the last pose)
 // starts the alignment again from new pairs; until it is accepted, the last alignment stands for the
 // georeference. The ENU origin stays, so the run keeps one georeference frame.
@@ -28,6 +32,7 @@
 
 #include "odometry/estimator/config/gnss_factor_config.h"
 #include "odometry/estimator/factors/gnss_factor.h"
+#include "odometry/estimator/factors/gnss_offset_factor.h"
 #include "odometry/estimator/gnss/alignment_init.h"
 #include "odometry/estimator/gnss/fix_placement.h"
 #include "odometry/estimator/gnss/gnss_enu_origin.h"
@@ -62,7 +67,12 @@ class GnssProvider {
   void Reset();
 
   bool aligned() const { return aligned_; }
-  double* alignment_block() { return alignment_.data(); }
+  // The blocks a solve of the whole window moves: the alignment once aligned, and the offsets.
+  std::vector<double*> StateBlocks();
+  // The offsets of nodes with stamps up to `stamp`: to leave the window with their nodes, then to be
+  // dropped once the graph no longer holds them.
+  std::vector<double*> OffsetBlocksUpTo(Stamp stamp);
+  void DropOffsetsUpTo(Stamp stamp);
   // Once aligned: the ENU origin (the first good fix) and the current world -> ENU transform (after a Reset,
   // the last one until the alignment starts again).
   std::optional<Georeference> georeference() const;
@@ -85,6 +95,11 @@ class GnssProvider {
                          const std::vector<Stamp>& stamps, std::vector<std::string>& warnings);
   void AddFactor(FactorGraph& graph, std::span<const NodeView> nodes, const std::vector<Stamp>& stamps,
                  const FixPlacement& at, const QueuedFix& fix, std::vector<std::string>& warnings);
+  // One offset per node after the last one's (the first with the stationary prior).
+  void ExtendOffsets(FactorGraph& graph, std::span<const NodeView> nodes);
+  // The offset block of the node nearest the placement; null when the offsets have not started or the
+  // fix's status has no offset share.
+  double* OffsetFor(std::span<const NodeView> nodes, const FixPlacement& at, GnssFixStatus status);
 
   GnssFactorConfig config_;
   Eigen::Vector3d lever_arm_;
@@ -97,6 +112,12 @@ class GnssProvider {
   std::vector<QueuedFix> paired_;
   bool aligned_ = false;
   std::array<double, kGnssAlignmentSize> alignment_{};
+  struct OffsetState {
+    Stamp stamp = 0;  // its node's
+    std::array<double, kGnssOffsetSize> value{};
+  };
+  std::deque<OffsetState> offsets_;  // grown at the back, dropped at the front: the blocks stay in place
+  Eigen::Vector3d offset_sigma_ = Eigen::Vector3d::Ones();  // s of the last fix with an offset share
   std::optional<std::array<double, kGnssAlignmentSize>> last_alignment_;  // before the last Reset
   // The predicted antenna (world) at the last accepted fix or the alignment's start: the innovation test's
   // prediction uncertainty grows with the distance from it (gnss/integrity_check.h).

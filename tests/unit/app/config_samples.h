@@ -167,10 +167,11 @@ inline estimator::LidarOdometryConfig NonDefaultOdometry() {
                           .release_margin = 0.05,
                           .release_keyframes = 5}};
   c.gnss.min_status = GnssFixStatus::kRtkFloat;
-  c.gnss.fix = {0.6, 1.5, 3.0, 6.0};
-  c.gnss.sbas = {0.4, 1.2, 1.5, 2.5};
-  c.gnss.rtk_float = {0.06, 1.1, 0.35, 0.6};
-  c.gnss.rtk_fixed = {0.02, 2.0, 0.04, 0.06};
+  c.gnss.fix = {0.6, 1.5, 3.0, 6.0, 0.8};
+  c.gnss.sbas = {0.4, 1.2, 1.5, 2.5, 0.7};
+  c.gnss.rtk_float = {0.06, 1.1, 0.35, 0.6, 0.3};
+  c.gnss.rtk_fixed = {0.02, 2.0, 0.04, 0.06, 0.1};
+  c.gnss.offset_correlation_time_s = 45;
   c.gnss.use_nominal_for_unknown = true;
   c.gnss.integrity_gate = 11.34;
   c.gnss.prediction_sigma_m = 0.5;

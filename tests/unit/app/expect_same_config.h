@@ -245,7 +245,9 @@ inline void ExpectSameInertialParts(const Config& a, const Config& b) {
     EXPECT_EQ((a.gnss.*noise).sigma_scale, (b.gnss.*noise).sigma_scale);
     EXPECT_EQ((a.gnss.*noise).nominal_horizontal_sigma_m, (b.gnss.*noise).nominal_horizontal_sigma_m);
     EXPECT_EQ((a.gnss.*noise).nominal_vertical_sigma_m, (b.gnss.*noise).nominal_vertical_sigma_m);
+    EXPECT_EQ((a.gnss.*noise).offset_share, (b.gnss.*noise).offset_share);
   }
+  EXPECT_FIELD(gnss.offset_correlation_time_s);
   EXPECT_FIELD(gnss.use_nominal_for_unknown);
   EXPECT_FIELD(gnss.integrity_gate);
   EXPECT_FIELD(gnss.prediction_sigma_m);

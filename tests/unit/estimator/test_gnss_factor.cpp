@@ -1,7 +1,8 @@
 // The GNSS position factor against independent truth: a hand-computed residual, analytic Jacobians against
 // central numeric derivatives (poses through PoseManifold::Plus, the alignment block directly) for random
 // poses, fractions and yaws, the ambient Jacobians Ceres sees, and a Ceres solve that recovers a known
-// alignment. Also the shared interpolation's 3 x 12 Jacobian, and the configuration's checks.
+// alignment. Also the shared interpolation's 3 x 12 Jacobian, the receiver-offset factors (the wrapped fix,
+// the Gauss-Markov process against its own definition), and the configuration's checks.
 #include <ceres/ceres.h>
 #include <gtest/gtest.h>
 
@@ -11,6 +12,7 @@
 
 #include "odometry/estimator/config/gnss_factor_config.h"
 #include "odometry/estimator/factors/gnss_factor.h"
+#include "odometry/estimator/factors/gnss_offset_factor.h"
 #include "odometry/estimator/factors/interpolated_point.h"
 #include "odometry/estimator/state/nav_state.h"
 #include "odometry/estimator/state/pose_manifold.h"
@@ -20,7 +22,7 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 using Matrix36 = Eigen::Matrix<double, 3, 6, Eigen::RowMajor>;
-using Matrix34 = Eigen::Matrix<double, 3, 4, Eigen::RowMajor>;
+using Matrix3X = Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::RowMajor>;
 using Matrix37 = Eigen::Matrix<double, 3, 7, Eigen::RowMajor>;
 using Matrix76 = Eigen::Matrix<double, 7, 6, Eigen::RowMajor>;
 
@@ -103,8 +105,9 @@ AnalyticJacobians Analytic(const ceres::CostFunction& factor,
       PoseManifold().PlusJacobian(blocks[k].data(), plus.data());
       result.through_ambient.push_back(Eigen::Map<const Matrix37>(ambient[k].data()) * plus);
     } else {
-      result.tangent.push_back(Eigen::Map<const Matrix34>(tangent[k].data()));
-      result.through_ambient.push_back(Eigen::Map<const Matrix34>(ambient[k].data()));
+      const auto size = static_cast<Eigen::Index>(blocks[k].size());
+      result.tangent.push_back(Eigen::Map<const Matrix3X>(tangent[k].data(), 3, size));
+      result.through_ambient.push_back(Eigen::Map<const Matrix3X>(ambient[k].data(), 3, size));
     }
   }
   return result;
@@ -247,6 +250,87 @@ TEST(GnssFactor, CeresRecoversAKnownAlignment) {
   const EnuAlignment solved = AlignmentFromBlock(alignment.data());
   EXPECT_NEAR(solved.yaw_rad, truth.yaw_rad, 2e-3);
   EXPECT_LT((solved.translation - truth.translation).norm(), 0.05);
+}
+
+TEST(GnssOffsetFactor, AddsTheWhitenedOffsetAndItsJacobiansMatchNumericDerivatives) {
+  Random random;
+  for (int trial = 0; trial < 10; ++trial) {
+    const SE3 T_a(SO3::Exp(random.Vector(1.5)), random.Vector(50));
+    const SE3 T_b(T_a.so3() * SO3::Exp(random.Vector(0.4)), T_a.translation() + random.Vector(2));
+    const EnuAlignment alignment{random.Uniform(-kPi, kPi), random.Vector(100)};
+    const Eigen::Vector3d lever = random.Vector(1), offset = random.Vector(2),
+                          fix = alignment.Apply(T_a.translation()) + random.Vector(3);
+    const Eigen::Matrix3d white = random.Covariance();
+    const double alpha = random.Uniform(0.01, 0.99);
+    for (GnssAxes axes : {GnssAxes::kAll, GnssAxes::kHorizontal}) {
+      const GnssOffsetFactor factor(std::make_unique<GnssFactor>(fix, white, lever, alpha, axes), white,
+                                    axes);
+      const std::vector<std::vector<double>> blocks = {
+          Block(T_a), Block(T_b), Block(alignment), {offset.x(), offset.y(), offset.z()}};
+      ASSERT_EQ(factor.parameter_block_sizes(), (std::vector<int32_t>{7, 7, 4, 3}));
+      // By hand: L_w (Rz p_w + t + b - f), p_w the antenna at the interpolated pose.
+      const Eigen::Vector3d p_w = Interpolate(T_a, T_b, alpha) * lever;
+      const Eigen::Vector3d expected =
+          GnssSqrtInformation(white, axes) * (alignment.Apply(p_w) + offset - fix);
+      EXPECT_LT((Residual(factor, {blocks[0].data(), blocks[1].data(), blocks[2].data(), blocks[3].data()}) -
+                 expected)
+                    .norm(),
+                1e-9 * std::max(1.0, expected.norm()));
+      const AnalyticJacobians analytic = Analytic(factor, blocks);
+      for (int k = 0; k < 4; ++k) {
+        EXPECT_LT(RelativeError(analytic.tangent[k], NumericJacobian(factor, blocks, k)), 1e-6)
+            << "trial " << trial << " block " << k;
+        EXPECT_LT(RelativeError(analytic.through_ambient[k], analytic.tangent[k]), 1e-12) << k;
+      }
+    }
+    const GnssOffsetFactor single(std::make_unique<GnssFactorSinglePose>(fix, white, lever), white,
+                                  GnssAxes::kAll);
+    const std::vector<std::vector<double>> single_blocks = {
+        Block(T_a), Block(alignment), {offset.x(), offset.y(), offset.z()}};
+    const AnalyticJacobians analytic = Analytic(single, single_blocks);
+    for (int k = 0; k < 3; ++k)
+      EXPECT_LT(RelativeError(analytic.tangent[k], NumericJacobian(single, single_blocks, k)), 1e-6) << k;
+  }
+}
+
+// Against the process's own definition: a first-order Gauss-Markov sequence drawn with the correlation
+// time and sigmas the factors are given whitens to unit-variance, uncorrelated residuals; the stationary
+// prior whitens the draws themselves.
+TEST(GnssOffsetProcess, WhitensAGaussMarkovSequence) {
+  std::mt19937_64 engine(7);
+  std::normal_distribution<double> normal;
+  const double tau = 30.0;
+  const Eigen::Vector3d sigma(1.5, 1.5, 3.0);
+  Eigen::Vector3d b(normal(engine) * sigma.x(), normal(engine) * sigma.y(), normal(engine) * sigma.z());
+  Eigen::Vector3d sum_sq = Eigen::Vector3d::Zero(), prior_sum_sq = Eigen::Vector3d::Zero();
+  double lag_product = 0;
+  Eigen::Vector3d last_r = Eigen::Vector3d::Zero();
+  const int steps = 20000;
+  for (int k = 0; k < steps; ++k) {
+    const double dt = 0.05 + 0.95 * (k % 7) / 6.0;  // uneven node spacing, 0.05 to 1 s
+    const double a = std::exp(-dt / tau);
+    Eigen::Vector3d next;
+    for (int i = 0; i < 3; ++i) next[i] = a * b[i] + std::sqrt(1 - a * a) * sigma[i] * normal(engine);
+    const auto process = MakeGnssOffsetProcessFactor(dt, tau, sigma);
+    const double* blocks[2] = {b.data(), next.data()};
+    Eigen::Vector3d r;
+    ASSERT_TRUE(process->Evaluate(blocks, r.data(), nullptr));
+    sum_sq += r.cwiseAbs2();
+    lag_product += r.dot(last_r);
+    last_r = r;
+    const auto prior = MakeGnssOffsetPrior(sigma);
+    const double* prior_block[1] = {next.data()};
+    ASSERT_TRUE(prior->Evaluate(prior_block, r.data(), nullptr));
+    prior_sum_sq += r.cwiseAbs2();
+    b = next;
+  }
+  // A mean of n squared unit normals has a standard error of sqrt(2 / n) = 0.01; the prior sees correlated
+  // draws (about 2 tau / mean dt = 114 per independent one), so its mean has one of about 0.1.
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_NEAR(sum_sq[i] / steps, 1.0, 0.05) << i;
+    EXPECT_NEAR(prior_sum_sq[i] / steps, 1.0, 0.3) << i;
+  }
+  EXPECT_NEAR(lag_product / (3.0 * steps), 0.0, 0.02);  // uncorrelated in time (standard error 0.004)
 }
 
 TEST(GnssInterpolatedPoint, JacobianMatchesNumericDerivatives) {

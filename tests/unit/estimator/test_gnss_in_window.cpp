@@ -202,12 +202,20 @@ TEST(GnssInWindow, WgioWithRtkFixesFollowsTheTruthInEnuWithoutAlignment) {
 TEST(GnssInWindow, WgioWithSingleFixesStaysWithinTheirAccuracy) {
   uf::testing::TempDir dir;
   const auto folder = Simulate(dir, 25.0, sim::GnssQuality::kSingle, /*lidar=*/false);
-  const GeoRun run = RunWgio(folder);
-  ASSERT_TRUE(run.georef) << run.factors.gnss_alignment;
   // Single fixes: 1.5 m horizontal, 3 m vertical, wandering with a 30 s correlation time; the bound
-  // for the ENU position error is 1.5 m.
-  const EnuError error = ErrorInEnu(run, folder, 6.0);
-  EXPECT_LT(error.horizontal_rmse, 1.5);
+  // for the ENU position error is 1.5 m. Each fix independent (the default), and with the receiver's offset
+  // among the window's states (factors/gnss_offset_factor.h), whose blocks leave with their nodes.
+  for (double share : {0.0, 0.9}) {
+    const GeoRun run = RunWgio(
+        folder, [](GnssFix&) { return true; },
+        [&](InertialOdometryConfig& c) { c.gnss.fix.offset_share = share; });
+    ASSERT_TRUE(run.georef) << run.factors.gnss_alignment;
+    EXPECT_GT(run.factors.gnss.added, 80) << share;
+    const EnuError error = ErrorInEnu(run, folder, 6.0);
+    EXPECT_GT(error.poses, 150);
+    EXPECT_LT(error.horizontal_rmse, 1.5) << "offset share " << share;
+    EXPECT_LT(error.vertical_rmse, 3.0) << "offset share " << share;
+  }
 }
 
 TEST(GnssInWindow, IntegrityCheckRejectsMultipathJumpsInLwgio) {

@@ -19,6 +19,8 @@ Schema<estimator::GnssStatusNoise> GnssNoiseSchema(const std::string& status) {
   s.Key("nominal_horizontal_sigma_m", &N::nominal_horizontal_sigma_m, "m",
         "per horizontal axis, for an unknown (all-zero) covariance with use_nominal_for_unknown");
   s.Key("nominal_vertical_sigma_m", &N::nominal_vertical_sigma_m, "m", "likewise, up");
+  s.Key("offset_share", &N::offset_share, "",
+        "in [0, 1): share of the covariance that is a slowly varying offset, estimated per node (0: white)");
   return s;
 }
 
@@ -171,6 +173,8 @@ Schema<GnssFactorConfig> GnssSchema() {
         "uncertainty of the predicted antenna position in the innovation test, right after an accepted fix");
   s.Key("prediction_drift_fraction", &G::prediction_drift_fraction, "",
         "and its growth per distance moved since (odometry drift, the alignment's yaw error)");
+  s.Key("offset_correlation_time_s", &G::offset_correlation_time_s, "s",
+        "correlation time of the receiver's offset (Gauss-Markov), for statuses with an offset_share");
   s.Key("step_max_hold_s", &G::step_max_hold_s, "s",
         "a fix whose innovation steps from the previous fix's (multipath) is held out with the next ones "
         "until one is back at the level before the step, at most this long; 0: each fix tested alone");
