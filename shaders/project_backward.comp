@@ -18,16 +18,20 @@ layout(std430, binding = 1) readonly buffer Geometry { vec4 geometry[]; };
 layout(std430, binding = 2) readonly buffer Sh { float sh[]; };  // chunk, coefficient-major
 layout(std430, binding = 3) readonly buffer Rects { ivec4 rects[]; };        // global; 0 if culled
 layout(std430, binding = 4) readonly buffer Offsets { uint offsets[]; };     // global, first pair slot
-// 3 vec4 per slot (see rasterize_backward.comp): (u, v, conic a, conic b), (conic c, t_z, r, g), (b, opacity, 0, 0).
-layout(std430, binding = 5) readonly buffer PairGradients { vec4 v_pairs[]; };
+// 3 vec4 per slot (see rasterize_backward.comp): (u, v, conic a, conic b), (conic c, t_z, r, g), (b, opacity, 0, 0),
+// in three pages of S = page_slots slots: slot s is record s - p S of page p = s / S.
+layout(std430, binding = 5) readonly buffer PairPage0 { vec4 v_page0[]; };
+layout(std430, binding = 8) readonly buffer PairPage1 { vec4 v_page1[]; };
+layout(std430, binding = 9) readonly buffer PairPage2 { vec4 v_page2[]; };
 // Chunk outputs. v_geometry, 4 vec4 per Gaussian: (dL/dmu xyz, dL/dopacity_logit), (dL/dlog_scale xyz, 0),
 // (dL/dq w x y z of the stored quaternion), (dL/d(u, v) summed over pixels, 0, 0). v_sh like sh.
 layout(std430, binding = 6) writeonly buffer GeometryGradients { vec4 v_geometry[]; };
 layout(std430, binding = 7) writeonly buffer ShGradients { float v_sh[]; };
 
 layout(push_constant) uniform Push {
-  uint base;   // global index of the chunk's first Gaussian
-  uint count;  // Gaussians in the chunk
+  uint base;        // global index of the chunk's first Gaussian
+  uint count;       // Gaussians in the chunk
+  uint page_slots;  // pair records per page
 };
 
 const float kC0 = 0.28209479177387814, kC1 = 0.4886025119029199;
@@ -130,12 +134,25 @@ void main() {
   // the same code (its intermediates may be inf / NaN, e.g. behind the camera) and its outputs are
   // selected 0.
   bool culled = tiles <= 0;
-  // Upstream: the sum over the Gaussian's tiles, in tile order.
+  // Upstream: the sum over the Gaussian's tiles, in tile order: its slots in page 0, then 1, then 2 (each
+  // loop reads only its own page; i runs over the page's records).
   vec4 up0 = vec4(0.0), up1 = vec4(0.0), up2 = vec4(0.0);
-  for (uint s = culled ? 0 : offsets[global_index], e = s + uint(max(tiles, 0)); s < e; ++s) {
-    up0 += v_pairs[3 * s];
-    up1 += v_pairs[3 * s + 1];
-    up2 += v_pairs[3 * s + 2];
+  uint first_slot = culled ? 0 : offsets[global_index], end_slot = first_slot + uint(max(tiles, 0));
+  uint S = page_slots;
+  for (uint i = first_slot, e = min(end_slot, S); i < e; ++i) {
+    up0 += v_page0[3 * i];
+    up1 += v_page0[3 * i + 1];
+    up2 += v_page0[3 * i + 2];
+  }
+  for (uint i = max(first_slot, S) - S, e = clamp(end_slot, S, 2 * S) - S; i < e; ++i) {
+    up0 += v_page1[3 * i];
+    up1 += v_page1[3 * i + 1];
+    up2 += v_page1[3 * i + 2];
+  }
+  for (uint i = max(first_slot, 2 * S) - 2 * S, e = max(end_slot, 2 * S) - 2 * S; i < e; ++i) {
+    up0 += v_page2[3 * i];
+    up1 += v_page2[3 * i + 1];
+    up2 += v_page2[3 * i + 2];
   }
   vec2 v_uv = up0.xy;
   vec3 v_conic = vec3(up0.zw, up1.x);

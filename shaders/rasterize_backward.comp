@@ -51,6 +51,7 @@ layout(push_constant) uniform Push {
   ivec4 size;        // width, height, tiles_x, tiles_y
   vec4 blend;        // min_alpha, max_alpha, transmittance_cutoff, 0
   vec4 background;   // rgb, 0
+  uvec4 pages;       // slots per page of pair records, 0, 0, 0
 };
 layout(std430, binding = 0) readonly buffer Ranges { uvec2 ranges[]; };       // per tile [begin, end)
 layout(std430, binding = 1) readonly buffer Values { uint sorted_ids[]; };    // Gaussian index per pair
@@ -62,7 +63,11 @@ layout(std430, binding = 5) readonly buffer ViewGradients { vec4 v_image[]; };
 layout(std430, binding = 6) readonly buffer PixelState { uvec2 pixel_state[]; };  // (T_N bits, end) per pixel
 // Output, 3 vec4 per pair slot: (u, v, conic a, conic b), (conic c, t_z, r, g), (b, opacity, 0, 0). Gaussian
 // i's tile (tx, ty) has slot offsets[i] + (ty - y0) (x1 - x0) + (tx - x0), the slot emit_tile_keys.comp gave.
-layout(std430, binding = 7) writeonly buffer PairGradients { vec4 v_pairs[]; };
+// Three pages of S = pages.x slots, each under the device's binding limit (splat/vk/backward_pass.h): slot s
+// is record s - p S of page p = s / S.
+layout(std430, binding = 7) writeonly buffer PairPage0 { vec4 v_page0[]; };
+layout(std430, binding = 8) writeonly buffer PairPage1 { vec4 v_page1[]; };
+layout(std430, binding = 9) writeonly buffer PairPage2 { vec4 v_page2[]; };
 
 shared vec4 s_mean_conic[kBatch];             // (u, v, conic a, conic b)
 shared vec4 s_conic_opacity[kBatch];          // (conic c, opacity, t_z, colour r)
@@ -107,6 +112,17 @@ float MinQuadraticOverRect(vec2 lo, vec2 hi, float a, float b, float c) {
 uint Slot(uint g) {
   ivec4 rect = rects[g];
   return offsets[g] + uint((int(gl_WorkGroupID.y) - rect.y) * (rect.z - rect.x) + int(gl_WorkGroupID.x) - rect.x);
+}
+
+void StoreRecord(uint slot, vec4 record[3]) {
+  uint page = slot / pages.x, i = 3 * (slot - page * pages.x);
+  if (page == 0) {
+    [[unroll]] for (uint r = 0; r < 3; ++r) v_page0[i + r] = record[r];
+  } else if (page == 1) {
+    [[unroll]] for (uint r = 0; r < 3; ++r) v_page1[i + r] = record[r];
+  } else {
+    [[unroll]] for (uint r = 0; r < 3; ++r) v_page2[i + r] = record[r];
+  }
 }
 
 // Bits [0, n) of a mask word (n clamped to [0, 32]).
@@ -158,8 +174,7 @@ void main() {
 
   // Pairs no pixel reached get zero records (every slot of the frame is written exactly once).
   for (uint pair = tile_end + lid; pair < range.y; pair += kInvocations) {
-    uint slot = Slot(sorted_ids[pair]);
-    [[unroll]] for (uint r = 0; r < 3; ++r) v_pairs[3 * slot + r] = vec4(0.0);
+    StoreRecord(Slot(sorted_ids[pair]), vec4[3](vec4(0.0), vec4(0.0), vec4(0.0)));
   }
 
   uint parity = 0;
@@ -252,8 +267,7 @@ void main() {
           [[unroll]] for (uint r = 0; r < 3; ++r)
             record[r] += processed ? s_record[q][b][r] : vec4(0.0);
         }
-        uint slot = slots[i];
-        [[unroll]] for (uint r = 0; r < 3; ++r) v_pairs[3 * slot + r] = record[r];
+        StoreRecord(slots[i], record);
       }
     }
     batch_end = batch_start;

@@ -15,17 +15,22 @@ constexpr std::size_t kGeometryGradientFloats = 16;  // 4 vec4 per Gaussian
 struct RasterizePush {
   std::int32_t size[4];
   float blend[4], background[4];
+  std::uint32_t pages[4];  // slots per page, 0, 0, 0
 };
 }  // namespace
 
-Expected<std::unique_ptr<BackwardPass>> BackwardPass::Create(const Context& context) {
+Expected<std::unique_ptr<BackwardPass>> BackwardPass::Create(const Context& context, std::size_t page_slots) {
   std::unique_ptr<BackwardPass> pass(new BackwardPass(context));
-  auto rasterize = ComputePipeline::Create(context, ShaderCode(ShaderId::kRasterizeBackward), 8,
+  const std::size_t limit_slots =
+      context.limits().maxStorageBufferRange / (kPairGradientFloats * sizeof(float));
+  pass->page_slots_ = static_cast<std::uint32_t>(
+      std::min<std::size_t>(page_slots > 0 ? page_slots : limit_slots, limit_slots));
+  auto rasterize = ComputePipeline::Create(context, ShaderCode(ShaderId::kRasterizeBackward), 10,
                                            sizeof(RasterizePush), "rasterize_backward");
   if (!rasterize.ok()) return rasterize.status();
   pass->rasterize_ = std::move(rasterize.value());
-  auto project =
-      ComputePipeline::Create(context, ShaderCode(ShaderId::kProjectBackward), 8, 8, "project_backward");
+  auto project = ComputePipeline::Create(context, ShaderCode(ShaderId::kProjectBackward), 10,
+                                         3 * sizeof(std::uint32_t), "project_backward");
   if (!project.ok()) return project.status();
   pass->project_ = std::move(project.value());
   return pass;
@@ -37,11 +42,23 @@ Status BackwardPass::Prepare(const ForwardState& forward) {
                               "view gradients");
       !s.ok())
     return s;
-  if (Status s = EnsureBuffer(context_, pair_gradients_,
-                              std::max<std::size_t>(forward.pairs, 1) * kPairGradientFloats * sizeof(float),
-                              "pair gradients (" + std::to_string(forward.pairs) + " tile-Gaussian pairs)");
-      !s.ok())
-    return s;
+  const std::size_t pairs = std::max<std::size_t>(forward.pairs, 1);
+  if (pairs > kPairPages * page_slots_)
+    return Status::Error("splats: " + std::to_string(forward.pairs) +
+                         " tile-Gaussian pairs in one view exceed the backward's " +
+                         std::to_string(kPairPages * page_slots_) + " (" + std::to_string(kPairPages) +
+                         " buffers within maxStorageBufferRange) on " + context_.device_name() +
+                         ": train at a lower --resolution or with fewer Gaussians");
+  for (std::size_t p = 0; p < kPairPages; ++p) {
+    // Records [p S, (p + 1) S) of the frame, S = page_slots_; an unused page keeps one record.
+    const std::size_t first = p * page_slots_;
+    const std::size_t records = pairs > first ? std::min<std::size_t>(pairs - first, page_slots_) : 1;
+    if (Status s = EnsureBuffer(context_, pair_pages_[p], records * kPairGradientFloats * sizeof(float),
+                                "pair gradients, page " + std::to_string(p) + " (" +
+                                    std::to_string(forward.pairs) + " tile-Gaussian pairs)");
+        !s.ok())
+      return s;
+  }
   const GaussianBuffers& gaussians = *forward.gaussians;
   const std::size_t stride = 3 * static_cast<std::size_t>(ShCoefficientsPerChannel(gaussians.sh_degree));
   chunks_.resize(gaussians.chunks.size());
@@ -81,13 +98,14 @@ void BackwardPass::UploadViewGradients(const ViewGradients& gradients, std::size
 }
 
 void BackwardPass::Record(FrameCommands& frame, const ForwardState& forward) const {
-  // The frame parameters rasterize_backward needs, pushed (FrameCommands binds at most 8 buffers); the
+  // The frame parameters rasterize_backward needs, pushed (its bindings are the buffers below); the
   // forward's Prepare wrote them to the host-visible parameter buffer before this frame was recorded.
   const auto& params = *static_cast<const FrameParams*>(forward.params->data());
   RasterizePush push{};
   std::copy_n(params.size, 4, push.size);
   std::copy_n(params.blend, 4, push.blend);
   std::copy_n(params.background, 4, push.background);
+  push.pages[0] = page_slots_;
   // Stage 2 writes the SH gradients up to the active degree only; those above it must be zero: zero-filled
   // (before the barrier after stage 1) when an earlier frame may have written them.
   const std::vector<GaussianChunk>& chunks = forward.gaussians->chunks;
@@ -101,17 +119,17 @@ void BackwardPass::Record(FrameCommands& frame, const ForwardState& forward) con
   // 1. Per tile: dL/d(images) -> one gradient record per tile-Gaussian pair (every slot written once).
   frame.Dispatch(*rasterize_,
                  {forward.tile_ranges, forward.sorted_ids, forward.projected, forward.rects, forward.offsets,
-                  &view_gradients_, forward.pixel_state, &pair_gradients_},
+                  &view_gradients_, forward.pixel_state, &pair_pages_[0], &pair_pages_[1], &pair_pages_[2]},
                  &push, static_cast<std::uint32_t>(forward.tiles_x),
                  static_cast<std::uint32_t>(forward.tiles_y));
   frame.Barrier();
   frame.Timestamp();
   // 2. Per Gaussian, chunk by chunk: sum of its pair records -> model parameters.
   for (std::size_t c = 0; c < chunks.size(); ++c) {
-    const std::uint32_t push[2] = {chunks[c].first, chunks[c].count};
+    const std::uint32_t push[3] = {chunks[c].first, chunks[c].count, page_slots_};
     frame.Dispatch(*project_,
                    {forward.params, &chunks[c].geometry, &chunks[c].sh, forward.rects, forward.offsets,
-                    &pair_gradients_, &chunks_[c].geometry, &chunks_[c].sh},
+                    &pair_pages_[0], &chunks_[c].geometry, &chunks_[c].sh, &pair_pages_[1], &pair_pages_[2]},
                    push, (chunks[c].count + kWorkgroup - 1) / kWorkgroup);
   }
   frame.Barrier();

@@ -6,6 +6,7 @@
 // are deterministic. Internal to splat/ (includes vulkan.h through the buffers).
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -44,11 +45,17 @@ struct GradientChunk {
 class BackwardPass {
  public:
   static constexpr std::size_t kPairGradientFloats = 12;  // 3 vec4, see shaders/rasterize_backward.comp
+  // The pair records of a frame (48 bytes per tile-Gaussian pair) are split over this many buffers ("pages"),
+  // since one buffer is bound whole and each must stay under the device's maxStorageBufferRange: 128 MiB on
+  // lavapipe, 2.8 M pairs, which a 1242 x 375 training view passed at ~430k Gaussians.
+  static constexpr std::size_t kPairPages = 3;
 
-  static Expected<std::unique_ptr<BackwardPass>> Create(const Context& context);
+  // page_slots: pair records per page; 0 (the default): as many as the device's binding limit allows (a
+  // test sets fewer, to cross the page boundary with a small frame).
+  static Expected<std::unique_ptr<BackwardPass>> Create(const Context& context, std::size_t page_slots = 0);
 
   // Sizes the view-gradient, pair and output buffers for this frame. Errors: a buffer over the device's
-  // binding limit (the pair buffer holds 48 bytes per tile-Gaussian pair).
+  // binding limit, or more pairs than the pages hold.
   Status Prepare(const ForwardState& forward);
   // dL/d(images) into the view-gradient buffer (2 vec4 per pixel: (dL/drgb, dL/dalpha), (dL/dD, 0, 0, 0)).
   // A loss shader may write that buffer instead (view_gradients()).
@@ -67,7 +74,9 @@ class BackwardPass {
   BackwardPass(const Context& context) : context_(context) {}
   const Context& context_;
   std::unique_ptr<ComputePipeline> rasterize_, project_;
-  Buffer view_gradients_, pair_gradients_;
+  Buffer view_gradients_;
+  std::array<Buffer, kPairPages> pair_pages_;
+  std::uint32_t page_slots_ = 0;
   std::vector<GradientChunk> chunks_;
   // Per chunk: SH floats per Gaussian (from the first) that may be nonzero in its SH gradient buffer; the
   // rest are zero. The shader writes only the active ones; Record zero-fills when this exceeds them.

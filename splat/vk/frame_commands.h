@@ -19,7 +19,7 @@ namespace uf::splat::vk {
 
 class FrameCommands {
  public:
-  // max_dispatches: descriptor sets available per frame (each binding at most 8 buffers).
+  // max_dispatches: descriptor sets available per frame (each binding at most 12 buffers).
   static Expected<std::unique_ptr<FrameCommands>> Create(const Context& context, std::uint32_t max_dispatches,
                                                          std::uint32_t max_timestamps);
   ~FrameCommands();

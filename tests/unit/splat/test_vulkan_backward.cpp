@@ -193,23 +193,40 @@ TEST_F(VulkanBackward, RejectsBackwardWithoutRenderAndWrongSizes) {
   EXPECT_NE(sized.error().find("alpha has 1199 entries, expected 1200"), std::string::npos) << sized.error();
 }
 
-// The forward and backward passes (as the trainer records them) with active SH degree a < 3 on a degree-3
-// model whose higher bands are nonzero: the image and the gradients must be those of the model truncated to
-// degree a (WithShDegree; CPU reference), the SH gradients above a exactly zero. Degrees in the order
-// 3, 0, 2, 1 on the same passes: the zero gradients above a must hold after a frame that wrote them.
-TEST(VulkanBackwardActiveSh, MatchesTheReferenceOfTheTruncatedModel) {
-  auto context = vk::Context::Create({});
-  ASSERT_TRUE(context.ok()) << context.error();
-  auto frame = vk::FrameCommands::Create(**context, 64, 24);
-  ASSERT_TRUE(frame.ok()) << frame.error();
-  auto forward = vk::ForwardPass::Create(**context);
-  ASSERT_TRUE(forward.ok()) << forward.error();
-  auto backward = vk::BackwardPass::Create(**context);
+// The passes themselves, recorded into one frame as the trainer records them: a device, the frame's commands
+// and a forward pass (the backward pass is the test's).
+class VulkanPasses : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    auto context = vk::Context::Create({});
+    ASSERT_TRUE(context.ok()) << context.error();
+    context_ = std::move(*context);
+    auto frame = vk::FrameCommands::Create(*context_, 64, 24);
+    ASSERT_TRUE(frame.ok()) << frame.error();
+    frame_ = std::move(*frame);
+    auto forward = vk::ForwardPass::Create(*context_);
+    ASSERT_TRUE(forward.ok()) << forward.error();
+    forward_ = std::move(*forward);
+  }
+  std::unique_ptr<vk::Context> context_;
+  std::unique_ptr<vk::FrameCommands> frame_;
+  std::unique_ptr<vk::ForwardPass> forward_;
+};
+
+// The forward and backward passes with active SH degree a < 3 on a degree-3 model whose higher bands are
+// nonzero: the image and the gradients must be those of the model truncated to degree a (WithShDegree; CPU
+// reference), the SH gradients above a exactly zero. Degrees in the order 3, 0, 2, 1 on the same passes: the
+// zero gradients above a must hold after a frame that wrote them.
+TEST_F(VulkanPasses, ActiveShDegreeMatchesTheReferenceOfTheTruncatedModel) {
+  vk::Context* context = context_.get();
+  vk::FrameCommands* frame = frame_.get();
+  vk::ForwardPass* forward = forward_.get();
+  auto backward = vk::BackwardPass::Create(*context);
   ASSERT_TRUE(backward.ok()) << backward.error();
   const SplatCamera camera = Camera(64, 48, kPose);
   const GaussianModel model = RandomScene(21, 250, 3, camera);
   vk::GaussianBuffers gaussians;
-  ASSERT_TRUE(vk::UploadGaussians(**context, model, 100, gaussians).ok());  // 3 chunks
+  ASSERT_TRUE(vk::UploadGaussians(*context, model, 100, gaussians).ok());  // 3 chunks
   RenderSettings settings;
   settings.background = {0.2f, 0.1f, 0.3f};
   const ViewGradients dL_dview = RandomViewGradients(21, camera.pinhole.width * camera.pinhole.height);
@@ -218,23 +235,23 @@ TEST(VulkanBackwardActiveSh, MatchesTheReferenceOfTheTruncatedModel) {
     SCOPED_TRACE("active SH degree " + std::to_string(active));
     bool done = false;
     for (int attempt = 0; attempt < 2 && !done; ++attempt) {
-      ASSERT_TRUE((*forward)->Prepare(gaussians, MakeFloatCamera(camera), settings, active).ok());
-      ASSERT_TRUE((*frame)->Begin().ok());
-      (*forward)->Record(**frame, gaussians);
-      const vk::ForwardState state = (*forward)->State(gaussians);
+      ASSERT_TRUE(forward->Prepare(gaussians, MakeFloatCamera(camera), settings, active).ok());
+      ASSERT_TRUE(frame->Begin().ok());
+      forward->Record(*frame, gaussians);
+      const vk::ForwardState state = forward->State(gaussians);
       ASSERT_TRUE((*backward)->Prepare(state).ok());
       (*backward)->UploadViewGradients(
           dL_dview, static_cast<std::size_t>(camera.pinhole.width) * camera.pinhole.height);
-      (*backward)->Record(**frame, state);
-      ASSERT_TRUE((*frame)->SubmitAndWait().ok());
+      (*backward)->Record(*frame, state);
+      ASSERT_TRUE(frame->SubmitAndWait().ok());
       SplatFrameStats stats;
-      done = (*forward)->Finish(&stats);
+      done = forward->Finish(&stats);
     }
     ASSERT_TRUE(done);
     RenderedView view;
-    (*forward)->ReadView(&view);
+    forward->ReadView(&view);
     GaussianGradients gpu;
-    (*backward)->Download((*forward)->State(gaussians), &gpu);
+    (*backward)->Download(forward->State(gaussians), &gpu);
 
     const GaussianModel truncated = WithShDegree(model, active);
     const RenderedView expected_view = RenderReference(truncated, camera, settings);
@@ -269,6 +286,77 @@ TEST(VulkanBackwardActiveSh, MatchesTheReferenceOfTheTruncatedModel) {
       EXPECT_GT(difference, 1e-2f);
     }
   }
+}
+
+// The pair records split over the backward's three pages (backward_pass.h): with pages a third of the
+// frame's pair capacity long, so that every page holds records and Gaussians have records in two, the
+// gradients are bit for bit those of one page, and the reference's; more pairs than the pages hold is a
+// clear error, not a write past the buffer.
+TEST_F(VulkanPasses, PairRecordsAcrossThreePagesGiveTheSameGradients) {
+  vk::Context* context = context_.get();
+  vk::FrameCommands* frame = frame_.get();
+  vk::ForwardPass* forward = forward_.get();
+  const SplatCamera camera = Camera(64, 48, kPose);
+  // Enough Gaussians that the pairs outgrow the first guess of the key capacity, which then becomes 1.25x
+  // the pairs: pages of a third of it leave records on all three.
+  const GaussianModel model = RandomScene(31, 1500, 1, camera);
+  vk::GaussianBuffers gaussians;
+  ASSERT_TRUE(vk::UploadGaussians(*context, model, 512, gaussians).ok());
+  RenderSettings settings;
+  const ViewGradients dL_dview = RandomViewGradients(31, camera.pinhole.width * camera.pinhole.height);
+  struct Pairs {
+    std::size_t capacity = 0, used = 0;  // slots the frame was prepared for (0: Prepare refused), pairs
+  };
+  // One frame through `backward`, and its gradients.
+  auto run = [&](vk::BackwardPass& backward, GaussianGradients* gradients, std::string* error) {
+    Pairs pairs;
+    for (int attempt = 0; attempt < 2; ++attempt) {
+      EXPECT_TRUE(forward->Prepare(gaussians, MakeFloatCamera(camera), settings, 1).ok());
+      EXPECT_TRUE(frame->Begin().ok());
+      forward->Record(*frame, gaussians);
+      const vk::ForwardState state = forward->State(gaussians);
+      if (Status s = backward.Prepare(state); !s.ok()) {
+        *error = s.message();
+        return Pairs{};
+      }
+      backward.UploadViewGradients(dL_dview,
+                                   static_cast<std::size_t>(camera.pinhole.width) * camera.pinhole.height);
+      backward.Record(*frame, state);
+      EXPECT_TRUE(frame->SubmitAndWait().ok());
+      SplatFrameStats stats;
+      pairs = {state.pairs, 0};
+      const bool done = forward->Finish(&stats);
+      pairs.used = stats.tile_gaussian_pairs;
+      if (done) break;
+    }
+    backward.Download(forward->State(gaussians), gradients);
+    return pairs;
+  };
+  auto one_page = vk::BackwardPass::Create(*context);
+  ASSERT_TRUE(one_page.ok()) << one_page.error();
+  GaussianGradients single;
+  std::string error;
+  const Pairs pairs = run(**one_page, &single, &error);
+  const std::size_t page = (pairs.capacity + 2) / 3;
+  ASSERT_GT(pairs.used, 2 * page) << "capacity " << pairs.capacity << error;
+
+  auto paged_pass = vk::BackwardPass::Create(*context, page);
+  ASSERT_TRUE(paged_pass.ok()) << paged_pass.error();
+  GaussianGradients paged;
+  ASSERT_EQ(run(**paged_pass, &paged, &error).used, pairs.used) << error;
+  EXPECT_EQ(paged.position, single.position);
+  EXPECT_EQ(paged.log_scale, single.log_scale);
+  EXPECT_EQ(paged.rotation, single.rotation);
+  EXPECT_EQ(paged.opacity_logit, single.opacity_logit);
+  EXPECT_EQ(paged.sh, single.sh);
+  EXPECT_EQ(paged.mean_2d, single.mean_2d);
+  ExpectGeometryGradientsMatch(paged, RenderReferenceBackward(model, camera, settings, dL_dview));
+
+  auto too_small = vk::BackwardPass::Create(*context, pairs.capacity / 3 - 1);
+  ASSERT_TRUE(too_small.ok()) << too_small.error();
+  GaussianGradients refused;
+  EXPECT_EQ(run(**too_small, &refused, &error).capacity, 0u);
+  EXPECT_NE(error.find("tile-Gaussian pairs in one view exceed the backward's"), std::string::npos) << error;
 }
 
 }  // namespace
