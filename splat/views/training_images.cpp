@@ -126,6 +126,33 @@ PinholeIntrinsics ScalePinhole(const PinholeIntrinsics& p, int width, int height
   return scaled;
 }
 
+std::vector<float> ResizeDepth(std::span<const float> depth, int width, int height, int new_width,
+                               int new_height) {
+  const double sx = static_cast<double>(new_width) / width, sy = static_cast<double>(new_height) / height;
+  std::vector<float> out(static_cast<std::size_t>(new_width) * new_height, 0.0f);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const float d = depth[static_cast<std::size_t>(y) * width + x];
+      if (d == 0.0f) continue;
+      const long tx = std::lround(sx * (x + 0.5) - 0.5), ty = std::lround(sy * (y + 0.5) - 0.5);
+      if (tx < 0 || ty < 0 || tx >= new_width || ty >= new_height) continue;
+      float& t = out[static_cast<std::size_t>(ty) * new_width + tx];
+      if (t == 0.0f || d < t) t = d;
+    }
+  return out;
+}
+
+TrainingView ResizeView(const TrainingView& view, int width, int height) {
+  const PinholeIntrinsics& p = view.camera.pinhole;
+  TrainingView resized;
+  resized.camera = view.camera;
+  resized.camera.pinhole = ScalePinhole(p, width, height);
+  resized.rgb = ResizeArea(view.rgb, p.width, p.height, 3, width, height);
+  if (!view.depth.empty()) resized.depth = ResizeDepth(view.depth, p.width, p.height, width, height);
+  if (!view.mask.empty()) resized.mask = ResizeMask(view.mask, p.width, p.height, width, height);
+  return resized;
+}
+
 std::vector<float> ProjectDepth(std::span<const Eigen::Vector3f> points, const SplatCamera& camera,
                                 float near) {
   const PinholeIntrinsics& pinhole = camera.pinhole;

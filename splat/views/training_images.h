@@ -17,6 +17,7 @@
 #include "odometry/types/camera_model.h"
 #include "odometry/types/measurements.h"
 #include "splat/render_types.h"
+#include "splat/training/training_options.h"
 
 namespace uf::splat {
 
@@ -44,6 +45,16 @@ std::vector<float> ResizeArea(std::span<const float> image, int width, int heigh
 
 // The pinhole for an image resized to width x height (see the top of this file).
 PinholeIntrinsics ScalePinhole(const PinholeIntrinsics& pinhole, int width, int height);
+
+// Per-pixel depth (0: none) of width x height resized to new_width x new_height as ProjectDepth would have
+// rendered it at that size: each source pixel's centre u lands in the target pixel round(s (u + 0.5) - 0.5),
+// which keeps the nearest depth landing in it.
+std::vector<float> ResizeDepth(std::span<const float> depth, int width, int height, int new_width,
+                               int new_height);
+
+// A training view at another size: rgb by ResizeArea, depth by ResizeDepth, mask by ResizeMask, the
+// intrinsics by ScalePinhole; the pose is kept.
+TrainingView ResizeView(const TrainingView& view, int width, int height);
 
 // LiDAR depth for a view: each point t = T_camera_world p in front of the camera (t_z > near) lands in the
 // pixel (round(fx t_x / t_z + cx), round(fy t_y / t_z + cy)); a pixel keeps the nearest t_z (a z-buffer).

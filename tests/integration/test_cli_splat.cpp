@@ -120,6 +120,43 @@ TEST_F(CliSplat, TrainsOnTheRunAndEveryOutputParses) {
   EXPECT_TRUE(fs::exists(run + "/plots/splat_loss.png"));
 }
 
+// Coarse to fine: 160 x 120 with max_width 40 trains at 40 x 30, then 80 x 60 every 5 iterations, then the
+// full size; metrics.json and the summary account for the steps at each size, the scores are at full size.
+TEST_F(CliSplat, CoarseToFineTrainsAtEachSizeInTurnAndReportsIt) {
+  TempDir work;
+  const std::string run = CopyRun(work);
+  const std::string config =
+      work.Write("splat.yaml", "splat:\n  max_width: 40\n  coarse_to_fine_interval: 5\n");
+  const auto result =
+      Ultrafusion("splat " + run + " --iterations 20 --resolution 160 120 --config " + config);
+  ASSERT_EQ(result.code, 0) << result.output;
+  EXPECT_TRUE(std::regex_search(
+      result.output, std::regex("coarse to fine: 40 x 30 px 5 iterations in [0-9.]+ s \\([0-9.]+ it/s\\), "
+                                "80 x 60 px 5 iterations .*, 160 x 120 px 10 iterations")))
+      << result.output;
+  const nlohmann::json m = ReadJson(fs::path(run) / "metrics.json");
+  const nlohmann::json& sizes = m["sizes"];
+  ASSERT_EQ(sizes.size(), 3u) << sizes;
+  const std::vector<std::pair<int, int>> expected = {{40, 30}, {80, 60}, {160, 120}};
+  double seconds = 0;
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(sizes[i]["resolution"], nlohmann::json({expected[i].first, expected[i].second})) << i;
+    EXPECT_EQ(sizes[i]["iterations"], i < 2 ? 5 : 10) << i;
+    seconds += sizes[i]["seconds"].get<double>();
+  }
+  EXPECT_NEAR(seconds, m["seconds"].get<double>(), 1e-6);
+  EXPECT_EQ(m["resolution"], nlohmann::json({160, 120}));
+  Expected<exporting::ExrImage> exr = exporting::ReadExr(
+      run + "/comparisons/" + std::to_string(m["test_views"][0]["stamp_ns"].get<std::int64_t>()) + ".exr");
+  ASSERT_TRUE(exr.ok()) << exr.error();
+  EXPECT_EQ(exr->width, 160);
+  // Without it, one size.
+  const auto plain = Ultrafusion("splat " + run + kTiny);
+  ASSERT_EQ(plain.code, 0) << plain.output;
+  EXPECT_EQ(plain.output.find("coarse to fine"), std::string::npos) << plain.output;
+  EXPECT_EQ(ReadJson(fs::path(run) / "metrics.json")["sizes"].size(), 1u);
+}
+
 // The seeded splats (the coloured map, one iteration in) rendered at the held-out images' poses: with the
 // run's trajectory and with the simulator's ground truth the images line up alike; moved 0.5 m sideways they
 // do not. SSIM, not PSNR: the sky, which the map has no points for, dominates the squared error alike.

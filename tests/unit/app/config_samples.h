@@ -286,6 +286,7 @@ inline SplatConfig NonDefaultSplat() {
   c.time_budget_s = 12.5;
   c.width = 200, c.height = 150;
   c.max_width = 640;
+  c.coarse_to_fine_interval = 250;
   c.keyframe_distance_m = 0.7;
   c.keyframe_angle_deg = 7.5;
   c.holdout_stride = 5;

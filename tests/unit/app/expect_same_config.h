@@ -334,6 +334,7 @@ inline void ExpectSameSplat(const SplatConfig& a, const SplatConfig& b) {
   EXPECT_FIELD(width);
   EXPECT_FIELD(height);
   EXPECT_FIELD(max_width);
+  EXPECT_FIELD(coarse_to_fine_interval);
   EXPECT_FIELD(keyframe_distance_m);
   EXPECT_FIELD(keyframe_angle_deg);
   EXPECT_FIELD(holdout_stride);

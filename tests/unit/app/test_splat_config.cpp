@@ -90,5 +90,28 @@ TEST(SplatConfig, TheDefaultSizeHalvesTheCameraUntilItIsNarrowEnough) {
   EXPECT_EQ(h, 120);
 }
 
+TEST(SplatConfig, CoarseToFineStartsAtTheDefaultSizeAndDoublesEveryInterval) {
+  SplatConfig config;
+  config.coarse_to_fine_interval = 100;
+  const auto size_at = [&](int width, int height, int iteration) {
+    int w = 0, h = 0;
+    CoarseToFineSize(config, width, height, iteration, w, h);
+    return std::pair(w, h);
+  };
+  // KITTI at full size: 1242 x 375 -> 621 x 187 -> 310 x 93 (DefaultSize's halvings).
+  EXPECT_EQ(size_at(1242, 375, 0), std::pair(310, 93));
+  EXPECT_EQ(size_at(1242, 375, 99), std::pair(310, 93));
+  EXPECT_EQ(size_at(1242, 375, 100), std::pair(621, 187));
+  EXPECT_EQ(size_at(1242, 375, 199), std::pair(621, 187));
+  EXPECT_EQ(size_at(1242, 375, 200), std::pair(1242, 375));
+  EXPECT_EQ(size_at(1242, 375, 5000), std::pair(1242, 375));
+  // A size within max_width trains as it is; so does every size with the interval 0.
+  EXPECT_EQ(size_at(320, 240, 0), std::pair(320, 240));
+  config.coarse_to_fine_interval = 0;
+  EXPECT_EQ(size_at(1242, 375, 0), std::pair(1242, 375));
+  ExpectConfigError("splat:\n  coarse_to_fine_interval: -5\n",
+                    {"splat.coarse_to_fine_interval: must be >= 0, got -5"});
+}
+
 }  // namespace
 }  // namespace uf::app

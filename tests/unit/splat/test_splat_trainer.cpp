@@ -9,6 +9,7 @@
 #include "splat/splat_renderer.h"
 #include "splat/training/image_metrics.h"
 #include "splat/training/splat_trainer.h"
+#include "splat/views/training_images.h"
 #include "tests/unit/splat/splat_test_support.h"
 
 namespace uf::splat {
@@ -106,6 +107,32 @@ TEST_F(SplatTrainerTest, TrainingMovesTheRendersTowardsTheTargetsAndIsDeterminis
   EXPECT_EQ(a->positions, b->positions);
   EXPECT_EQ(a->sh, b->sh);
   EXPECT_EQ(a->opacity_logits, b->opacity_logits);
+}
+
+// Coarse to fine (viewer/pipeline/splat/splat_training.h): steps on the views at half size train the same
+// model, and a full-size step after them sees no trace of the smaller frames: its loss equals that of a
+// fresh trainer's first step from the same model.
+TEST_F(SplatTrainerTest, StepsOnSmallerViewsTrainTheModelOfTheFullSize) {
+  const int coarse_steps = 40;
+  auto trainer = SplatTrainer::Create(Perturbed(truth_), NoDensification(100), 2.0);
+  ASSERT_TRUE(trainer.ok()) << trainer.error();
+  const double before = MeanPsnr(**trainer, views_);
+  for (int it = 0; it < coarse_steps; ++it) {
+    const TrainingView half = ResizeView(views_[it % views_.size()], kWidth / 2, kHeight / 2);
+    ASSERT_TRUE((*trainer)->Step(half).ok());
+  }
+  const double after_coarse = MeanPsnr(**trainer, views_);
+  EXPECT_GT(after_coarse, before + 2.0) << "PSNR at full size " << before << " -> " << after_coarse;
+
+  Expected<GaussianModel> model = (*trainer)->Model();
+  ASSERT_TRUE(model.ok());
+  auto fresh = SplatTrainer::Create(*model, NoDensification(100), 2.0);  // SH degree 0 active in both
+  ASSERT_TRUE(fresh.ok());
+  Expected<IterationStats> next = (*trainer)->Step(views_[1]), first = (*fresh)->Step(views_[1]);
+  ASSERT_TRUE(next.ok() && first.ok());
+  EXPECT_NEAR(next->loss, first->loss, 1e-6);
+  for (int it = 0; it < coarse_steps; ++it) ASSERT_TRUE((*trainer)->Step(views_[it % views_.size()]).ok());
+  EXPECT_GT(MeanPsnr(**trainer, views_), after_coarse + 0.5);
 }
 
 TEST_F(SplatTrainerTest, ShBandsStayZeroUntilTheirDegreeIsActive) {

@@ -1,6 +1,6 @@
 // Training images: area resizing against hand-computed averages, intrinsics that keep the image edges,
-// undistortion through the camera model, LiDAR depth with a z-buffer, 8-bit conversion, the pinhole of each
-// camera model.
+// undistortion through the camera model, LiDAR depth with a z-buffer (and resized as it would have been
+// rendered), whole views resized, 8-bit conversion, the pinhole of each camera model.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -121,6 +121,44 @@ TEST(TrainingImages, LidarDepthKeepsTheNearestPointPerPixel) {
   int filled = 0;
   for (float d : depth) filled += d > 0;
   EXPECT_EQ(filled, 1);
+}
+
+TEST(TrainingImages, AResizedDepthKeepsTheNearestDepthLandingInEachPixel) {
+  // 4 x 2 -> 2 x 1: source centres x = 0..3 land in round(0.5 (x + 0.5) - 0.5) = 0, 0, 1, 1 (round half away
+  // from zero: 0.25 -> 0, 0.75 -> 1), rows 0 and 1 in row 0.
+  const std::vector<float> depth = {5, 0, 0, 9,  //
+                                    3, 7, 0, 0};
+  EXPECT_EQ(ResizeDepth(depth, 4, 2, 2, 1), (std::vector<float>{3, 9}));
+  // Nothing landing: 0 (no depth), not the mean of the empty pixels.
+  EXPECT_EQ(ResizeDepth(std::vector<float>(8, 0.0f), 4, 2, 2, 1), (std::vector<float>{0, 0}));
+  // 5 -> 3: centres 0..4 land in round(0.6 (x + 0.5) - 0.5) = round(-0.2, 0.4, 1, 1.6, 2.2) = 0, 0, 1, 2, 2.
+  EXPECT_EQ(ResizeDepth(std::vector<float>{4, 6, 2, 8, 0}, 5, 1, 3, 1), (std::vector<float>{4, 2, 8}));
+}
+
+TEST(TrainingImages, AResizedViewCarriesItsDepthMaskAndIntrinsicsToTheNewSize) {
+  TrainingView view;
+  view.camera.pinhole = {.width = 4, .height = 2, .fx = 4, .fy = 4, .cx = 1.5, .cy = 0.5};
+  view.camera.T_world_camera = SE3(SO3::Exp(Eigen::Vector3d(0.1, 0.2, 0.3)), Eigen::Vector3d(1, 2, 3));
+  view.rgb = {0, 0, 0, 1, 1, 1, 2, 2, 2, 3, 3, 3,  //
+              4, 4, 4, 5, 5, 5, 6, 6, 6, 7, 7, 7};
+  view.depth = {5, 0, 0, 9, 3, 7, 0, 0};
+  view.mask = {1, 1, 1, 0, 1, 1, 1, 1};
+  const TrainingView half = ResizeView(view, 2, 1);
+  EXPECT_EQ(half.rgb, (std::vector<float>{2.5f, 2.5f, 2.5f, 4.5f, 4.5f, 4.5f}));
+  EXPECT_EQ(half.depth, (std::vector<float>{3, 9}));
+  EXPECT_EQ(half.mask, (std::vector<std::uint8_t>{1, 0}));
+  const PinholeIntrinsics expected = ScalePinhole(view.camera.pinhole, 2, 1);
+  EXPECT_EQ(half.camera.pinhole.width, 2);
+  EXPECT_EQ(half.camera.pinhole.height, 1);
+  EXPECT_DOUBLE_EQ(half.camera.pinhole.fx, expected.fx);
+  EXPECT_DOUBLE_EQ(half.camera.pinhole.cx, expected.cx);
+  EXPECT_DOUBLE_EQ(half.camera.pinhole.cy, expected.cy);
+  EXPECT_TRUE(half.camera.T_world_camera.matrix().isApprox(view.camera.T_world_camera.matrix()));
+  // Without depth and mask they stay empty (every pixel counts, no depth term).
+  view.depth.clear(), view.mask.clear();
+  const TrainingView plain = ResizeView(view, 2, 1);
+  EXPECT_TRUE(plain.depth.empty());
+  EXPECT_TRUE(plain.mask.empty());
 }
 
 TEST(TrainingImages, GrayImagesBecomeGreyRgb) {

@@ -17,6 +17,7 @@ using pipeline::SplatJobCallbacks;
 using pipeline::SplatJobOptions;
 using pipeline::SplatJobResult;
 using pipeline::SplatMetrics;
+using pipeline::TrainingSize;
 namespace {
 
 struct SplatArguments {
@@ -50,6 +51,15 @@ void PrintSummary(const std::string& run_dir, const SplatJobResult& result) {
   std::printf(
       "  held-out views: %zu, PSNR %.2f dB (seeded: %.2f dB), SSIM %.3f; training views: %zu, PSNR %.2f dB\n",
       m.views_test, m.test.psnr, m.psnr_test_initial, m.test.ssim, m.views_train, m.train.psnr);
+  if (m.sizes.size() > 1) {
+    std::printf("  coarse to fine:");
+    for (std::size_t i = 0; i < m.sizes.size(); ++i) {
+      const TrainingSize& s = m.sizes[i];
+      std::printf("%s %d x %d px %d iterations in %.1f s (%.2f it/s)", i == 0 ? "" : ",", s.width, s.height,
+                  s.iterations, s.seconds, s.seconds > 0 ? s.iterations / s.seconds : 0.0);
+    }
+    std::printf("\n");
+  }
   if (m.iterations > 0 && !m.stage_seconds.empty()) {
     std::printf("  time per iteration:");
     for (std::size_t i = 0; i < m.stage_seconds.size(); ++i)

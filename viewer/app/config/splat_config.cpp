@@ -86,6 +86,10 @@ Schema<SplatConfig> MakeSplatSchema() {
            "training images W x H; [0, 0]: the camera's size halved until the width is <= max_width "
            "(640 x 480 -> 320 x 240); the intrinsics follow the resize");
   s.Key("max_width", &C::max_width, "px", "the bound of the default resolution");
+  s.Key("coarse_to_fine_interval", &C::coarse_to_fine_interval, "steps",
+        "a resolution wider than max_width is trained first at its size halved until the width is <= "
+        "max_width, then doubled every this many iterations up to the resolution (the early steps, which "
+        "place the model, cost a fraction); 0: the resolution throughout");
   s.Key("keyframe_distance_m", &C::keyframe_distance_m, "m",
         "an image is used when the camera moved this far since the last one used");
   s.Key("keyframe_angle_deg", &C::keyframe_angle_deg, "deg", "... or turned this much");
@@ -129,6 +133,8 @@ Status SplatConfig::Validate() const {
     return Status::Error("resolution: must be two sizes in [1, 16384] px (or [0, 0]: the default), got [" +
                          std::to_string(width) + ", " + std::to_string(height) + "]");
   if (max_width < 16 || max_width > 16384) return error("max_width", "must be in [16, 16384]", max_width);
+  if (coarse_to_fine_interval < 0)
+    return error("coarse_to_fine_interval", "must be >= 0", coarse_to_fine_interval);
   if (!(keyframe_distance_m >= 0)) return error("keyframe_distance_m", "must be >= 0", keyframe_distance_m);
   if (!(keyframe_angle_deg >= 0)) return error("keyframe_angle_deg", "must be >= 0", keyframe_angle_deg);
   if (holdout_stride < 2) return error("holdout_stride", "must be >= 2", holdout_stride);
@@ -151,6 +157,16 @@ std::string EmitSplatConfig(const SplatConfig& config) {
 void DefaultSize(int camera_width, int camera_height, int max_width, int& width, int& height) {
   width = camera_width, height = camera_height;
   while (width > max_width && width >= 2 && height >= 2) width /= 2, height /= 2;
+}
+
+void CoarseToFineSize(const SplatConfig& config, int width, int height, int iteration, int& coarse_width,
+                      int& coarse_height) {
+  coarse_width = width, coarse_height = height;
+  if (config.coarse_to_fine_interval <= 0) return;
+  int levels = 0;
+  for (int w = width, h = height; w > config.max_width && w >= 2 && h >= 2; w /= 2, h /= 2) ++levels;
+  for (int halvings = levels - iteration / config.coarse_to_fine_interval; halvings > 0; --halvings)
+    coarse_width /= 2, coarse_height /= 2;
 }
 
 namespace config {

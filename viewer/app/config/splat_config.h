@@ -16,6 +16,9 @@ struct SplatConfig {
   double time_budget_s = 0;   // 0: no limit
   int width = 0, height = 0;  // training resolution, px; 0 x 0: derived from the camera (see DefaultSize)
   int max_width = 320;
+  // Coarse to fine: a training size wider than max_width is first trained at the size halved until its width
+  // is <= max_width (DefaultSize), doubled every coarse_to_fine_interval iterations (CoarseToFineSize).
+  int coarse_to_fine_interval = 0;  // iterations per size, >= 0; 0: the training size throughout
   double keyframe_distance_m = 0.3, keyframe_angle_deg = 5.0;
   int holdout_stride = 8;             // >= 2
   int comparisons = 4;                // >= 0
@@ -41,5 +44,11 @@ std::string EmitSplatConfig(const SplatConfig& config);
 // The default training size for a camera of width x height: halved (integer division keeps the aspect
 // within a pixel) until the width is <= max_width.
 void DefaultSize(int camera_width, int camera_height, int max_width, int& width, int& height);
+
+// The size that iteration (0-based) trains at under coarse to fine (SplatConfig::coarse_to_fine_interval):
+// width x height halved max(0, L - iteration / interval) times, L the halvings DefaultSize makes of it; with
+// interval 0, or a size already <= max_width, width x height.
+void CoarseToFineSize(const SplatConfig& config, int width, int height, int iteration, int& coarse_width,
+                      int& coarse_height);
 
 }  // namespace uf::app

@@ -89,9 +89,9 @@ Expected<SplatJobResult> RunSplatJob(const fs::path& run_dir, const SplatJobOpti
   const int planned = config.training.iterations;
   Expected<SplatTrainingResult> trained = TrainSplats(
       seeded->model, views->train, views->test, config, options.device, [&](const TrainingProgress& p) {
-        char unit[96];
-        std::snprintf(unit, sizeof(unit), "iterations, loss %.4f, %s Gaussians", p.loss,
-                      Count(p.gaussians).c_str());
+        char unit[128];
+        std::snprintf(unit, sizeof(unit), "iterations, loss %.4f, %s Gaussians, %d x %d px", p.loss,
+                      Count(p.gaussians).c_str(), p.width, p.height);
         Progress(callbacks, "train", p.iteration, planned, unit);
       });
   if (!trained) return trained.status();
@@ -117,6 +117,7 @@ Expected<SplatJobResult> RunSplatJob(const fs::path& run_dir, const SplatJobOpti
   m.iterations = trained->iterations, m.iterations_planned = planned;
   m.seconds = trained->seconds;
   m.stage_seconds = trained->stage_seconds;
+  m.sizes = trained->sizes;
   m.stopped_by_time = trained->stopped_by_time;
   m.gaussians = model->size(), m.gaussians_initial = seeded->model.size();
   m.map_seeds = map_seeds, m.feature_seeds = feature_seeds.added;

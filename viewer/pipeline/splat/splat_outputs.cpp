@@ -36,6 +36,12 @@ Status WriteSplatMetrics(const fs::path& file, const SplatMetrics& m) {
                          {"bias", v.exposure.bias}});
   nlohmann::json stages = nlohmann::json::object();
   for (const auto& [name, seconds] : m.stage_seconds) stages[name] = seconds;
+  nlohmann::json sizes = nlohmann::json::array();
+  for (const TrainingSize& s : m.sizes)
+    sizes.push_back({{"resolution", {s.width, s.height}},
+                     {"iterations", s.iterations},
+                     {"seconds", s.seconds},
+                     {"iterations_per_s", s.seconds > 0 ? s.iterations / s.seconds : 0.0}});
   const nlohmann::json json = {{"psnr_test", Number(m.test.psnr)},
                                {"ssim_test", m.test.ssim},
                                {"psnr_test_initial", Number(m.psnr_test_initial)},
@@ -67,7 +73,8 @@ Status WriteSplatMetrics(const fs::path& file, const SplatMetrics& m) {
                                {"test_views", views},
                                {"exposure_compensation", m.exposure_compensation},
                                {"exposures", exposures},
-                               {"stage_seconds", stages}};
+                               {"stage_seconds", stages},
+                               {"sizes", sizes}};
   AtomicFileWriter writer(file.string());
   if (Status s = writer.status(); !s.ok()) return s;
   writer.stream() << json.dump(2) << "\n";

@@ -27,7 +27,8 @@ namespace uf::pipeline {
 // psnr, ssim}], exposure_compensation, exposures [{stamp_ns, held_out, gain [r, g, b], bias [r, g, b]}]
 // (every view in stamp order; fitted for the training views, interpolated for the held-out ones; empty
 // without compensation), stage_seconds {stage: s} (where the training time went, summed over the steps:
-// SplatTrainingResult::stage_seconds).
+// SplatTrainingResult::stage_seconds), sizes [{resolution [w, h], iterations, seconds, iterations_per_s}]
+// (the steps at each training size in order: one entry, or one per size of coarse to fine).
 struct ViewExposure {
   Stamp stamp = 0;
   bool held_out = false;
@@ -52,6 +53,7 @@ struct SplatMetrics {
   bool exposure_compensation = false;
   std::vector<ViewExposure> exposures;
   std::vector<std::pair<std::string, double>> stage_seconds;  // SplatTrainingResult::stage_seconds
+  std::vector<TrainingSize> sizes;                            // SplatTrainingResult::sizes
 
   double iterations_per_s() const { return seconds > 0 ? iterations / seconds : 0.0; }
 };

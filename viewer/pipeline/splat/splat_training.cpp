@@ -34,6 +34,35 @@ void AddStageTimes(const std::vector<std::pair<std::string, double>>& stage_ms,
   }
 }
 
+// The training views for each step: at the training size the stored views as they are; under coarse to fine
+// (app::CoarseToFineSize) the views resized, made once per size (KITTI's 22 views at 621 x 187: 43 MB).
+class CoarseToFineViews {
+ public:
+  CoarseToFineViews(const std::vector<StoredView>& train, const SplatConfig& config)
+      : train_(train), config_(config) {}
+
+  splat::TrainingView At(std::size_t k, int iteration) {
+    const PinholeIntrinsics& full = train_.front().camera.pinhole;
+    int width = 0, height = 0;
+    app::CoarseToFineSize(config_, full.width, full.height, iteration, width, height);
+    if (width == full.width && height == full.height) {
+      resized_.clear();
+      return ToTrainingView(train_[k]);
+    }
+    if (resized_.empty() || resized_.front().camera.pinhole.width != width) {
+      resized_.clear();
+      for (const StoredView& stored : train_)
+        resized_.push_back(splat::ResizeView(ToTrainingView(stored), width, height));
+    }
+    return resized_[k];
+  }
+
+ private:
+  const std::vector<StoredView>& train_;
+  const SplatConfig& config_;
+  std::vector<splat::TrainingView> resized_;
+};
+
 }  // namespace
 
 void AddSky(splat::GaussianModel& model, const std::vector<StoredView>& train, const SplatConfig& config) {
@@ -70,6 +99,7 @@ Expected<SplatTrainingResult> TrainSplats(const splat::GaussianModel& seed,
   splat::ExposureFitOptions exposure_fit;
   exposure_fit.prior_weight = config.exposure_prior;
   std::vector<float> rendered;
+  CoarseToFineViews views(train, config);
   for (int i = 0; i < iterations; ++i) {
     if (next == order.size()) {
       std::iota(order.begin(), order.end(), std::size_t{0});
@@ -77,7 +107,7 @@ Expected<SplatTrainingResult> TrainSplats(const splat::GaussianModel& seed,
       next = 0;
     }
     const std::size_t k = order[next++];
-    splat::TrainingView view = ToTrainingView(train[k]);
+    splat::TrainingView view = views.At(k, i);
     const bool fit_exposure = config.exposure_compensation && i >= config.exposure_from;
     const std::vector<float> image = fit_exposure ? view.rgb : std::vector<float>{};
     splat::RemoveExposure(result.exposures[k], view.rgb);
@@ -88,9 +118,15 @@ Expected<SplatTrainingResult> TrainSplats(const splat::GaussianModel& seed,
       return Status::Error("splat training, iteration " + std::to_string(i + 1) + ": " + step.error());
     result.loss.push_back(step->loss);
     result.iterations = i + 1;
-    result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    const double step_seconds = std::chrono::duration<double>(Clock::now() - start).count() - result.seconds;
+    result.seconds += step_seconds;
+    const int width = view.camera.pinhole.width, height = view.camera.pinhole.height;
+    if (result.sizes.empty() || result.sizes.back().width != width || result.sizes.back().height != height)
+      result.sizes.push_back({width, height});
+    ++result.sizes.back().iterations;
+    result.sizes.back().seconds += step_seconds;
     AddStageTimes(step->stage_ms, result.stage_seconds);
-    if (progress) progress({i + 1, iterations, step->loss, step->gaussians});
+    if (progress) progress({i + 1, iterations, step->loss, step->gaussians, width, height});
     if (config.time_budget_s > 0 && result.seconds >= config.time_budget_s && i + 1 < iterations) {
       result.stopped_by_time = true;
       break;

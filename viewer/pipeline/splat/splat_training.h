@@ -5,7 +5,9 @@
 // image_metrics.h, the 3DGS conventions). With exposure compensation (splat/training/exposure.h) each
 // training view is trained against its image brought to the canonical exposure, its exposure refitted from
 // the render of each of its steps from SplatConfig::exposure_from on; views are scored with the render in
-// their exposure (the training views' own, the held-out views' interpolated in time).
+// their exposure (the training views' own, the held-out views' interpolated in time). Under coarse to fine
+// (SplatConfig::coarse_to_fine_interval) the first steps train on the views resized (splat::ResizeView);
+// the scores are at the training size.
 #pragma once
 
 #include <cstdint>
@@ -28,6 +30,7 @@ struct TrainingProgress {
   int iteration = 0, iterations = 0;  // done, planned
   double loss = 0;                    // of the last step
   std::size_t gaussians = 0;
+  int width = 0, height = 0;  // the size the step trained at (coarse to fine: smaller at first)
 };
 
 struct ViewScore {
@@ -40,6 +43,13 @@ struct SplatScores {
   std::vector<ViewScore> views;  // per view, in the order given
 };
 
+// The steps trained at one size: all of them at the training size, or one entry per size of coarse to fine.
+struct TrainingSize {
+  int width = 0, height = 0;
+  int iterations = 0;
+  double seconds = 0;
+};
+
 struct SplatTrainingResult {
   std::unique_ptr<splat::SplatTrainer> trainer;  // holds the trained model (Model(), Render())
   int iterations = 0;
@@ -49,6 +59,7 @@ struct SplatTrainingResult {
   std::vector<double> loss;      // per iteration
   double psnr_test_initial = 0;  // of the seeded model on the held-out views (0 without them)
   std::vector<splat::Exposure> exposures;  // per training view, in the order given ((1, 0) when not fitted)
+  std::vector<TrainingSize> sizes;         // in the order trained
   // Where the time of a step went, s summed over the steps, in the order of the step's stages: each device
   // stage (splat::IterationStats::stage_ms), then "host" (the rest of the wall time: image preparation,
   // submission, exposure fits, densification).
