@@ -150,7 +150,7 @@ TEST_F(CliSplat, CoarseToFineTrainsAtEachSizeInTurnAndReportsIt) {
       run + "/comparisons/" + std::to_string(m["test_views"][0]["stamp_ns"].get<std::int64_t>()) + ".exr");
   ASSERT_TRUE(exr.ok()) << exr.error();
   EXPECT_EQ(exr->width, 160);
-  // Without it, one size.
+  // A size within max_width (80 x 60 of the default 320): one size.
   const auto plain = Ultrafusion("splat " + run + kTiny);
   ASSERT_EQ(plain.code, 0) << plain.output;
   EXPECT_EQ(plain.output.find("coarse to fine"), std::string::npos) << plain.output;

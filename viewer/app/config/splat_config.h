@@ -18,7 +18,9 @@ struct SplatConfig {
   int max_width = 320;
   // Coarse to fine: a training size wider than max_width is first trained at the size halved until its width
   // is <= max_width (DefaultSize), doubled every coarse_to_fine_interval iterations (CoarseToFineSize).
-  int coarse_to_fine_interval = 0;  // iterations per size, >= 0; 0: the training size throughout
+  // 1000: on KITTI raw at 1242 x 375 (3000 iterations) as good as the full size throughout in 63 % of the
+  // time.
+  int coarse_to_fine_interval = 1000;  // iterations per size, >= 0; 0: the training size throughout
   double keyframe_distance_m = 0.3, keyframe_angle_deg = 5.0;
   int holdout_stride = 8;             // >= 2
   int comparisons = 4;                // >= 0
