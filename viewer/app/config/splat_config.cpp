@@ -154,18 +154,28 @@ std::string EmitSplatConfig(const SplatConfig& config) {
   return config::EmitSection(config::SplatSchema(), config);
 }
 
+namespace {
+
+// How many times DefaultSize halves width x height.
+int HalvingsToFit(int width, int height, int max_width) {
+  int halvings = 0;
+  for (; width > max_width && width >= 2 && height >= 2; width /= 2, height /= 2) ++halvings;
+  return halvings;
+}
+
+}  // namespace
+
 void DefaultSize(int camera_width, int camera_height, int max_width, int& width, int& height) {
   width = camera_width, height = camera_height;
-  while (width > max_width && width >= 2 && height >= 2) width /= 2, height /= 2;
+  for (int n = HalvingsToFit(camera_width, camera_height, max_width); n > 0; --n) width /= 2, height /= 2;
 }
 
 void CoarseToFineSize(const SplatConfig& config, int width, int height, int iteration, int& coarse_width,
                       int& coarse_height) {
   coarse_width = width, coarse_height = height;
   if (config.coarse_to_fine_interval <= 0) return;
-  int levels = 0;
-  for (int w = width, h = height; w > config.max_width && w >= 2 && h >= 2; w /= 2, h /= 2) ++levels;
-  for (int halvings = levels - iteration / config.coarse_to_fine_interval; halvings > 0; --halvings)
+  const int levels = HalvingsToFit(width, height, config.max_width);
+  for (int n = levels - iteration / config.coarse_to_fine_interval; n > 0; --n)
     coarse_width /= 2, coarse_height /= 2;
 }
 
