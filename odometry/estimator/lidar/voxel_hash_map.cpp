@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <cassert>
+#include <cmath>
 #include <string>
 
 namespace uf::estimator {
@@ -159,6 +160,25 @@ std::vector<Eigen::Vector3d> VoxelHashMap::Points() const {
     if (voxel.alive)
       for (const Eigen::Vector3f& p : voxel.points) points.push_back(p.cast<double>());
   return points;
+}
+
+VoxelHashMap VoxelHashMap::Coarsened(int factor, const VoxelMapConfig& coarse) const {
+  assert(factor >= 1 && std::abs(coarse.voxel_m - factor * config_.voxel_m) <= 1e-9 * coarse.voxel_m);
+  VoxelHashMap result(coarse);
+  result.highest_ring_ = highest_ring_;
+  const auto floor_div = [factor](int i) { return i >= 0 ? i / factor : -((-i + factor - 1) / factor); };
+  std::vector<ShiftedMomentSum> sums;  // per slot of result, relative to its voxel's centre
+  for (const Voxel& voxel : voxels_) {
+    if (!voxel.alive) continue;
+    const VoxelIndex index = voxel.index.unaryExpr(floor_div);
+    Slot slot = result.Find(index);
+    if (slot == kNoVoxel) slot = result.Create(index);
+    if (static_cast<std::size_t>(slot) >= sums.size()) sums.resize(slot + 1);
+    sums[slot].Add(voxel.moments, CenterOf(voxel.index) - result.CenterOf(index));
+    result.voxels_[slot].rings |= voxel.rings;
+  }
+  for (std::size_t slot = 0; slot < sums.size(); ++slot) result.voxels_[slot].moments = sums[slot].Total();
+  return result;
 }
 
 void VoxelHashMap::Clear() {

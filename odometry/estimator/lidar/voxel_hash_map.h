@@ -55,6 +55,11 @@ class VoxelHashMap {
   std::size_t voxel_count() const { return slot_of_.size(); }
   std::size_t point_count() const { return point_count_; }
   std::vector<Eigen::Vector3d> Points() const;  // all stored points (for viewers and tests), any order
+  // This map seen through voxels `factor` times wider; `coarse` is the new map's config, its voxel_m factor
+  // times this one's. Each coarse voxel gets the moments (and rings) of this map's voxels inside it, so its
+  // planes are fitted from every point this map keeps, whatever max_points_per_voxel; it keeps no points
+  // itself (Points() and point_count() are empty). One pass over the voxels.
+  VoxelHashMap Coarsened(int factor, const VoxelMapConfig& coarse) const;
   void Clear();
   const VoxelMapConfig& config() const { return config_; }
   // config().min_plane_rings, or what its auto (0) stands for given the rings inserted so far.

@@ -36,7 +36,7 @@
 
 namespace uf::estimator {
 
-constexpr double kCoarseScale = 4;  // the coarse map's voxels (and correspondence gate) relative to the map's
+constexpr int kCoarseScale = 4;  // the coarse map's voxels (and correspondence gate) relative to the map's
 
 constexpr Stamp kSharedNodeTolerance = 1'000'000;  // 1 ms: a scan starting this close to the last node
                                                    // shares that node
@@ -82,6 +82,16 @@ struct ScanState {
   // With config.drop_weak_directions, when the information leaves a direction weak: the projector its
   // point-to-plane factors are taken through (ProjectedFactor) from then on.
   std::optional<Matrix6d> projector;
+};
+
+// How the ICP rounds of a new scan treat it (LidarOdometry::Impl::RegisterRounds). coarse: against the coarse
+// map (CoarseMap) with a correspondence gate kCoarseScale times wider, for a far guess. rigid (a sweep with a
+// begin and an end node of its own): the sweep moves as one body, its motion within the sweep as the guess
+// has it (only its end node is solved for, the begin node follows; the motion factors stay out): 6 dof,
+// where its two nodes give 12.
+struct Rounds {
+  bool coarse = false;
+  bool rigid = false;
 };
 
 // Adds the wall time of its scope to a millisecond counter (the per-stage figures of OdometryStats).
@@ -189,7 +199,7 @@ struct LidarOdometry::Impl {
 
   // Scans (window_scans.cpp).
   SweepPoses Sweep(const ScanState& scan);
-  void Associate(ScanState& scan, bool coarse = false);
+  void Associate(ScanState& scan, Rounds rounds = {});
   const VoxelHashMap& CoarseMap();
   void InsertIntoMap(ScanState& scan);
   // Initialized LIO: the new scan's points corrected by the IMU's motion within its sweep beyond the
@@ -203,7 +213,7 @@ struct LidarOdometry::Impl {
   double ForwardSigma(const ScanState& scan) const;
 
   // Solve and marginalize (window_solve.cpp).
-  bool Solve(int* iterations, bool new_scan_only = false);
+  bool Solve(int* iterations, bool new_scan_only = false, bool rigid_sweep = false);
   void Relinearize();
   void MarginalizeBefore(long keep_from, Stamp stamp);
   bool WheelScaleObservable();
@@ -222,7 +232,8 @@ struct LidarOdometry::Impl {
 
   // Registration (window_registration.cpp).
   bool RegisterNewScan(ScanState& current);
-  bool RegisterRounds(ScanState& current, bool coarse = false);
+  bool RegisterRounds(ScanState& current, Rounds rounds = {});
+  bool RegisterCoarseToFine(ScanState& current);
   double ReferenceMatchFraction() const;
   std::optional<std::string> RejectionReason(const ScanState& current, bool solved);
   struct Guess {
@@ -233,6 +244,8 @@ struct LidarOdometry::Impl {
   std::vector<Guess> TurnedGuesses();
   bool AgreesWithGuess(const ScanState& current, const SavedStates& guess);
   bool SharesBeginNode(const ScanState& current) const;
+  bool HoldsSweepRigid(const ScanState& current) const;
+  bool FarGuess(ScanState& current);
 };
 
 }  // namespace uf::estimator

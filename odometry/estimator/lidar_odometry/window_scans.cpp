@@ -31,10 +31,12 @@ SweepPoses LidarOdometry::Impl::Sweep(const ScanState& scan) {
 // queries are const), then the batch is taken in visiting order until the cap: the same residuals as a
 // serial pass.
 //
-// coarse: against the coarse map (CoarseMap) with a correspondence gate kCoarseScale times wider, for the
-// first rounds from a far guess.
-void LidarOdometry::Impl::Associate(ScanState& scan, bool coarse) {
+// rounds: against the coarse map, or with the sweep rigid (Rounds): then each point's factor is on the end
+// node alone, the point taken into the end node's body frame along the sweep as it is now, T_end^-1
+// T_world_lidar(alpha) p; moving the end node by G moves every pose of the sweep by G.
+void LidarOdometry::Impl::Associate(ScanState& scan, Rounds rounds) {
   const StageTimer timer(stats.associate_ms);
+  const bool coarse = rounds.coarse, rigid = rounds.rigid;
   const VoxelHashMap& map = coarse ? CoarseMap() : this->map;
   const double max_plane_distance_m = config.max_plane_distance_m * (coarse ? kCoarseScale : 1.0);
   graph.Remove(FactorKind::kLidar, scan.id);
@@ -44,8 +46,9 @@ void LidarOdometry::Impl::Associate(ScanState& scan, bool coarse) {
   const std::size_t step = std::max<std::size_t>(1, n / cap);
   const bool single = scan.begin_node == scan.end_node;
   const SweepPoses sweep = Sweep(scan);
-  std::vector<double*> blocks = {NodeAt(scan.begin_node).pose.data()};
-  if (!single) blocks.push_back(NodeAt(scan.end_node).pose.data());
+  const SE3 T_end_world = NodePose(scan.end_node).inverse();  // for a rigid sweep
+  std::vector<double*> blocks = {NodeAt(rigid ? scan.end_node : scan.begin_node).pose.data()};
+  if (!single && !rigid) blocks.push_back(NodeAt(scan.end_node).pose.data());
   if (scan.plane_cache.size() != n || scan.plane_cache_revision != map.revision() ||
       scan.plane_cache_coarse != coarse) {
     scan.plane_cache.assign(n, {});
@@ -95,7 +98,10 @@ void LidarOdometry::Impl::Associate(ScanState& scan, bool coarse) {
       const PreparedPoint& p = points[order[next]];
       const Plane& plane = *scan.plane_cache[order[next]].plane;
       std::unique_ptr<ceres::CostFunction> cost;
-      if (single) {
+      if (rigid) {
+        cost = std::make_unique<PointToPlaneFactorSinglePose>(
+            T_end_world * (sweep.At(p.alpha) * p.point_lidar), plane);
+      } else if (single) {
         cost = std::make_unique<PointToPlaneFactorSinglePose>(config.T_body_lidar * p.point_lidar, plane);
       } else {
         cost = std::make_unique<PointToPlaneFactor>(p.point_lidar, p.alpha, plane, config.T_body_lidar);
@@ -109,16 +115,16 @@ void LidarOdometry::Impl::Associate(ScanState& scan, bool coarse) {
   scan.visited = static_cast<int>(next);
 }
 
-// The coarse map, brought up to date with the map when it changed: the map's points in voxels kCoarseScale
-// times larger, so that a plane query reaches surfaces that far from a point (a 3x3x3 block 6 m wide at the
-// default 0.5 m voxels). Built only when a fallback guess needs it.
+// The coarse map, brought up to date with the map when it changed: the map seen through voxels kCoarseScale
+// times larger (VoxelHashMap::Coarsened: their moments are those of every point the map keeps), so that a
+// plane query reaches surfaces that far from a point (a 3x3x3 block 6 m wide at the default 0.5 m voxels).
+// Built only when a far guess needs it.
 const VoxelHashMap& LidarOdometry::Impl::CoarseMap() {
   if (!coarse_map || coarse_map_revision != map.revision()) {
     VoxelMapConfig coarse = config.map;
     coarse.voxel_m *= kCoarseScale;
     coarse.min_plane_sigma_m *= kCoarseScale;
-    coarse_map = std::make_unique<VoxelHashMap>(coarse);
-    coarse_map->Insert(map.Points());
+    coarse_map = std::make_unique<VoxelHashMap>(map.Coarsened(kCoarseScale, coarse));
     coarse_map_revision = map.revision();
   }
   return *coarse_map;

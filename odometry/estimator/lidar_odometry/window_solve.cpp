@@ -18,7 +18,10 @@ namespace uf::estimator {
 // point-to-plane factors and the motion factors that touch its nodes): a small problem (12 dof in LO, 30 in
 // LIO). Both it and the window (<= 15 x 2 window_size dof) go to the dense Levenberg-Marquardt of
 // window/dense_least_squares.h, which has no per-solve setup cost.
-bool LidarOdometry::Impl::Solve(int* iterations, bool new_scan_only) {
+//
+// rigid_sweep (with new_scan_only): the rounds of a rigid sweep (Rounds::rigid): only the scan's end node
+// moves (6 dof), with only the scan's point-to-plane factors.
+bool LidarOdometry::Impl::Solve(int* iterations, bool new_scan_only, bool rigid_sweep) {
   const StageTimer timer(new_scan_only ? stats.register_ms : stats.window_ms);
   WindowSolveRequest request;
   request.use_prior = graph.prior() && !new_scan_only;
@@ -27,9 +30,10 @@ bool LidarOdometry::Impl::Solve(int* iterations, bool new_scan_only) {
                                               : window.front().begin_node + 1;
   for (long id = first_node_id; id <= LastNodeId(); ++id) {
     Node& node = NodeAt(id);
-    if (id >= first_free) request.free.push_back(node.pose.data());
+    if (id >= first_free && (!rigid_sweep || id == window.back().end_node))
+      request.free.push_back(node.pose.data());
     // Without a prior the oldest state's speed and biases stay free: only its pose fixes the gauge.
-    if (inertial && (id >= first_free || (!new_scan_only && id >= window.front().begin_node)))
+    if (inertial && !rigid_sweep && (id >= first_free || (!new_scan_only && id >= window.front().begin_node)))
       request.free.push_back(node.speed_bias.data());
   }
   if (wheel && wheel->scale_free() && !new_scan_only && WheelScaleObservable())
@@ -39,7 +43,8 @@ bool LidarOdometry::Impl::Solve(int* iterations, bool new_scan_only) {
   if (visual && !new_scan_only) visual->AppendFreeBlocks(request.free);
   if (new_scan_only) {  // the registration: the new scan's planes, and the motion factors at its nodes
     const long scan = window.back().id;
-    request.use = [scan](const Factor& f) {
+    request.use = [scan, rigid_sweep](const Factor& f) {
+      if (rigid_sweep) return f.kind == FactorKind::kLidar && f.tag == scan;
       return f.kind == FactorKind::kLidar ? f.tag == scan : f.kind != FactorKind::kVisual;
     };
   }

@@ -2,7 +2,8 @@
 // offset of the true wall), its edges and corners fail the eigen-ratio gate, voxels hold at most
 // max_points_per_voxel points, RemoveFarFrom drops exactly the voxels a brute force says are far, the plane
 // planes follow inserts, shifted moment sums equal the moments of the points, a single scan line across a
-// tree trunk gives a plane only without the ring gate, two lines on a facade give the facade; and on a
+// tree trunk gives a plane only without the ring gate, two lines on a facade give the facade, a coarsened map
+// equals the map of all points in wider voxels; and on a
 // recorded KITTI scan most ground points get a plane with normal ~ z.
 #include <gtest/gtest.h>
 
@@ -121,6 +122,38 @@ TEST(VoxelHashMap, KeepsAtMostMaxPointsPerVoxel) {
   map.Clear();
   EXPECT_EQ(map.voxel_count(), 0u);
   EXPECT_EQ(map.point_count(), 0u);
+}
+
+// Coarsened(4) against a map built from the same points with voxels 4 times larger and no cap on the points
+// per voxel: the same voxels and, at every query (on the walls, inside the room, in empty voxels, at negative
+// coordinates), the same plane or none; the coarsened map keeps no points of its own.
+TEST(VoxelHashMap, CoarsenedEqualsTheMapOfAllPointsInWiderVoxels) {
+  const BoxRoom room;
+  const std::vector<Eigen::Vector3d> points = room.Points();
+  VoxelHashMap fine(VoxelMapConfig{.voxel_m = 0.5, .max_points_per_voxel = 1000});
+  fine.Insert(points);
+  const VoxelMapConfig coarse_config{.voxel_m = 2.0, .max_points_per_voxel = 1'000'000};
+  VoxelHashMap direct(coarse_config);
+  direct.Insert(points);
+  const VoxelHashMap coarse = fine.Coarsened(4, coarse_config);
+  EXPECT_EQ(coarse.voxel_count(), direct.voxel_count());
+  EXPECT_EQ(coarse.point_count(), 0u);
+  EXPECT_TRUE(coarse.Points().empty());
+  std::mt19937_64 random(5);
+  std::uniform_real_distribution<double> box(-8, 12);
+  int planes = 0;
+  for (int n = 0; n < 2000; ++n) {
+    const Eigen::Vector3d p =
+        n % 2 ? points[random() % points.size()] : Eigen::Vector3d(box(random), box(random), box(random));
+    const auto expected = direct.PlaneNear(p), got = coarse.PlaneNear(p);
+    ASSERT_EQ(got.has_value(), expected.has_value()) << p.transpose();
+    if (!expected) continue;
+    EXPECT_NEAR(std::abs(got->normal.dot(expected->normal)), 1.0, 1e-9) << p.transpose();
+    EXPECT_LT((got->point - expected->point).norm(), 1e-9) << p.transpose();
+    EXPECT_NEAR(got->sigma, expected->sigma, 1e-9) << p.transpose();
+    ++planes;
+  }
+  EXPECT_GT(planes, 100);  // 6 m blocks in a 10 x 8 x 4 m room: most see two faces and fail the gate
 }
 
 TEST(VoxelHashMap, RemoveFarFromDropsExactlyTheFarVoxels) {
