@@ -92,14 +92,13 @@ std::optional<std::string> LidarOdometry::Impl::RejectionReason(const ScanState&
                                           angle * 180 / std::numbers::pi, dt))
                : std::nullopt;
   };
-  const Node &begin = NodeAt(current.begin_node), &end = NodeAt(current.end_node);
+  const SE3 end = NodePose(current.end_node);
   if (current.begin_node != current.end_node)
-    if (auto fast = too_fast(PoseFromBlock(begin.pose.data()), PoseFromBlock(end.pose.data()),
-                             end.stamp - begin.stamp))
+    if (auto fast = too_fast(NodePose(current.begin_node), end,
+                             NodeAt(current.end_node).stamp - NodeAt(current.begin_node).stamp))
       return *fast + " within its sweep";
   if (last_registered)
-    if (auto fast = too_fast(last_registered->pose, PoseFromBlock(end.pose.data()),
-                             current.end - last_registered->stamp))
+    if (auto fast = too_fast(last_registered->pose, end, current.end - last_registered->stamp))
       return *fast + " since the last registered scan";
   return std::nullopt;
 }
