@@ -3,7 +3,8 @@
 // and time per scan (mean / median / p95 / max; wall and process CPU time), with the machine's load average.
 // Nothing is asserted.
 //   usage: bench_lidar_odometry [KITTI_FOLDER] [--window N] [--input-voxel M] [--residuals N]
-//          [--iterations N] [--rounds N] [--acc A] [--ang W] [--huber M] [--map-insert-voxel M]
+//          [--iterations N] [--rounds N] [--acc A] [--ang W] [--sweep-acc S] [--huber M] [--map-insert-voxel
+//          M]
 //          [--no-deskew] [--out EST.tum]
 #include <time.h>
 
@@ -56,6 +57,8 @@ int main(int argc, char** argv) {
       config.motion.acc_density = std::atof(argv[++i]);
     else if (arg == "--ang" && has_value)
       config.motion.angular_acc_density = std::atof(argv[++i]);
+    else if (arg == "--sweep-acc" && has_value)
+      config.motion.sweep_acc_density = std::atof(argv[++i]);
     else if (arg == "--huber" && has_value)
       config.huber_m = std::atof(argv[++i]);
     else if (arg == "--map-insert-voxel" && has_value)

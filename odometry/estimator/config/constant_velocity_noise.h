@@ -11,6 +11,11 @@ struct ConstantVelocityNoise {
   // 4.7 m at 2 and 1.1 m at 5 against 0.34 m; docs/METHOD.md "Registration, acceptance and recovery").
   double acc_density = 20.0;         // m/s^2/sqrt(Hz): white-noise linear acceleration
   double angular_acc_density = 5.0;  // rad/s^2/sqrt(Hz): white-noise angular acceleration
+  // m/s^2/sqrt(Hz): the sweep-velocity prior on scans kept apart (factors/sweep_velocity_factor.h); 0: off.
+  // A walker's: simulated hand-held motion changes its world-frame velocity by 0.2 m/s per axis (median)
+  // between a 2 Hz scan interval and the next sweep, 0.7 s apart (0.2 / sqrt(0.7)); a car turning at 2-3
+  // m/s^2 calls for about 1 (docs/METHOD.md "Sweep-velocity prior").
+  double sweep_acc_density = 0.25;
 };
 
 }  // namespace uf::estimator

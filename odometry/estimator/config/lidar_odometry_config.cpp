@@ -32,6 +32,8 @@ Status LidarOdometryConfig::Validate() const {
   if (!Positive(motion.acc_density)) return Bad("motion.acc_density", "> 0", motion.acc_density);
   if (!Positive(motion.angular_acc_density))
     return Bad("motion.angular_acc_density", "> 0", motion.angular_acc_density);
+  if (!std::isfinite(motion.sweep_acc_density) || motion.sweep_acc_density < 0)
+    return Bad("motion.sweep_acc_density", ">= 0", motion.sweep_acc_density);
   if (!Positive(max_plane_distance_m)) return Bad("max_plane_distance_m", "> 0", max_plane_distance_m);
   if (!std::isfinite(min_match_ratio) || min_match_ratio < 0 || min_match_ratio > 1)
     return Bad("min_match_ratio", "in [0, 1]", min_match_ratio);

@@ -85,6 +85,7 @@ void LidarOdometry::Impl::ProcessScan(const LidarScan& input) {
     scan.end_node = input.end - NodeAt(scan.begin_node).stamp >= kSharedNodeTolerance ? AddNode(input.end)
                                                                                       : scan.begin_node;
     if (inertial && config.imu_deskew && scan.end_node != scan.begin_node) CorrectSweepByImu(scan);
+    if (!config.use_imu && !share && scan.end_node != scan.begin_node) AddSweepVelocityPrior(scan);
     window.push_back(std::move(scan));
     if (RegisterNewScan(window.back())) {
       InsertIntoMap(window.back());

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "odometry/estimator/factors/sweep_velocity_factor.h"
 #include "odometry/estimator/lidar_odometry/imu_sweep_correction.h"
 #include "odometry/estimator/lidar_odometry/odometry_window.h"
 
@@ -114,6 +115,25 @@ void LidarOdometry::Impl::AddMotionPrior(long id) {
             {NodeAt(id - 2).pose.data(), NodeAt(id - 1).pose.data(), NodeAt(id).pose.data()});
 }
 
+// The sweep-velocity prior (factors/sweep_velocity_factor.h) on a scan with nodes of its own, against the
+// velocity between the end nodes of the two scans before it (when there are two, with distinct end nodes).
+void LidarOdometry::Impl::AddSweepVelocityPrior(const ScanState& scan) {
+  const double density = config.motion.sweep_acc_density;
+  if (density <= 0 || window.size() < 2) return;
+  const long a = window[window.size() - 2].end_node, b = window.back().end_node;
+  if (a >= b || a < first_node_id) return;
+  const Stamp t_a = NodeAt(a).stamp, t_b = NodeAt(b).stamp;
+  const Stamp t_begin = NodeAt(scan.begin_node).stamp, t_end = NodeAt(scan.end_node).stamp;
+  SweepVelocityTiming timing;
+  timing.dt_reference = ToSeconds(t_b - t_a);
+  timing.dt_sweep = ToSeconds(t_end - t_begin);
+  timing.dt_mid = ToSeconds((t_begin + t_end) / 2 - (t_a + t_b) / 2);
+  if (timing.dt_reference <= 0 || timing.dt_sweep <= 0 || timing.dt_mid <= 0) return;
+  graph.Add(FactorKind::kMotionPrior, scan.end_node, MakeSweepVelocityFactor(timing, density), nullptr,
+            {NodeAt(a).pose.data(), NodeAt(b).pose.data(), NodeAt(scan.begin_node).pose.data(),
+             NodeAt(scan.end_node).pose.data()});
+}
+
 Status LidarOdometry::Impl::AddImu(const ImuSample& sample) {
   if (std::optional<std::string> skipped = imu.Add(sample)) {
     warnings.push_back(*skipped);
@@ -205,6 +225,7 @@ void LidarOdometry::Impl::Reset() {
   SetWorldGravity();
   last_registered.reset();
   recent_match_fractions.clear();
+  recent_guess_turns.clear();
   consecutive_rejections = 0;
 }
 

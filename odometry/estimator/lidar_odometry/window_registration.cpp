@@ -18,6 +18,8 @@ constexpr std::size_t kMatchHistory = 10;        // registered scans behind the 
 constexpr double kMovedTranslation = 0.1;        // m: a scan this far from the last registered one moved
 constexpr double kMovedRotation = 0.035;         // rad (2 deg): or turned this much
 constexpr double kFarGuessRatio = 0.1;  // a first guess with fewer points on planes is far off (FarGuess)
+constexpr double kSearchTurn = 15 * std::numbers::pi / 180;  // rad: beyond the ICP rounds' reliable basin
+constexpr std::size_t kTurnHistory = 5;                      // registered scans behind GuessesTurnFar
 
 }  // namespace
 
@@ -156,6 +158,24 @@ std::vector<LidarOdometry::Impl::Guess> LidarOdometry::Impl::TurnedGuesses() {
   return guesses;
 }
 
+// The angle by which the registration turned the scan's end node from where the guess put it.
+double LidarOdometry::Impl::TurnFromGuess(const ScanState& current, const SavedStates& guess) const {
+  const std::size_t end = static_cast<std::size_t>(current.end_node - first_node_id);
+  return (PoseFromBlock(guess.poses[end].data()).inverse() * NodePose(current.end_node)).so3().angle();
+}
+
+// Whether the first guesses of the recent scans kept apart lay beyond the rounds' reliable basin: the median
+// of their last kTurnHistory turns (TurnFromGuess of the registered result) above kSearchTurn. From that far,
+// the rounds also settle in wrong minima that match as many points as the right one, near the guess or after
+// a large turn (simulated hand-held wild at 2 Hz: guesses 15-38 deg off, median 24 deg; wrong minima
+// accepted at 82-115 % of the recent match fraction). The KITTI keyframes' guesses are within 11 deg.
+bool LidarOdometry::Impl::GuessesTurnFar() const {
+  if (recent_guess_turns.size() < kTurnHistory) return false;
+  std::vector<double> sorted(recent_guess_turns.begin(), recent_guess_turns.end());
+  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+  return sorted[sorted.size() / 2] > kSearchTurn;
+}
+
 // Whether the scan's begin node is the previous scan's end node (it started where that one ended).
 bool LidarOdometry::Impl::SharesBeginNode(const ScanState& current) const {
   return window.size() >= 2 && window[window.size() - 2].end_node == current.begin_node;
@@ -184,19 +204,22 @@ bool LidarOdometry::Impl::HoldsSweepRigid(const ScanState& current) const {
 
 // Registration of the newest scan (the window's last): ICP rounds from the first guess. When the acceptance
 // test rejects them, or their match fraction is below kRetryRatio of the recent scans' (a registration that
-// slid into a wrong minimum may still pass the test, with fewer points on planes than usual), the same from
-// each fallback guess, keeping the accepted result with the highest match fraction; then one solve of the
-// whole window. When nothing is accepted the guess is restored, the scan's factors dropped, and the scan
-// stays out of the map.
+// slid into a wrong minimum may still pass the test, with fewer points on planes than usual), or in LO the
+// guesses of scans kept apart lie beyond the rounds' reliable basin (TurnFromGuess, GuessesTurnFar), the same
+// from each fallback guess (and from the turned guesses in the last case), keeping the accepted result with
+// the highest match fraction; then one solve of the whole window. When nothing is accepted the guess is
+// restored, the scan's factors dropped, and the scan stays out of the map.
 bool LidarOdometry::Impl::RegisterNewScan(ScanState& current) {
   constexpr double kRetryRatio = 0.85, kPoorRatio = 0.75, kClearlyMore = 1.05;
   const SavedStates saved = Save(nodes);
-  bool solved =
-      HoldsSweepRigid(current) && FarGuess(current) ? RegisterCoarseToFine(current) : RegisterRounds(current);
+  const bool far = HoldsSweepRigid(current) && FarGuess(current);
+  bool solved = far ? RegisterCoarseToFine(current) : RegisterRounds(current);
   std::optional<std::string> why = RejectionReason(current, solved);
   if (why && inertial && solved && AgreesWithGuess(current, saved)) why.reset();
   const double ratio = current.MatchFraction() / std::max(ReferenceMatchFraction(), 1e-9);
-  if (why || ratio < kRetryRatio) {
+  const bool beyond_basin =
+      HoldsSweepRigid(current) && (GuessesTurnFar() || TurnFromGuess(current, saved) > kSearchTurn);
+  if (why || ratio < kRetryRatio || beyond_basin) {
     std::optional<SavedStates> best;
     double best_fraction = -1;
     std::string best_guess;
@@ -219,9 +242,9 @@ bool LidarOdometry::Impl::RegisterNewScan(ScanState& current) {
       }
     };
     Restore(saved, nodes);  // the guesses start from the nodes as they were before the rounds
-    const bool poor = why || ratio < kPoorRatio;
+    const bool poor = why || ratio < kPoorRatio || beyond_basin;
     try_guesses(FallbackGuesses(current, poor));
-    if (!best && poor) try_guesses(TurnedGuesses());
+    if ((!best && poor) || beyond_basin) try_guesses(TurnedGuesses());
     if (best) {
       Restore(*best, nodes);
       Associate(current);  // the factors of the kept result (the graph holds the last attempt's)
@@ -255,6 +278,10 @@ bool LidarOdometry::Impl::RegisterNewScan(ScanState& current) {
       if (recent_match_fractions.size() > kMatchHistory) recent_match_fractions.pop_front();
     }
     last_registered = RegisteredPose{current.end, NodePose(current.end_node)};
+    if (HoldsSweepRigid(current)) {
+      recent_guess_turns.push_back(TurnFromGuess(current, saved));
+      if (recent_guess_turns.size() > kTurnHistory) recent_guess_turns.pop_front();
+    }
     consecutive_rejections = 0;
     return true;
   }

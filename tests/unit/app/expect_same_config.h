@@ -188,6 +188,7 @@ inline void ExpectSameLo(const estimator::LidarOdometryConfig& a, const estimato
   EXPECT_FIELD(drop_weak_directions);
   EXPECT_FIELD(motion.acc_density);
   EXPECT_FIELD(motion.angular_acc_density);
+  EXPECT_FIELD(motion.sweep_acc_density);
   EXPECT_FIELD(map.voxel_m);
   EXPECT_FIELD(map.max_points_per_voxel);
   EXPECT_FIELD(map.max_range_m);

@@ -53,6 +53,9 @@ Schema<LidarOdometryConfig> MakeLoSchema() {
              "constant-velocity prior between consecutive poses: white-noise linear acceleration");
   motion.Key("angular_acc_density", &ConstantVelocityNoise::angular_acc_density, "rad/s^2/sqrt(Hz)",
              "constant-velocity prior: white-noise angular acceleration");
+  motion.Key("sweep_acc_density", &ConstantVelocityNoise::sweep_acc_density, "m/s^2/sqrt(Hz)",
+             "sweep-velocity prior of LO on scans kept apart (keyframes): white-noise world-frame "
+             "acceleration between the last scan interval and the sweep; 0: off");
   s.Nest("motion", &C::motion, motion);
 
   Schema<VoxelMapConfig> map;
