@@ -164,16 +164,15 @@ double LidarOdometry::Impl::TurnFromGuess(const ScanState& current, const SavedS
   return (PoseFromBlock(guess.poses[end].data()).inverse() * NodePose(current.end_node)).so3().angle();
 }
 
-// Whether the first guesses of the recent scans kept apart lay beyond the rounds' reliable basin: the median
-// of their last kTurnHistory turns (TurnFromGuess of the registered result) above kSearchTurn. From that far,
-// the rounds also settle in wrong minima that match as many points as the right one, near the guess or after
-// a large turn (simulated hand-held wild at 2 Hz: guesses 15-38 deg off, median 24 deg; wrong minima
-// accepted at 82-115 % of the recent match fraction). The KITTI keyframes' guesses are within 11 deg.
+// Whether the first guesses of the recent scans kept apart lay beyond the rounds' reliable basin: one of the
+// last kTurnHistory registered ones turned more than kSearchTurn from its guess (TurnFromGuess). From that
+// far, the rounds also settle in wrong minima that match as many points as the right one, near the guess or
+// after a large turn (simulated hand-held wild at 2 Hz: guesses 15-38 deg off, median 24 deg; wrong minima
+// accepted at 82-115 % of the recent match fraction; one right after the first large turn of the walk, its
+// guess already in the wrong basin). The KITTI keyframes' guesses are within 11 deg.
 bool LidarOdometry::Impl::GuessesTurnFar() const {
-  if (recent_guess_turns.size() < kTurnHistory) return false;
-  std::vector<double> sorted(recent_guess_turns.begin(), recent_guess_turns.end());
-  std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
-  return sorted[sorted.size() / 2] > kSearchTurn;
+  return std::any_of(recent_guess_turns.begin(), recent_guess_turns.end(),
+                     [](double turn) { return turn > kSearchTurn; });
 }
 
 // Whether the scan's begin node is the previous scan's end node (it started where that one ended).

@@ -5,8 +5,9 @@
 //   still, the times as read are kept and the reason says why;
 // - real Ouster OS1-64 scans (../shared/data/newer-college-06-deskew) with their true per-point times: the
 //   convention whose derived times match the true ones best (clockwise from ahead) is a fact about the
-//   sensor. Three scans are too few for the check (the odometry does not register them even with their
-//   true times), so the simulator stands in: its frame turned to start ahead, the check finds that;
+//   sensor. Three scans are too few for the check (the odometry does not register them one after the other
+//   even with their true times), so the simulator stands in: its frame turned to start ahead, the check finds
+//   that;
 // - real KITTI HDL-64E keyframes (../shared/data/kitti00-keyframes): the check keeps clockwise from behind.
 #include <gtest/gtest.h>
 
@@ -287,9 +288,10 @@ TEST(PointTimeCheck, NewerCollegeOusterFindsTheConventionOfTheTrueTimes) {
     EXPECT_GT(error_ms[c], 20.0) << AzimuthConventionKey(fixed[c]);
   }
 
-  // The check itself cannot be shown on these three scans: the LiDAR odometry does not register them even
-  // with their true times (a jump of metres, a registration rejected: the sensor spins fast, and three
-  // scans give no motion history), so every convention scores alike (~0.22 m). The simulator stands in:
+  // The check itself cannot be shown on these three scans: the LiDAR odometry does not register them one
+  // after the other even with their true times (a jump of metres, a registration rejected: the sensor spins
+  // fast, and three scans give no motion history), so every convention scores alike (~0.22 m); each against
+  // its own reference it does (RealOusterDeskew). The simulator stands in:
   // SimulatedScans.SweepStartingAheadIsFound turns its frame to start ahead, as these scans do.
 }
 
