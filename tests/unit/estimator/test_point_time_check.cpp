@@ -13,10 +13,7 @@
 
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 
 #include "odometry/estimator/point_times/point_time_check.h"
 #include "odometry/io/dataset_reader.h"
@@ -221,21 +218,13 @@ struct OusterScan {
   std::vector<float> times_s;
 };
 
-std::vector<float> ReadFloats(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  std::vector<float> values(bytes.size() / 4);
-  std::memcpy(values.data(), bytes.data(), values.size() * 4);
-  return values;
-}
-
 std::vector<OusterScan> ReadNewerCollege(const fs::path& folder) {
   std::vector<OusterScan> scans;
   for (int i = 0; i < 3; ++i) {
     const std::string suffix = "_0" + std::to_string(i) + ".bin";
-    const std::vector<float> xyz = ReadFloats(folder / ("raw" + suffix));
+    const std::vector<float> xyz = testing::ReadFloat32s(folder / ("raw" + suffix));
     OusterScan scan;
-    scan.times_s = ReadFloats(folder / ("times" + suffix));
+    scan.times_s = testing::ReadFloat32s(folder / ("times" + suffix));
     EXPECT_EQ(xyz.size(), 3 * scan.times_s.size());
     for (std::size_t k = 0; k + 2 < xyz.size(); k += 3)
       scan.points.emplace_back(xyz[k], xyz[k + 1], xyz[k + 2]);

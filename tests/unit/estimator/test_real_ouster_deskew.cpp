@@ -10,10 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 
 #include "odometry/estimator/lidar_odometry/lidar_odometry.h"
 #include "odometry/types/azimuth_convention.h"
@@ -26,14 +23,6 @@ namespace fs = std::filesystem;
 
 constexpr Stamp kSweepPeriod = 100'000'000;  // 0.1 s
 
-std::vector<float> ReadFloats(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  std::vector<float> values(bytes.size() / 4);
-  std::memcpy(values.data(), bytes.data(), values.size() * 4);
-  return values;
-}
-
 struct RealSweep {
   std::vector<Eigen::Vector3f> raw;        // in the reference's frame (turned by 180 deg about z, upstream's)
   std::vector<Eigen::Vector3f> reference;  // the same points, motion-compensated
@@ -44,9 +33,9 @@ std::vector<RealSweep> ReadSweeps(const fs::path& folder) {
   std::vector<RealSweep> sweeps(3);
   for (int i = 0; i < 3; ++i) {
     const std::string suffix = "_0" + std::to_string(i) + ".bin";
-    const std::vector<float> raw = ReadFloats(folder / ("raw" + suffix));
-    const std::vector<float> deskewed = ReadFloats(folder / ("deskewed" + suffix));
-    const std::vector<float> times = ReadFloats(folder / ("times" + suffix));
+    const std::vector<float> raw = testing::ReadFloat32s(folder / ("raw" + suffix));
+    const std::vector<float> deskewed = testing::ReadFloat32s(folder / ("deskewed" + suffix));
+    const std::vector<float> times = testing::ReadFloat32s(folder / ("times" + suffix));
     EXPECT_EQ(raw.size(), 3 * times.size());
     EXPECT_EQ(deskewed.size(), raw.size());
     RealSweep& sweep = sweeps[i];
