@@ -1,6 +1,6 @@
 // Sweep-velocity prior of LiDAR-only odometry on scans kept apart (keyframes: each sweep has a begin and an
-// end node of its own; docs/METHOD.md "Sweep-velocity prior"). The world-frame velocity
-// within the sweep should be the velocity between the two previous scans' end nodes a and b:
+// end node of its own; docs/METHOD.md "Sweep-velocity prior"). The world-frame velocity within the sweep
+// should be the velocity between the two previous scans' end nodes a and b:
 //
 //   r = [ (t_end - t_begin) / dt_sweep - (t_b - t_a) / dt_ref ] / sigma,   sigma = acc_density sqrt(dt_mid)
 //
