@@ -3,8 +3,8 @@
 // and time per scan (mean / median / p95 / max; wall and process CPU time), with the machine's load average.
 // Nothing is asserted.
 //   usage: bench_lidar_odometry [KITTI_FOLDER] [--window N] [--input-voxel M] [--residuals N]
-//          [--iterations N] [--rounds N] [--acc A] [--ang W] [--sweep-acc S] [--huber M] [--map-insert-voxel
-//          M]
+//          [--iterations N] [--rounds N] [--acc A] [--ang W] [--sweep-acc S] [--huber M]
+//          [--map-insert-voxel M]
 //          [--no-deskew] [--out EST.tum]
 #include <time.h>
 

@@ -149,7 +149,7 @@ struct LidarOdometry::Impl {
   };
   std::optional<RegisteredPose> last_registered;  // the last scan accepted (or the first of a map)
   std::deque<double> recent_match_fractions;      // of the last registered scans
-  std::deque<double> recent_guess_turns;  // rad: TurnFromGuess of the last registered scans kept apart
+  std::deque<double> recent_guess_turns;  // rad: MoveFromGuess's angle, last registered scans kept apart
   int consecutive_rejections = 0;
   std::vector<TrackEvent> events;  // since the last TakeEvents
   // LIO.
@@ -245,7 +245,7 @@ struct LidarOdometry::Impl {
   std::vector<Guess> FallbackGuesses(const ScanState& current, bool poor);
   std::vector<Guess> TurnedGuesses();
   bool AgreesWithGuess(const ScanState& current, const SavedStates& guess);
-  double TurnFromGuess(const ScanState& current, const SavedStates& guess) const;
+  SE3 MoveFromGuess(const ScanState& current, const SavedStates& guess) const;
   bool GuessesTurnFar() const;
   bool SharesBeginNode(const ScanState& current) const;
   bool HoldsSweepRigid(const ScanState& current) const;

@@ -116,8 +116,7 @@ bool LidarOdometry::Impl::AgreesWithGuess(const ScanState& current, const SavedS
   if (!AllFinite(nodes) || current.residuals < kMinResiduals ||
       current.MatchFraction() < 0.5 * config.min_match_ratio * ReferenceMatchFraction())
     return false;
-  const std::size_t end = static_cast<std::size_t>(current.end_node - first_node_id);
-  const SE3 moved = PoseFromBlock(guess.poses[end].data()).inverse() * NodePose(current.end_node);
+  const SE3 moved = MoveFromGuess(current, guess);
   return moved.translation().norm() <= kAgreeTranslation && moved.so3().angle() <= kAgreeRotation;
 }
 
@@ -158,14 +157,14 @@ std::vector<LidarOdometry::Impl::Guess> LidarOdometry::Impl::TurnedGuesses() {
   return guesses;
 }
 
-// The angle by which the registration turned the scan's end node from where the guess put it.
-double LidarOdometry::Impl::TurnFromGuess(const ScanState& current, const SavedStates& guess) const {
+// How the registration moved the scan's end node from where the guess put it (in the guess's frame).
+SE3 LidarOdometry::Impl::MoveFromGuess(const ScanState& current, const SavedStates& guess) const {
   const std::size_t end = static_cast<std::size_t>(current.end_node - first_node_id);
-  return (PoseFromBlock(guess.poses[end].data()).inverse() * NodePose(current.end_node)).so3().angle();
+  return PoseFromBlock(guess.poses[end].data()).inverse() * NodePose(current.end_node);
 }
 
 // Whether the first guesses of the recent scans kept apart lay beyond the rounds' reliable basin: one of the
-// last kTurnHistory registered ones turned more than kSearchTurn from its guess (TurnFromGuess). From that
+// last kTurnHistory registered ones turned more than kSearchTurn from its guess (MoveFromGuess). From that
 // far, the rounds also settle in wrong minima that match as many points as the right one, near the guess or
 // after a large turn (simulated hand-held wild at 2 Hz: guesses 15-38 deg off, median 24 deg; wrong minima
 // accepted at 82-115 % of the recent match fraction; one right after the first large turn of the walk, its
@@ -204,7 +203,7 @@ bool LidarOdometry::Impl::HoldsSweepRigid(const ScanState& current) const {
 // Registration of the newest scan (the window's last): ICP rounds from the first guess. When the acceptance
 // test rejects them, or their match fraction is below kRetryRatio of the recent scans' (a registration that
 // slid into a wrong minimum may still pass the test, with fewer points on planes than usual), or in LO the
-// guesses of scans kept apart lie beyond the rounds' reliable basin (TurnFromGuess, GuessesTurnFar), the same
+// guesses of scans kept apart lie beyond the rounds' reliable basin (MoveFromGuess, GuessesTurnFar), the same
 // from each fallback guess (and from the turned guesses in the last case), keeping the accepted result with
 // the highest match fraction; then one solve of the whole window. When nothing is accepted the guess is
 // restored, the scan's factors dropped, and the scan stays out of the map.
@@ -216,8 +215,8 @@ bool LidarOdometry::Impl::RegisterNewScan(ScanState& current) {
   std::optional<std::string> why = RejectionReason(current, solved);
   if (why && inertial && solved && AgreesWithGuess(current, saved)) why.reset();
   const double ratio = current.MatchFraction() / std::max(ReferenceMatchFraction(), 1e-9);
-  const bool beyond_basin =
-      HoldsSweepRigid(current) && (GuessesTurnFar() || TurnFromGuess(current, saved) > kSearchTurn);
+  const bool beyond_basin = HoldsSweepRigid(current) &&
+                            (GuessesTurnFar() || MoveFromGuess(current, saved).so3().angle() > kSearchTurn);
   if (why || ratio < kRetryRatio || beyond_basin) {
     std::optional<SavedStates> best;
     double best_fraction = -1;
@@ -278,7 +277,7 @@ bool LidarOdometry::Impl::RegisterNewScan(ScanState& current) {
     }
     last_registered = RegisteredPose{current.end, NodePose(current.end_node)};
     if (HoldsSweepRigid(current)) {
-      recent_guess_turns.push_back(TurnFromGuess(current, saved));
+      recent_guess_turns.push_back(MoveFromGuess(current, saved).so3().angle());
       if (recent_guess_turns.size() > kTurnHistory) recent_guess_turns.pop_front();
     }
     consecutive_rejections = 0;
