@@ -5,9 +5,11 @@
 # real lens gives). Prints per seed the ATE and the KITTI-style drift against the simulator's ground truth,
 # the time per node, and the means, with the load average (2 shared cores).
 #   usage: bench/bench_vio.sh [--duration S] [--seeds "1 2 3"] [--supersampling "1 2"] [--delay S]
-#                             [--config FILE] [--keep DIR]
+#                             [--stereo B] [--config FILE] [--keep DIR]
 # --delay S: the camera stamps run S late (sim --camera-stamp-delay) and the run estimates t_d
 # (wio.visual.estimate_time_offset); the table adds the estimate (the truth is -S).
+# --stereo B: a stereo rig, a second camera B m to the right of the first (sim --stereo-baseline; the run
+# uses it, wio.visual.stereo); the first camera's frames are the same as without it.
 # --keep DIR keeps the sequences and runs there, and reuses the sequences found there on the next call.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -16,6 +18,7 @@ duration=60
 seeds="1 2 3"
 supersampling="1 2"
 delay=""
+stereo=""
 config=""
 keep=""
 while (($#)); do
@@ -24,6 +27,7 @@ while (($#)); do
     --seeds) seeds="$2"; shift 2 ;;
     --supersampling) supersampling="$2"; shift 2 ;;
     --delay) delay="$2"; shift 2 ;;
+    --stereo) stereo="$2"; shift 2 ;;
     --config) config="$2"; shift 2 ;;
     --keep) keep="$2"; shift 2 ;;
     *) echo "bench_vio: unknown argument $1" >&2; exit 2 ;;
@@ -38,17 +42,18 @@ if [[ -n "$delay" ]]; then
   grep -q '^wio:' "$run_config" && { echo "bench_vio: --delay with a config that has wio: is not supported" >&2; exit 2; }
   printf 'wio:\n  visual:\n    estimate_time_offset: true\n' >>"$run_config"
 fi
-echo "bench_vio: urban ${duration} s, seeds $seeds, supersampling $supersampling${delay:+, camera delay $delay s}, load average $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "bench_vio: urban ${duration} s, seeds $seeds, supersampling $supersampling${delay:+, camera delay $delay s}${stereo:+, stereo baseline $stereo m}, load average $(cut -d' ' -f1-3 /proc/loadavg)"
 printf '%5s %5s %9s %9s %13s %9s %9s\n' ss seed ATE_m drift_% rot_deg/100m ms/node t_d_s
 for ss in $supersampling; do
   sum_ate=0 sum_drift=0 n=0
   for seed in $seeds; do
-    data="$work/urban-$seed-${duration}s-ss$ss${delay:+-d$delay}"
+    data="$work/urban-$seed-${duration}s-ss$ss${delay:+-d$delay}${stereo:+-st$stereo}"
     if [[ ! -f "$data/dataset.yaml" ]]; then
       rm -rf "$data"
       printf 'sim:\n  camera:\n    supersampling: %s\n' "$ss" >"$data.sim.yaml"
       "$bin" sim --scene urban --seed "$seed" --duration "$duration" --lidar none --no-wheel --no-gnss \
-        --config "$data.sim.yaml" ${delay:+--camera-stamp-delay "$delay"} --out "$data" >"$data.sim.log" 2>&1 ||
+        --config "$data.sim.yaml" ${delay:+--camera-stamp-delay "$delay"} ${stereo:+--stereo-baseline "$stereo"} \
+        --out "$data" >"$data.sim.log" 2>&1 ||
         { echo "seed $seed: sim failed, see $data.sim.log"; continue; }
     fi
     rm -rf "$data-vio"

@@ -1,6 +1,21 @@
 #include "odometry/io/dataset_sensors.h"
 
+#include <cmath>
+#include <numbers>
+
 namespace uf {
+namespace {
+
+// Whether the camera at T_imu_right makes a stereo rig with the one at T_imu_left (see the header).
+bool StereoPartner(const SE3& T_imu_left, const SE3& T_imu_right) {
+  const SE3 T_left_right = T_imu_left.inverse() * T_imu_right;
+  const double baseline = T_left_right.translation().norm();
+  const double axis_cos = T_left_right.so3().matrix()(2, 2);  // z_left . z_right
+  return baseline > 1e-3 && baseline <= kMaxStereoBaselineM &&
+         axis_cos >= std::cos(kMaxStereoAxisAngleDeg * std::numbers::pi / 180);
+}
+
+}  // namespace
 
 DatasetSensors FindSensors(const DatasetDescription& description) {
   DatasetSensors sensors;
@@ -17,6 +32,15 @@ DatasetSensors FindSensors(const DatasetDescription& description) {
   if (sensors.wheel >= 0) sensors.T_imu_wheel = ImuFromSensor(description, sensors.wheel);
   if (sensors.gnss >= 0) sensors.T_imu_gnss = ImuFromSensor(description, sensors.gnss);
   if (sensors.camera >= 0) sensors.T_imu_camera = ImuFromSensor(description, sensors.camera);
+  for (std::size_t s = static_cast<std::size_t>(sensors.camera) + 1;
+       sensors.T_imu_camera && s < description.streams.size(); ++s) {
+    if (description.streams[s].kind != SensorKind::kCamera || !description.streams[s].camera_model) continue;
+    const std::optional<SE3> T_imu_right = ImuFromSensor(description, static_cast<int>(s));
+    if (!T_imu_right || !StereoPartner(*sensors.T_imu_camera, *T_imu_right)) continue;
+    sensors.camera_right = static_cast<int>(s);
+    sensors.T_imu_camera_right = T_imu_right;
+    break;
+  }
   return sensors;
 }
 

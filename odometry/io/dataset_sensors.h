@@ -11,11 +11,16 @@
 namespace uf {
 
 // The first LiDAR, IMU, wheel and GNSS streams and the first camera with intrinsics (-1: none), and their
-// extrinsics to the IMU (ImuFromSensor).
+// extrinsics to the IMU (ImuFromSensor). camera_right: the first later camera with intrinsics that forms a
+// stereo rig with `camera` (both with extrinsics, optical axes within kMaxStereoAxisAngleDeg, a baseline
+// in (1 mm, kMaxStereoBaselineM]); -1: none.
 struct DatasetSensors {
-  int lidar = -1, imu = -1, wheel = -1, gnss = -1, camera = -1;
-  std::optional<SE3> T_imu_lidar, T_imu_wheel, T_imu_gnss, T_imu_camera;
+  int lidar = -1, imu = -1, wheel = -1, gnss = -1, camera = -1, camera_right = -1;
+  std::optional<SE3> T_imu_lidar, T_imu_wheel, T_imu_gnss, T_imu_camera, T_imu_camera_right;
 };
+
+inline constexpr double kMaxStereoAxisAngleDeg = 30;
+inline constexpr double kMaxStereoBaselineM = 2;
 
 DatasetSensors FindSensors(const DatasetDescription& description);
 

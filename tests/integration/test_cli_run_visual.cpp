@@ -1,6 +1,6 @@
 // `ultrafusion run --mode vio` as a user runs it: the IMU and the camera of a short simulated drive, the
 // front end's files, the report's visual lines and the accuracy; a damaged frame and a dataset without a
-// camera; `--mode lvio` on a drive with the LiDAR too.
+// camera; `--mode lvio` on a drive with the LiDAR too; a stereo rig in both windows.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -70,7 +70,7 @@ TEST_F(CliRunVisual, VisualInertialModeTracksTheCameraAndReportsItsFactors) {
             std::string::npos)
       << report;
   EXPECT_NE(report.find("camera time offset t_d 0.0000 s (fixed)"), std::string::npos) << report;
-  EXPECT_NE(report.find("  visual:\n    pixel_sigma_px: 1"), std::string::npos) << report;  // wio.visual
+  EXPECT_NE(report.find("  visual:\n    stereo: true\n    pixel_sigma_px: 1"), std::string::npos) << report;
   // Against the simulator's truth: ~25 m of driving. Measured 0.035 m; the IMU alone drifts metres.
   const double ate = ReportedAte(report);
   EXPECT_GE(ate, 0) << report;
@@ -144,6 +144,38 @@ TEST(CliRunLidarVisual, LidarVisualModeAddsTheCameraToLioAndStillColoursTheMap) 
   const double ate = ReportedAte(report);
   EXPECT_GE(ate, 0) << report;
   EXPECT_LT(ate, 0.04) << report;
+}
+
+TEST(CliRunStereo, AStereoRigAddsTheRightCamerasFactorsInBothWindows) {
+  // 4 s of the urban drive with the 16-beam LiDAR, the IMU and a stereo rig 0.3 m wide.
+  TempDir out;
+  const std::string data = out.File("seq");
+  const auto sim = Ultrafusion(
+      "sim --scene urban --duration 4 --lidar spinning16 --no-wheel --no-gnss "
+      "--stereo-baseline 0.3 --out " +
+      data);
+  ASSERT_EQ(sim.code, 0) << sim.output;
+  for (const std::string mode : {"vio", "lvio"}) {
+    const std::string run = out.File(mode);
+    const auto result = Ultrafusion("run " + data + " --mode " + mode + " --no-map --out " + run);
+    ASSERT_EQ(result.code, 0) << result.output;
+    const std::string report = testing::ReadText(run + "/report.md");
+    EXPECT_NE(report.find("stereo: cam0 with cam1 (baseline 0.300 m)"), std::string::npos) << report;
+    // Every frame's pair (0 to 4 s at 10 Hz) in VIO; LVIO's window takes the frames once it started.
+    const std::string pairs = mode == "vio" ? "; stereo: 41 frame pairs matched, " : " frame pairs matched, ";
+    EXPECT_NE(report.find(pairs), std::string::npos) << report;
+    EXPECT_EQ(report.find("; stereo: 0 frame pairs"), std::string::npos) << report;
+    EXPECT_GE(ReportedAte(report), 0) << report;
+  }
+  // wio.visual.stereo: false leaves the rig's right camera out.
+  const std::string config = out.File("mono.yaml");
+  std::ofstream(config) << "wio:\n  visual:\n    stereo: false\n";
+  const auto mono =
+      Ultrafusion("run " + data + " --mode vio --config " + config + " --out " + out.File("mono"));
+  ASSERT_EQ(mono.code, 0) << mono.output;
+  const std::string report = testing::ReadText(out.File("mono") + "/report.md");
+  EXPECT_EQ(report.find("stereo: cam0"), std::string::npos) << report;
+  EXPECT_EQ(report.find("frame pairs matched"), std::string::npos) << report;
 }
 
 TEST_F(CliRunVisual, AModeWithTheCameraNeedsOne) {

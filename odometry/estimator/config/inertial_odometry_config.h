@@ -69,6 +69,9 @@ struct InertialOdometryConfig {
   VisualFactorConfig visual;
   std::shared_ptr<const CameraModel> camera;
   SE3 T_body_camera;
+  // A stereo rig's second camera and its pose in the body frame (used with visual.stereo); none: monocular.
+  std::shared_ptr<const CameraModel> right_camera;
+  SE3 T_body_right_camera;
 
   Status Validate() const;
 };

@@ -40,6 +40,10 @@ struct VisualScheduleConfig {
 
 struct VisualFactorConfig {
   FeatureTrackerConfig tracker;  // its min_track_length: observations before a feature becomes a landmark
+  // With a second camera and its extrinsic in the data (a stereo rig): each frame's features are matched
+  // in the right image of the same instant (visual/stereo_matcher.h), and the matches become factors and
+  // the landmarks' first depth (providers/visual_provider.h).
+  bool stereo = true;
   // Reprojection noise, pixels: KLT on a sharp 8-bit image is good to a few tenths; 1 px leaves room for
   // the undistortion and the rolling and global shutter's timing (VINS-Mono uses 1.5 px).
   double pixel_sigma_px = 1.0;

@@ -18,8 +18,15 @@ Eigen::Vector3d Direction(const Eigen::Vector2d& v) { return {v.x(), v.y(), 0.0}
 }  // namespace
 
 ReprojectionFactor::ReprojectionFactor(const FeatureObservation& anchor, const FeatureObservation& target,
-                                       double td_i, double td_j, double sqrt_information)
-    : anchor_(anchor), target_(target), td_i_(td_i), td_j_(td_j), sqrt_information_(sqrt_information) {
+                                       double td_i, double td_j, double sqrt_information,
+                                       const SE3& T_target_camera)
+    : anchor_(anchor),
+      target_(target),
+      td_i_(td_i),
+      td_j_(td_j),
+      sqrt_information_(sqrt_information),
+      R_tc_(T_target_camera.so3().matrix()),
+      t_tc_(T_target_camera.translation()) {
   assert(sqrt_information > 0);
 }
 
@@ -51,15 +58,16 @@ bool ReprojectionFactor::EvaluateTangent(double const* const* parameters, double
   const Eigen::Vector3d P_bj = R_j.transpose() * (P_w - t_j);
   const Eigen::Matrix3d R_cb = R_bc.transpose();
   const Eigen::Vector3d P_cj = R_cb * (P_bj - t_bc);
-  const double z = P_cj.z();
+  const Eigen::Vector3d P_t = R_tc_ * P_cj + t_tc_;  // P_cj itself without a second camera
+  const double z = P_t.z();
   Eigen::Map<Eigen::Vector2d> r(residuals);
-  r = sqrt_information_ * (P_cj.head<2>() / z - u_j);
+  r = sqrt_information_ * (P_t.head<2>() / z - u_j);
   if (jacobians == nullptr) return true;
 
   Matrix23 D;
-  D << 1 / z, 0, -P_cj.x() / (z * z),  //
-      0, 1 / z, -P_cj.y() / (z * z);
-  const Matrix23 sD = sqrt_information_ * D;
+  D << 1 / z, 0, -P_t.x() / (z * z),  //
+      0, 1 / z, -P_t.y() / (z * z);
+  const Matrix23 sD = sqrt_information_ * D * R_tc_;  // d r / d P_cj
   const Eigen::Matrix3d A = R_cb * R_j.transpose();
   const Eigen::Matrix3d A_Ri_Rbc = A * R_i * R_bc;  // d P_cj / d P_ci
   if (jacobians[0] != nullptr) Eigen::Map<Matrix26>(jacobians[0]) << sD * A, -sD * A * R_i * Hat(P_bi);

@@ -26,6 +26,11 @@
 //   dr/dt_d     = s (-D A R_i R_bc v_i / lambda + v_j)
 // (the [P]x terms: R Exp(dtheta) P = R P - R [P]x dtheta, and (R Exp(dtheta))^T X = R^T X + [R^T X]x dtheta).
 //
+// Stereo: the target may be seen by the rig's second camera, at T_target_camera from the first (p_target =
+// T p_camera; identity for the camera itself). Then P_t = R_tc P_cj + t_tc replaces P_cj in the residual,
+// r = s (pi(P_t) - u_j'(t_d)), and every s D above becomes s D_t R_tc, with D_t = dpi/dP at P_t. The rig's
+// own extrinsic is held: T_body_target = T_body_camera T_target_camera^-1 moves with the free extrinsic.
+//
 // No robust loss inside: the window wraps these in its loss.
 #pragma once
 
@@ -34,6 +39,7 @@
 #include <Eigen/Core>
 
 #include "odometry/estimator/factors/tangent_jacobian.h"
+#include "odometry/types/se3.h"
 
 namespace uf::estimator {
 
@@ -45,10 +51,10 @@ struct FeatureObservation {
 
 class ReprojectionFactor : public ceres::SizedCostFunction<2, 7, 7, 7, 1, 1>, public TangentJacobianCost {
  public:
-  // sqrt_information: s = focal length / pixel sigma (> 0, asserted); td_i, td_j: the offsets the two
-  // keyframes' nodes were made with (t_d0 above).
+  // sqrt_information: s = focal length / pixel sigma of the target's camera (> 0, asserted); td_i, td_j:
+  // the offsets the two keyframes' nodes were made with (t_d0 above); T_target_camera: see Stereo above.
   ReprojectionFactor(const FeatureObservation& anchor, const FeatureObservation& target, double td_i,
-                     double td_j, double sqrt_information);
+                     double td_j, double sqrt_information, const SE3& T_target_camera = SE3());
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override;
   // Jacobians 2 x 6 for poses and extrinsic, 2 x 1 for lambda and t_d, row-major.
   bool EvaluateTangent(double const* const* parameters, double* residuals,
@@ -58,6 +64,8 @@ class ReprojectionFactor : public ceres::SizedCostFunction<2, 7, 7, 7, 1, 1>, pu
   const FeatureObservation anchor_, target_;
   const double td_i_, td_j_;
   const double sqrt_information_;
+  const Eigen::Matrix3d R_tc_;
+  const Eigen::Vector3d t_tc_;
 };
 
 }  // namespace uf::estimator

@@ -116,6 +116,11 @@ Expected<InertialOdometry> InertialOdometry::Create(const InertialOdometryConfig
   Expected<std::unique_ptr<VisualProvider>> visual = VisualProvider::CreateIf(
       config.use_camera, config.visual, config.camera.get(), config.T_body_camera, "wio");
   if (!visual) return visual.status();
+  if (*visual)
+    if (Status s = (*visual)->SetStereoIf(config.camera, config.T_body_camera, config.right_camera,
+                                          config.T_body_right_camera, "wio");
+        !s.ok())
+      return s;
   return InertialOdometry(std::make_unique<Impl>(config, std::move(*visual)));
 }
 
@@ -141,6 +146,13 @@ Status InertialOdometry::AddCameraFrame(const CameraFrame& frame) {
   if (impl_->visual &&
       impl_->visual->AddFrame(frame.stamp, frame.image, impl_->tracked_frames, impl_->warnings))
     impl_->ProcessReady(/*flush=*/false);
+  return {};
+}
+
+Status InertialOdometry::AddRightCameraFrame(const CameraFrame& frame) {
+  if (!impl_->visual) return {};
+  impl_->visual->AddRightFrame(frame.stamp, frame.image, impl_->warnings);
+  impl_->ProcessReady(/*flush=*/false);  // the pair's left frame may now have its node
   return {};
 }
 

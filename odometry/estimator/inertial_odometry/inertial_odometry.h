@@ -76,6 +76,9 @@ class InertialOdometry {
   // is tracked at once, and its node is added when the IMU (and the wheel) cover the frame's stamp + t_d. A
   // frame the front end refuses (out of order, wrong size) is skipped with a warning.
   Status AddCameraFrame(const CameraFrame& frame);
+  // Feeds one decoded frame of a stereo rig's right camera (config.right_camera with visual.stereo;
+  // ignored otherwise): it is matched with the tracked camera's frame of its stamp.
+  Status AddRightCameraFrame(const CameraFrame& frame);
   // The front end's result per frame since the last call (features and statistics).
   std::vector<TrackedFrame> TakeTrackedFrames();
   // Keyframes of the nodes that have left the window (final) since the last call: stamp, T_world_body

@@ -65,7 +65,8 @@ Expected<InertialAlignment> InertialOdometry::Impl::VisualInertialAlignment(std:
   if (!start) return start.status();
   for (std::size_t k = 0; k < poses.size(); ++k) poses[k] = restart_pose * start->poses[k];
   Expected<InertialAlignment> alignment = LidarAidedAlignment(poses, std::move(preintegrations), config.init);
-  if (alignment) alignment->mode = "visual-inertial";
+  if (alignment)
+    alignment->mode = start->scale_from_rig ? "visual-inertial (the stereo rig's scale)" : "visual-inertial";
   return alignment;
 }
 

@@ -39,7 +39,9 @@
 namespace uf::estimator {
 
 struct InertialAlignment {
-  std::string mode;  // "static", "lidar-aided" (LiDAR or wheel poses) or "visual-inertial" (mode D)
+  // "static", "lidar-aided" (LiDAR or wheel poses) or "visual-inertial" (mode D; "visual-inertial (the
+  // stereo rig's scale)" with a rig)
+  std::string mode;
   SO3 R_gravity_lo;                         // world "lo" -> gravity-aligned world
   std::vector<Eigen::Vector3d> velocities;  // per node, gravity-aligned world, m/s
   Eigen::Vector3d accel_bias = Eigen::Vector3d::Zero();

@@ -4,18 +4,18 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <sstream>
 #include <string>
 
 namespace uf::estimator {
 namespace {
 
-using Matrix7 = Eigen::Matrix<double, 7, 7>;
-using Vector7 = Eigen::Matrix<double, 7, 1>;
-
 // The baseline's direction rests on the tracks seen at both ends of the window: at least this many.
 constexpr std::size_t kMinSpanningTracks = 8;
 constexpr int kResectionRounds = 3;  // resection and triangulation in turn
+// The rig's scale rests on at least this many spanning tracks with a depth from the rig.
+constexpr std::size_t kMinRigDepths = 5;
 
 // What the IMU alone says about node k (see the header): R_k, a_k, b_k, t_k.
 struct ImuChain {
@@ -43,6 +43,8 @@ struct Centres {
   std::vector<Eigen::Vector3d> c;
   int tracks = 0;
   std::string failure;
+  std::vector<Eigen::Vector3d> points;  // the spanning tracks' points, in the same units
+  std::vector<std::size_t> track_of;    // their indices in the tracks given
 };
 
 // A ray's weight in the linear fits below: (I - r r^T) / d^2, whose quadratic form is the squared miss of a
@@ -77,15 +79,17 @@ Centres UpToScaleCentres(const std::vector<FeatureTrack>& tracks, const ImuChain
                          const SE3& T_body_camera, double min_parallax_rad) {
   const std::size_t last = chain.R.size() - 1;
   std::vector<std::vector<NodeRay>> spanning;  // the rays of the tracks seen at both ends, with parallax
-  for (const FeatureTrack& track : tracks) {
+  Centres centres;
+  for (std::size_t i = 0; i < tracks.size(); ++i) {
+    const FeatureTrack& track = tracks[i];
     if (track.observations.front().first != 0 || track.observations.back().first != last) continue;
     std::vector<NodeRay> rays;
     for (const auto& [k, xy] : track.observations)
       rays.push_back({k, (chain.R[k] * (T_body_camera.so3() * xy.homogeneous())).normalized()});
-    if (std::acos(std::clamp(rays.front().ray.dot(rays.back().ray), -1.0, 1.0)) >= min_parallax_rad)
-      spanning.push_back(std::move(rays));
+    if (std::acos(std::clamp(rays.front().ray.dot(rays.back().ray), -1.0, 1.0)) < min_parallax_rad) continue;
+    spanning.push_back(std::move(rays));
+    centres.track_of.push_back(i);
   }
-  Centres centres;
   centres.tracks = static_cast<int>(spanning.size());
   if (spanning.size() < kMinSpanningTracks) {
     centres.failure = std::to_string(spanning.size()) + " tracks span the window with parallax, need " +
@@ -136,7 +140,43 @@ Centres UpToScaleCentres(const std::vector<FeatureTrack>& tracks, const ImuChain
       centres.failure = "the camera centre of node " + std::to_string(k) + " is not determined";
       return centres;
     }
+  centres.points = std::move(points);
   return centres;
+}
+
+// The stereo rig's scale (see the header): per spanning track with a depth d from the rig at node k, d
+// over the point's depth in camera k of the structure, ((R_k R_bc)^T (P - c_k))_z; their median. None
+// from fewer than kMinRigDepths tracks.
+std::optional<double> RigScale(const std::vector<FeatureTrack>& tracks, const Centres& centres,
+                               const ImuChain& chain, const SE3& T_body_camera) {
+  std::vector<double> scales;
+  for (std::size_t f = 0; f < centres.points.size(); ++f) {
+    const FeatureTrack& track = tracks[centres.track_of[f]];
+    for (const auto& [k, depth] : track.depths) {
+      if (k >= centres.c.size() || !(depth > 0)) continue;
+      const Eigen::Vector3d in_camera =
+          (chain.R[k] * T_body_camera.so3()).inverse() * (centres.points[f] - centres.c[k]);
+      if (in_camera.z() > 0) scales.push_back(depth / in_camera.z());
+      break;  // one per track
+    }
+  }
+  if (scales.size() < kMinRigDepths) return std::nullopt;
+  std::nth_element(scales.begin(), scales.begin() + static_cast<long>(scales.size() / 2), scales.end());
+  return scales[scales.size() / 2];
+}
+
+// Why the accelerometer cannot give the scale over the window (see the header), or nullopt.
+std::optional<std::string> SteadyMotion(const ImuChain& chain, const VisualInertialStartConfig& config) {
+  const std::size_t n = chain.R.size();
+  double excursion = 0;
+  for (std::size_t k = 0; k < n; ++k)
+    excursion = std::max(excursion, (chain.b[k] - chain.t[k] / chain.t[n - 1] * chain.b[n - 1]).norm());
+  if (excursion >= config.min_velocity_excursion_mps) return std::nullopt;
+  std::ostringstream why;
+  why << "the specific force departs from a constant one by " << excursion << " m/s over the window, need "
+      << config.min_velocity_excursion_mps
+      << " (at a steady velocity or acceleration the accelerometer does not see the scale)";
+  return why.str();
 }
 
 }  // namespace
@@ -157,44 +197,53 @@ Expected<VisualInertialStart> VisualInertialPoses(std::span<const ImuPreintegrat
   if (static_cast<int>(usable.size()) < config.min_tracks)
     return Status::Error("visual-inertial start: " + std::to_string(usable.size()) +
                          " feature tracks over 3 nodes or more, need " + std::to_string(config.min_tracks));
-  // The accelerometer must see a changing motion (see the header).
-  double excursion = 0;
-  for (std::size_t k = 0; k < n; ++k)
-    excursion = std::max(excursion, (chain.b[k] - chain.t[k] / chain.t[n - 1] * chain.b[n - 1]).norm());
-  std::ostringstream why;
-  if (!(excursion >= config.min_velocity_excursion_mps)) {
-    why << "the specific force departs from a constant one by " << excursion << " m/s over the window, need "
-        << config.min_velocity_excursion_mps
-        << " (at a steady velocity or acceleration the accelerometer does not see the scale)";
-    return Status::Error("visual-inertial start: " + why.str());
-  }
+  // Without a rig the accelerometer must see a changing motion (see the header).
+  const bool rig =
+      std::any_of(usable.begin(), usable.end(), [](const FeatureTrack& t) { return !t.depths.empty(); });
+  if (!rig)
+    if (std::optional<std::string> steady = SteadyMotion(chain, config))
+      return Status::Error("visual-inertial start: " + *steady);
   const Centres centres = UpToScaleCentres(usable, chain, T_body_camera, config.min_parallax_rad);
   if (!centres.failure.empty()) return Status::Error("visual-inertial start: " + centres.failure);
+  // The rig's scale, 0 when there is none (an optional here trips GCC's maybe-uninitialized).
+  const double rig_scale = rig ? RigScale(usable, centres, chain, T_body_camera).value_or(0.0) : 0.0;
+  const bool scale_from_rig = rig_scale > 0;
+  if (rig && !scale_from_rig)
+    if (std::optional<std::string> steady = SteadyMotion(chain, config))
+      return Status::Error("visual-inertial start: too few depths from the stereo rig, and " + *steady);
   // Step 2: the IMU's positions are p_k = s c_k - R_k t_bc + t_bc (p_0 = 0) and also
-  // v_0 t_k + g t_k^2 / 2 + a_k: linear in y = [s, v_0, g].
+  // v_0 t_k + g t_k^2 / 2 + a_k: linear in y = [s, v_0, g], or in y = [v_0, g] with the rig's s.
   const Eigen::Vector3d& t_bc = T_body_camera.translation();
-  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(3 * (n - 1), 7);
+  const long v = scale_from_rig ? 0 : 1;  // where v_0 starts in y
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(3 * (n - 1), v + 6);
   Eigen::VectorXd rhs(3 * (n - 1));
   for (std::size_t k = 1; k < n; ++k) {
     const long r = 3 * static_cast<long>(k - 1);
-    A.block<3, 1>(r, 0) = centres.c[k];
-    A.block<3, 3>(r, 1) = -chain.t[k] * Eigen::Matrix3d::Identity();
-    A.block<3, 3>(r, 4) = -0.5 * chain.t[k] * chain.t[k] * Eigen::Matrix3d::Identity();
     rhs.segment<3>(r) = chain.a[k] + (chain.R[k] * t_bc) - t_bc;
+    if (scale_from_rig)
+      rhs.segment<3>(r) -= rig_scale * centres.c[k];
+    else
+      A.block<3, 1>(r, 0) = centres.c[k];
+    A.block<3, 3>(r, v) = -chain.t[k] * Eigen::Matrix3d::Identity();
+    A.block<3, 3>(r, v + 3) = -0.5 * chain.t[k] * chain.t[k] * Eigen::Matrix3d::Identity();
   }
-  const Vector7 y = (A.transpose() * A).ldlt().solve(A.transpose() * rhs);
+  const Eigen::MatrixXd normal = A.transpose() * A;
+  const Eigen::VectorXd y = normal.ldlt().solve(A.transpose() * rhs);
   if (!y.allFinite()) return Status::Error("visual-inertial start: singular alignment");
-  if (!(y(0) > 0))
-    return Status::Error("visual-inertial start: the scale comes out " + std::to_string(y(0)) +
-                         " (the IMU does not fit the camera's motion)");
   VisualInertialStart start;
-  start.velocity = y.segment<3>(1);
-  start.gravity = y.segment<3>(4);
+  start.scale = scale_from_rig ? rig_scale : y(0);
+  start.scale_from_rig = scale_from_rig;
+  if (!(start.scale > 0))
+    return Status::Error("visual-inertial start: the scale comes out " + std::to_string(start.scale) +
+                         " (the IMU does not fit the camera's motion)");
+  start.velocity = y.segment<3>(v);
+  start.gravity = y.segment<3>(v + 3);
   start.tracks = centres.tracks;
-  // The covariance of [s, v_0, g] from the fit's own residual (its variance per row).
-  const long dof = A.rows() - 7;
+  // The covariance of y from the fit's own residual (its variance per row).
+  const long dof = A.rows() - A.cols();
   const double variance = dof > 0 ? (A * y - rhs).squaredNorm() / static_cast<double>(dof) : INFINITY;
-  const Matrix7 covariance = variance * (A.transpose() * A).ldlt().solve(Matrix7::Identity());
+  const Eigen::MatrixXd covariance =
+      variance * normal.ldlt().solve(Eigen::MatrixXd::Identity(A.cols(), A.cols()));
   const double g_norm = start.gravity.norm();
   const Eigen::Vector3d g_unit = start.gravity / g_norm;
   const Eigen::Matrix3d across = Eigen::Matrix3d::Identity() - g_unit * g_unit.transpose();
@@ -202,8 +251,9 @@ Expected<VisualInertialStart> VisualInertialPoses(std::span<const ImuPreintegrat
     return std::sqrt(
         std::max(0.0, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(covariance).eigenvalues()(2)));
   };
-  start.tilt_sigma_rad = largest(across * covariance.block<3, 3>(4, 4) * across) / g_norm;
-  start.velocity_sigma_mps = largest(covariance.block<3, 3>(1, 1));
+  start.tilt_sigma_rad = largest(across * covariance.block<3, 3>(v + 3, v + 3) * across) / g_norm;
+  start.velocity_sigma_mps = largest(covariance.block<3, 3>(v, v));
+  std::ostringstream why;
   if (!std::isfinite(g_norm) || std::abs(g_norm - config.gravity) > config.max_gravity_error * config.gravity)
     why << "gravity " << g_norm << " m/s^2 is not within " << 100 * config.max_gravity_error << " % of "
         << config.gravity;

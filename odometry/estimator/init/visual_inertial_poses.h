@@ -18,11 +18,15 @@
 // 2. Inertial alignment: the IMU's position is p_k = s c_k - R_k t_bc + t_bc (p_0 = 0, T_body_camera =
 //    (R_bc, t_bc)) and also v_0 t_k + g t_k^2 / 2 + a_k, linear in [s, v_0, g] (scale, first velocity,
 //    gravity in "lo"); least squares, with their covariance from the fit's residual.
+//    With a stereo rig (FeatureTrack::depths) the scale is the rig's instead: each spanning track's depth
+//    from the rig at a node over its depth in the up-to-scale structure there, the median over at least 5
+//    tracks (fewer: the accelerometer's scale, as without a rig); the fit is then linear in [v_0, g].
 // The start is taken only when
-// - the specific force is not constant over the window: the velocity it adds departs by at least
-//   min_velocity_excursion_mps from the straight line in time that a constant one adds. At a steady
-//   velocity the accelerometer sees nothing of the motion, and a constant acceleration is taken up by g (a
-//   free vector here): the scale is not observed (Wu, Guo, Roumeliotis, "VINS on wheels", ICRA 2017);
+// - the scale is the rig's, or the specific force is not constant over the window: the velocity it adds
+//   departs by at least min_velocity_excursion_mps from the straight line in time that a constant one adds.
+//   At a steady velocity the accelerometer sees nothing of the motion, and a constant acceleration is taken
+//   up by g (a free vector here): the scale is not observed (Wu, Guo, Roumeliotis, "VINS on wheels", ICRA
+//   2017). The rig's scale needs no excitation: with s known, v_0 t_k and g t_k^2 / 2 part by their time;
 // - s > 0, |g| is within max_gravity_error of gravity, gravity's direction is pinned within max_tilt_sigma
 //   and v_0 within max_velocity_sigma.
 //
@@ -40,9 +44,11 @@
 
 namespace uf::estimator {
 
-// One feature's observations: node index in the window and undistorted normalized coordinates there.
+// One feature's observations: node index in the window and undistorted normalized coordinates there; with a
+// stereo rig, its depth (z in the camera, m) from the rig's pair at some of those nodes.
 struct FeatureTrack {
   std::vector<std::pair<std::size_t, Eigen::Vector2d>> observations;
+  std::vector<std::pair<std::size_t, double>> depths;
 };
 
 struct VisualInertialStartConfig {
@@ -60,6 +66,8 @@ struct VisualInertialStart {
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero(), gravity = Eigen::Vector3d::Zero();  // v_0, g in "lo"
   double tilt_sigma_rad = 0, velocity_sigma_mps = 0;
   int tracks = 0;  // used
+  double scale = 0;             // s of the alignment, the camera centres' units in metres
+  bool scale_from_rig = false;  // s is the stereo rig's (not the accelerometer's)
 };
 
 // preintegrations[k] between nodes k and k + 1 (linearized at zero biases); tracks over those nodes.

@@ -157,6 +157,11 @@ Expected<LidarOdometry> LidarOdometry::Create(const LidarOdometryConfig& config)
   Expected<std::unique_ptr<VisualProvider>> visual = VisualProvider::CreateIf(
       config.use_camera, config.visual, config.camera.get(), config.T_body_camera, "lio");
   if (!visual) return visual.status();
+  if (*visual)
+    if (Status s = (*visual)->SetStereoIf(config.camera, config.T_body_camera, config.right_camera,
+                                          config.T_body_right_camera, "lio");
+        !s.ok())
+      return s;
   return LidarOdometry(std::make_unique<Impl>(config, std::move(*visual)));
 }
 
@@ -176,6 +181,11 @@ Status LidarOdometry::AddGnss(const GnssFix& fix) {
 Status LidarOdometry::AddCameraFrame(const CameraFrame& frame) {
   if (impl_->visual)
     impl_->visual->AddFrame(frame.stamp, frame.image, impl_->tracked_frames, impl_->warnings);
+  return {};
+}
+
+Status LidarOdometry::AddRightCameraFrame(const CameraFrame& frame) {
+  if (impl_->visual) impl_->visual->AddRightFrame(frame.stamp, frame.image, impl_->warnings);
   return {};
 }
 

@@ -103,6 +103,9 @@ class LidarOdometry {
   // the scan node nearest its stamp + t_d once the window is initialized (providers/visual_provider.h). A
   // frame the front end refuses (out of order, another size) is skipped with a warning.
   Status AddCameraFrame(const CameraFrame& frame);
+  // Feeds one decoded frame of a stereo rig's right camera (config.right_camera with visual.stereo;
+  // ignored otherwise): it is matched with the tracked camera's frame of its stamp.
+  Status AddRightCameraFrame(const CameraFrame& frame);
   // The front end's result per frame since the last call (none without the camera).
   std::vector<TrackedFrame> TakeTrackedFrames();
   // Feeds one GNSS fix (config.use_gnss; ignored otherwise). Fixes that fail the screening (status, NaN,

@@ -34,6 +34,9 @@ struct SensorFactorStats {
   FactorCount visual;
   double camera_time_offset_s = 0;
   int visual_map_depths = 0;            // LVIO: landmarks whose depth came from the LiDAR map
+  // Stereo: frame pairs matched, landmarks whose depth came from their anchor's pair, and the right
+  // camera's factors (of visual.added).
+  int stereo_pairs = 0, stereo_depths = 0, stereo_factors = 0;
   std::optional<SE3> camera_extrinsic;  // T_body_camera at the end, when it was estimated
   // LiDAR modes: the rings a map block needed for a plane (lo.map.min_plane_rings, or what its auto chose
   // for the LiDAR); 0 without LiDAR.

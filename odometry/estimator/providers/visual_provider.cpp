@@ -7,9 +7,9 @@
 #include <numbers>
 
 #include "odometry/estimator/factors/pose_prior_factor.h"
+#include "odometry/estimator/factors/stereo_anchor_factor.h"
 #include "odometry/estimator/factors/wheel_factor.h"
 #include "odometry/estimator/visual/triangulation.h"
-#include "odometry/types/printf_text.h"
 
 namespace uf::estimator {
 namespace {
@@ -64,8 +64,14 @@ VisualProvider::VisualProvider(const VisualFactorConfig& config, FeatureTracker 
 Expected<TrackedFrame> VisualProvider::AddFrame(Stamp stamp, const Image& image) {
   Expected<TrackedFrame> tracked = tracker_.Track(stamp, image);
   if (!tracked) return tracked.status();
-  const Stamp node_stamp = stamp + FromSeconds(time_offset_);
-  waiting_[node_stamp] = {stamp, ToSeconds(node_stamp - stamp), tracked->features};
+  if (!stereo_) {
+    Wait(stamp, tracked->features, {});
+    return tracked;
+  }
+  ReleaseLeftAlone();
+  stereo_->left.emplace(stamp, image);
+  stereo_->left_features = tracked->features;
+  MatchHeldPair();
   return tracked;
 }
 
@@ -77,7 +83,16 @@ bool VisualProvider::AddFrame(Stamp stamp, const Image& image, std::vector<Track
     return false;
   }
   tracked.push_back(std::move(*frame));
+  TakeStereoWarnings(warnings);
   return true;
+}
+
+void VisualProvider::Wait(Stamp stamp, std::vector<TrackedFeature> features,
+                          const std::vector<StereoMatch>& matches) {
+  const Stamp node_stamp = stamp + FromSeconds(time_offset_);
+  WaitingFrame& frame =
+      waiting_[node_stamp] = {stamp, ToSeconds(node_stamp - stamp), std::move(features), {}};
+  for (const StereoMatch& m : matches) frame.right[m.id] = {m.right_normalized, m.depth_m};
 }
 
 std::optional<Stamp> VisualProvider::NextNodeStamp(Stamp from) const {
@@ -122,7 +137,7 @@ void VisualProvider::ObserveNearest(const std::vector<NodeStamp>& nodes) {
 }
 
 void VisualProvider::ObserveFrame(long id, Stamp node_stamp, const WaitingFrame& frame, double td0) {
-  pending_.push_back({id, node_stamp, td0, frame.features});
+  pending_.push_back({id, node_stamp, td0, frame.features, frame.right});
 }
 
 // Every feature of the frame is observed by the node; a landmark (not yet in the graph) whose feature the
@@ -142,7 +157,12 @@ void VisualProvider::ApplyFrame(const PendingFrame& frame) {
     if (landmark.observations.size() == 1 && landmark.first_without_velocity)
       landmark.observations.front().feature.velocity = feature->velocity;
     if (landmark.observations.empty()) landmark.first_without_velocity = feature->length <= 1;
-    landmark.observations.push_back({id, {feature->normalized, feature->velocity}, td0});
+    const auto right = frame.right.find(feature_id);
+    landmark.observations.push_back(
+        {id,
+         {feature->normalized, feature->velocity},
+         td0,
+         right != frame.right.end() ? std::optional(right->second) : std::nullopt});
   }
 }
 
@@ -160,23 +180,48 @@ SE3 VisualProvider::CameraPose(const double* pose_block) const {
   return PoseFromBlock(pose_block) * PoseFromBlock(extrinsic_.data());
 }
 
-void VisualProvider::AddFactor(FactorGraph& graph, long id, Landmark& landmark, std::size_t k,
-                               const PoseBlockOf& pose_of) {
+void VisualProvider::AddFactors(FactorGraph& graph, long id, Landmark& landmark, std::size_t k,
+                                const PoseBlockOf& pose_of) {
   const Observation& anchor = landmark.observations.front();
   const Observation& target = landmark.observations[k];
-  graph.Add(FactorKind::kVisual, id,
-            std::make_unique<ReprojectionFactor>(anchor.feature, target.feature, anchor.td0, target.td0,
-                                                 sqrt_information_),
-            std::make_unique<ceres::HuberLoss>(config_.huber_sigmas),
-            {pose_of(anchor.node), pose_of(target.node), extrinsic_.data(), &landmark.inverse_depth,
-             &time_offset_});
+  const std::vector<double*> blocks = {pose_of(anchor.node), pose_of(target.node), extrinsic_.data(),
+                                       &landmark.inverse_depth, &time_offset_};
+  auto loss = [&] { return std::make_unique<ceres::HuberLoss>(config_.huber_sigmas); };
+  if (k > 0) {
+    graph.Add(FactorKind::kVisual, id,
+              std::make_unique<ReprojectionFactor>(anchor.feature, target.feature, anchor.td0, target.td0,
+                                                   sqrt_information_),
+              loss(), blocks);
+    ++added_;
+  }
+  if (!stereo_ || !target.right) return;
+  // The right camera sees the feature with the anchor camera's image velocity (a rig moves as one).
+  const FeatureObservation right{target.right->normalized, target.feature.velocity};
+  if (k == 0) {
+    graph.Add(FactorKind::kVisual, id,
+              std::make_unique<StereoAnchorFactor>(anchor.feature, right.normalized, anchor.td0,
+                                                   stereo_->sqrt_information, stereo_->T_right_left),
+              loss(), {&landmark.inverse_depth, &time_offset_});
+  } else {
+    graph.Add(FactorKind::kVisual, id,
+              std::make_unique<ReprojectionFactor>(anchor.feature, right, anchor.td0, target.td0,
+                                                   stereo_->sqrt_information, stereo_->T_right_left),
+              loss(), blocks);
+  }
   ++added_;
+  ++stereo_factors_;
 }
 
 std::optional<double> VisualProvider::MapInverseDepth(const Landmark& landmark,
                                                       const std::vector<SE3>& cameras) const {
+  return CheckedInverseDepth(landmark, cameras,
+                             map_depth_(cameras.front(), AtNodeTime(landmark.observations.front())));
+}
+
+std::optional<double> VisualProvider::CheckedInverseDepth(const Landmark& landmark,
+                                                          const std::vector<SE3>& cameras,
+                                                          std::optional<double> depth) const {
   const Eigen::Vector2d xy = AtNodeTime(landmark.observations.front());
-  const std::optional<double> depth = map_depth_(cameras.front(), xy);
   if (!depth || !(*depth >= config_.min_depth_m && *depth <= config_.max_depth_m)) return std::nullopt;
   const Eigen::Vector3d point = cameras.front() * (*depth * xy.homogeneous());
   const double max_normalized = MaxReprojectionNormalized();
@@ -189,8 +234,8 @@ std::optional<double> VisualProvider::MapInverseDepth(const Landmark& landmark,
   return 1.0 / *depth;
 }
 
-// Takes the map's depth (see the top of the header), else triangulates the landmark from the current camera
-// poses of its nodes; in range, it joins the graph with a factor per observation after the anchor.
+// Takes the map's depth or the stereo pair's (see the top of the header), else triangulates the landmark
+// from the current camera poses of its nodes; in range, it joins the graph (Link adds its factors).
 bool VisualProvider::StartLandmark(FactorGraph& graph, Landmark& landmark, const PoseBlockOf& pose_of) {
   std::vector<SE3> cameras;
   std::vector<Eigen::Vector2d> rays;
@@ -201,6 +246,8 @@ bool VisualProvider::StartLandmark(FactorGraph& graph, Landmark& landmark, const
   std::optional<double> inverse_depth = map_depth_ ? MapInverseDepth(landmark, cameras) : std::nullopt;
   if (inverse_depth) {
     ++map_depths_;
+  } else if ((inverse_depth = StereoInverseDepth(landmark, cameras))) {
+    ++stereo_depths_;
   } else {
     Expected<Triangulation> point = Triangulate(cameras, rays, config_.min_parallax_deg, config_.min_depth_m);
     if (!point) return false;
@@ -212,7 +259,7 @@ bool VisualProvider::StartLandmark(FactorGraph& graph, Landmark& landmark, const
   landmark.inverse_depth = *inverse_depth;
   graph.AddEuclideanBlock(&landmark.inverse_depth, 1);
   landmark.in_graph = true;
-  landmark.linked = 1;
+  landmark.linked = 0;
   return true;
 }
 
@@ -229,7 +276,7 @@ void VisualProvider::Link(FactorGraph& graph, const PoseBlockOf& pose_of) {
       if (landmark.untriangulated) continue;
     }
     for (std::size_t k = static_cast<std::size_t>(landmark.linked); k < landmark.observations.size(); ++k)
-      AddFactor(graph, id, landmark, k, pose_of);
+      AddFactors(graph, id, landmark, k, pose_of);
     landmark.linked = static_cast<int>(landmark.observations.size());
   }
 }
@@ -305,38 +352,6 @@ void VisualProvider::Reset() {
   last_observed_ = -1;
 }
 
-std::optional<std::string> VisualProvider::NotStillReason(const std::vector<Stamp>& node_stamps) const {
-  for (Stamp stamp : node_stamps) {
-    const auto frame = waiting_.find(stamp);
-    if (frame == waiting_.end()) continue;
-    double sum = 0;
-    int tracked = 0;
-    for (const TrackedFeature& f : frame->second.features)
-      if (f.length > 1) {
-        sum += (f.pixel - f.previous_pixel).norm();
-        ++tracked;
-      }
-    if (tracked > 0 && sum / tracked > config_.max_static_flow_px)
-      return PrintfText("the camera moves (features %.2f px per frame at ", sum / tracked) +
-             StampText(frame->second.camera_stamp) +
-             PrintfText(", above visual.max_static_flow_px %.2f)", config_.max_static_flow_px);
-  }
-  return std::nullopt;
-}
-
-std::vector<FeatureTrack> VisualProvider::Tracks(const std::vector<Stamp>& node_stamps) const {
-  std::map<long, FeatureTrack> tracks;
-  for (std::size_t k = 0; k < node_stamps.size(); ++k) {
-    const auto frame = waiting_.find(node_stamps[k]);
-    if (frame == waiting_.end()) continue;
-    for (const TrackedFeature& f : frame->second.features)
-      tracks[f.id].observations.emplace_back(k, f.normalized);
-  }
-  std::vector<FeatureTrack> out;
-  for (auto& [id, track] : tracks) out.push_back(std::move(track));
-  return out;
-}
-
 void VisualProvider::Trim(Stamp oldest) { waiting_.erase(waiting_.begin(), waiting_.lower_bound(oldest)); }
 
 std::vector<VisualProvider::LandmarkView> VisualProvider::Landmarks() {
@@ -358,6 +373,9 @@ void VisualProvider::Report(SensorFactorStats& stats) const {
   stats.visual = {added_, untriangulated_, rejected_};
   stats.camera_time_offset_s = time_offset_;
   stats.visual_map_depths = map_depths_;
+  stats.stereo_pairs = stereo_pairs_;
+  stats.stereo_depths = stereo_depths_;
+  stats.stereo_factors = stereo_factors_;
   if (config_.estimate_extrinsic) stats.camera_extrinsic = PoseFromBlock(extrinsic_.data());
 }
 

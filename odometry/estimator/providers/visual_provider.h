@@ -25,6 +25,13 @@
 // the gate is shut the frame's observations are left out (its tracks still count as seen, for the next
 // frame's check).
 //
+// Stereo (SetStereo, docs/METHOD.md "Stereo in the window"): a left frame waits until the right frame of its
+// stamp comes (or the next left frame, when it goes on alone); the pair is matched (visual/stereo_matcher.h)
+// and each matched feature's right observation joins the left one. A landmark whose anchor was matched starts
+// (from min_track_length nodes, as any) with the pair's depth when no map depth is taken and it reprojects
+// within max_reprojection_px in every observing camera; every right observation is a factor:
+// StereoAnchorFactor at the anchor, ReprojectionFactor through the rig's extrinsic elsewhere.
+//
 // Node ids are the window's; Reset forgets every landmark (the window restarts with new ids).
 #pragma once
 
@@ -43,6 +50,7 @@
 #include "odometry/estimator/schedule/activation_gate.h"
 #include "odometry/estimator/state/window_node.h"
 #include "odometry/estimator/visual/feature_tracker.h"
+#include "odometry/estimator/visual/stereo_matcher.h"
 #include "odometry/estimator/window/factor_graph.h"
 #include "odometry/types/camera_model.h"
 #include "odometry/types/keyframe.h"
@@ -60,6 +68,11 @@ struct NodeStamp {
   long id = 0;
   Stamp stamp = 0;
 };
+// A stereo rig: the tracked (left) camera, the second (right) one, and the right camera in the left's frame.
+struct StereoRig {
+  std::shared_ptr<const CameraModel> left, right;
+  SE3 T_left_right;
+};
 
 class VisualProvider {
  public:
@@ -74,15 +87,26 @@ class VisualProvider {
                                                             const std::string& section);
   VisualProvider(const VisualProvider&) = delete;  // the graph refers to its blocks
   VisualProvider& operator=(const VisualProvider&) = delete;
+  // Makes the provider a stereo one (see above). Fails for a camera without pinhole intrinsics, a
+  // non-finite extrinsic or one without a baseline.
+  Status SetStereo(StereoRig rig);
+  // SetStereo for a window: with visual.stereo and a right camera in its config; errors under `section`.
+  Status SetStereoIf(const std::shared_ptr<const CameraModel>& left, const SE3& T_body_left,
+                     const std::shared_ptr<const CameraModel>& right, const SE3& T_body_right,
+                     const std::string& section);
 
-  // Tracks a frame; its features wait for the node at stamp + t_d. Returns the front end's result (features
-  // and statistics); a frame the front end refuses (not after the last one, another size) returns the
-  // reason and changes nothing.
+  // Tracks a frame; its features wait for the node at stamp + t_d (with a rig, once paired). Returns the
+  // front end's result (features and statistics); a frame the front end refuses (not after the last one,
+  // another size) returns the reason and changes nothing. A pair that cannot be matched is a warning for the
+  // next call that takes warnings.
   Expected<TrackedFrame> AddFrame(Stamp stamp, const Image& image);
-  // The same for a window: the result is appended to `tracked`, a refusal to `warnings` ("...; frame
-  // skipped"). Returns whether the frame was taken.
+  // The same for a window: the result is appended to `tracked`, a refusal or a stereo warning to
+  // `warnings` ("...; frame skipped"). Returns whether the frame was taken.
   bool AddFrame(Stamp stamp, const Image& image, std::vector<TrackedFrame>& tracked,
                 std::vector<std::string>& warnings);
+  // A frame of the stereo rig's right camera (ignored without SetStereo); a pair that cannot be matched
+  // (another size) appends a warning, and its left frame goes on alone.
+  void AddRightFrame(Stamp stamp, const Image& image, std::vector<std::string>& warnings);
   // The node stamp of the first waiting frame at or after `from`, or nullopt.
   std::optional<Stamp> NextNodeStamp(Stamp from) const;
 
@@ -114,8 +138,8 @@ class VisualProvider {
   void Reset();
   // Drops the waiting frames whose node stamp is before `oldest`.
   void Trim(Stamp oldest);
-  // The features of the waiting frames at these node stamps, as tracks over their indices (for the
-  // visual-inertial start, init/visual_inertial_poses.h).
+  // The features of the waiting frames at these node stamps, as tracks over their indices, with the stereo
+  // rig's depths (for the visual-inertial start, init/visual_inertial_poses.h).
   std::vector<FeatureTrack> Tracks(const std::vector<Stamp>& node_stamps) const;
   // Why the camera is not still over the waiting frames at these node stamps (a frame whose tracked
   // features moved more than max_static_flow_px on average since the previous frame), or nullopt.
@@ -142,10 +166,16 @@ class VisualProvider {
   void Report(SensorFactorStats& stats) const;
 
  private:
+  struct RightObservation {  // the stereo rig's right camera at the same instant
+    Eigen::Vector2d normalized = Eigen::Vector2d::Zero();
+    double depth_m = 0;  // the pair's triangulated depth in the left camera
+  };
+  using RightObservations = std::map<long, RightObservation>;  // by feature id
   struct Observation {
     long node = 0;
     FeatureObservation feature;
     double td0 = 0;  // node stamp - frame stamp, s (the factor's t_d0)
+    std::optional<RightObservation> right;
   };
   struct Landmark {
     std::vector<Observation> observations;  // node order; the first is the anchor
@@ -154,32 +184,53 @@ class VisualProvider {
     bool rejected = false;  // an outlier: no factors, observations ignored
     bool untriangulated = false;  // had enough observations and failed to triangulate (so far)
     bool first_without_velocity = false;  // the first observation is the feature's first frame
-    int linked = 0;         // observations with a factor (the anchor counts)
+    int linked = 0;                       // observations whose factors were added (AddFactors)
   };
   struct WaitingFrame {
     Stamp camera_stamp = 0;
     double td0 = 0;
     std::vector<TrackedFeature> features;
+    RightObservations right;
   };
   struct PendingFrame {  // observed by a node, not yet checked and applied (Link)
     long node = 0;
     Stamp node_stamp = 0;
     double td0 = 0;
     std::vector<TrackedFeature> features;
+    RightObservations right;
+  };
+  struct Stereo {
+    StereoRig rig;
+    SE3 T_right_left;
+    double sqrt_information = 0;                         // the right camera's focal / pixel sigma
+    std::optional<std::pair<Stamp, Image>> left, right;  // frames waiting for their partner
+    std::vector<TrackedFeature> left_features;
   };
 
   VisualProvider(const VisualFactorConfig& config, FeatureTracker tracker, const PinholeIntrinsics& pinhole,
                  const SE3& T_body_camera);
   void ObserveFrame(long id, Stamp node_stamp, const WaitingFrame& frame, double td0);
+  // The frame waits for its node (at stamp + t_d), with its stereo matches.
+  void Wait(Stamp stamp, std::vector<TrackedFeature> features, const std::vector<StereoMatch>& matches);
+  // Stereo: the held left frame goes on alone (its right frame never came).
+  void ReleaseLeftAlone();
+  // Stereo: matches the held pair when its stamps agree; a failure is a warning (stereo_warnings_).
+  void MatchHeldPair();
+  void TakeStereoWarnings(std::vector<std::string>& warnings);  // appends them there, and forgets them
   // Scores the pending frame against the predicted motion, updates the gate; returns whether it is active.
   bool CheckFrame(const PendingFrame& frame, const PoseBlockOf& pose_of);
   void ApplyFrame(const PendingFrame& frame);
   bool StartLandmark(FactorGraph& graph, Landmark& landmark, const PoseBlockOf& pose_of);
-  // The map's inverse depth for the landmark, if it reprojects within max_reprojection_px everywhere.
+  // The map's inverse depth for the landmark, or the stereo pair's, if it reprojects within
+  // max_reprojection_px everywhere.
   std::optional<double> MapInverseDepth(const Landmark& landmark, const std::vector<SE3>& cameras) const;
+  std::optional<double> StereoInverseDepth(const Landmark& landmark, const std::vector<SE3>& cameras) const;
+  std::optional<double> CheckedInverseDepth(const Landmark& landmark, const std::vector<SE3>& cameras,
+                                            std::optional<double> depth) const;
   // Erases the landmark, counting it when it never triangulated.
   std::map<long, Landmark>::iterator Forget(std::map<long, Landmark>::iterator landmark);
-  void AddFactor(FactorGraph& graph, long id, Landmark& landmark, std::size_t k, const PoseBlockOf& pose_of);
+  // Observation k's factors: its reprojection (k > 0) and its right camera's (stereo).
+  void AddFactors(FactorGraph& graph, long id, Landmark& landmark, std::size_t k, const PoseBlockOf& pose_of);
   SE3 CameraPose(const double* pose_block) const;
   Eigen::Vector2d AtNodeTime(const Observation& o) const;
   double MaxReprojectionNormalized() const;
@@ -200,7 +251,10 @@ class VisualProvider {
   ActivationGate gate_;
   Stamp shut_at_ = 0;  // the node stamp where the gate last shut
   std::vector<CameraCheck> checks_;
+  std::optional<Stereo> stereo_;
+  std::vector<std::string> stereo_warnings_;  // for the next call that takes warnings
   int added_ = 0, untriangulated_ = 0, rejected_ = 0, map_depths_ = 0;
+  int stereo_pairs_ = 0, stereo_depths_ = 0, stereo_factors_ = 0;
   double mean_reprojection_px_ = 0;
 };
 

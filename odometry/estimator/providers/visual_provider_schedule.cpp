@@ -17,7 +17,7 @@ bool VisualProvider::CheckFrame(const PendingFrame& frame, const PoseBlockOf& po
   const double focal_px = sqrt_information_ * config_.pixel_sigma_px;
   std::vector<CheckedTrack> tracks;
   for (const TrackedFeature& feature : frame.features) {
-    const Observation here{frame.node, {feature.normalized, feature.velocity}, frame.td0};
+    const Observation here{frame.node, {feature.normalized, feature.velocity}, frame.td0, std::nullopt};
     auto [seen, first] = last_seen_.try_emplace(feature.id, here);
     if (first) continue;
     const Observation before = std::exchange(seen->second, here);

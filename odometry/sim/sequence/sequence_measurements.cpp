@@ -45,6 +45,12 @@ Expected<Simulators> MakeSimulators(const SimulationConfig& config, const Simula
                                            SubSeed(config.seed, 2));
     if (!renderer) return renderer.status();
     s.camera = std::move(*renderer);
+    if (config.camera.stereo_baseline_m > 0.0) {
+      auto right = CameraRenderer::Create(
+          camera, caster, spline, RightCameraPlacement(config.camera).T_body_sensor, SubSeed(config.seed, 5));
+      if (!right) return right.status();
+      s.right_camera = std::move(*right);
+    }
   }
   if (config.wheel.enabled) {
     auto wheel = WheelSimulator::Create(spline, config.wheel.placement.T_body_sensor, config.wheel.model,
@@ -134,9 +140,10 @@ Expected<MeasurementData> Produce(const Event& event, const SequenceStream& stre
       break;
     }
     case SensorKind::kCamera: {
-      auto frame = s.camera->Render(event.true_time, 0);
+      const CameraRenderer& renderer = stream.camera == 1 ? *s.right_camera : *s.camera;
+      auto frame = renderer.Render(event.true_time, stream.camera);
       if (!frame) return frame.status();
-      auto png = EncodePng(frame->image, "cam0 frame at " + FormatSeconds(event.true_time));
+      auto png = EncodePng(frame->image, stream.name + " frame at " + FormatSeconds(event.true_time));
       if (!png) return png.status();
       frame->encoded.format = "png";
       frame->encoded.bytes = std::move(*png);

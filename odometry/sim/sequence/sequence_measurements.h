@@ -18,6 +18,7 @@ struct Simulators {
   std::optional<SimulatedImu> imu;
   std::optional<LidarSimulator> lidar;
   std::optional<CameraRenderer> camera;
+  std::optional<CameraRenderer> right_camera;  // the stereo rig's (cam1)
   std::vector<WheelSample> wheel;
   std::vector<GnssFix> gnss;
 };

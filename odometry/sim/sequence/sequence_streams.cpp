@@ -11,7 +11,9 @@ std::vector<SequenceStream> SequenceStreams(const SimulationConfig& config) {
     if (!enabled) return;
     topic.kind = kind;
     const Stamp delay = placement ? FromSeconds(placement->stamp_delay_s) : 0;
-    streams.push_back({kind, name, std::move(topic), rate_hz, 0.0, placement, delay});
+    std::optional<SensorPlacement> placed;
+    if (placement) placed = *placement;
+    streams.push_back({kind, name, std::move(topic), rate_hz, 0.0, placed, delay});
   };
   add(config.imu.enabled, SensorKind::kImu, "imu", {"/imu/data", "imu_link"}, config.imu.rate_hz, nullptr);
   const double keyframe_rate_hz = config.lidar.keyframe_rate_hz;
@@ -20,6 +22,13 @@ std::vector<SequenceStream> SequenceStreams(const SimulationConfig& config) {
   if (config.lidar.enabled) streams.back().keyframe_rate_hz = keyframe_rate_hz;
   add(config.camera.enabled, SensorKind::kCamera, "cam0", {"/cam0/image_raw/compressed", "cam0"},
       config.camera.model.rate_hz, &config.camera.placement);
+  if (config.camera.enabled) streams.back().camera = 0;
+  if (config.camera.enabled && config.camera.stereo_baseline_m > 0.0) {
+    const SensorPlacement right = RightCameraPlacement(config.camera);
+    add(true, SensorKind::kCamera, "cam1", {"/cam1/image_raw/compressed", "cam1"},
+        config.camera.model.rate_hz, &right);
+    streams.back().camera = 1;
+  }
   add(config.wheel.enabled, SensorKind::kWheel, "wheel", {"/wheel/odom", "base_link"},
       config.wheel.model.rate_hz, &config.wheel.placement);
   add(config.gnss.enabled, SensorKind::kGnss, "gnss", {"/gnss/fix", "gnss"}, config.gnss.model.rate_hz,
@@ -57,7 +66,7 @@ std::vector<StreamInfo> DatasetStreams(const SimulationConfig& config,
     info.nominal_rate_hz = streams[i].rate_hz;
     info.T_body_sensor = given.sensors[i].T_body_sensor;
     info.camera_model = given.sensors[i].camera_model;
-    if (info.kind == SensorKind::kCamera) info.camera = 0;
+    info.camera = streams[i].camera;
     infos.push_back(std::move(info));
   }
   return infos;

@@ -2,6 +2,7 @@
 // given calibrations. Internal to the sequence generator.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,11 +21,12 @@ struct SequenceStream {
   double rate_hz = 0.0;  // measurements per second: for the LiDAR, its keyframe rate where one is set
   // LiDAR: scans written per second (SimulatedLidarConfig::keyframe_rate_hz); 0: every sweep.
   double keyframe_rate_hz = 0.0;
-  const SensorPlacement* placement = nullptr;  // null for the imu (it is the body frame)
-  Stamp stamp_delay = 0;                       // ns
+  std::optional<SensorPlacement> placement;  // none for the imu (it is the body frame)
+  Stamp stamp_delay = 0;                     // ns
+  int camera = -1;                           // cameras: 0 for cam0, 1 for cam1 (the stereo rig's right)
 };
 
-// The enabled sensors in a fixed order: imu, lidar, cam0, wheel, gnss.
+// The enabled sensors in a fixed order: imu, lidar, cam0, cam1 (a stereo rig's right camera), wheel, gnss.
 std::vector<SequenceStream> SequenceStreams(const SimulationConfig& config);
 
 // truth: the extrinsics used to simulate and time_offset = -stamp_delay; otherwise what the user is given

@@ -73,6 +73,21 @@ SE3 ForwardLookingCamera(const Eigen::Vector3d& translation) {
   return SE3(SO3(R_body_camera), translation);
 }
 
+// With B = the baseline translation (b, 0, 0): T_body_right = T_body_cam0 B, and the given one
+// T_body_cam0 Exp(e) B = T_body_right Exp(e_right) for Exp(e_right) = B^-1 Exp(e) B.
+SensorPlacement RightCameraPlacement(const SimulatedCameraConfig& camera) {
+  const SE3 baseline(SO3(), Eigen::Vector3d(camera.stereo_baseline_m, 0.0, 0.0));
+  const SensorPlacement& left = camera.placement;
+  Vector6d error;
+  error << left.translation_error_m, left.rotation_error_deg * kDegree;
+  const Vector6d right_error = (baseline.inverse() * SE3::Exp(error) * baseline).Log();
+  SensorPlacement right = left;
+  right.T_body_sensor = left.T_body_sensor * baseline;
+  right.translation_error_m = right_error.head<3>();
+  right.rotation_error_deg = right_error.tail<3>() / kDegree;
+  return right;
+}
+
 SE3 SensorPlacement::GivenExtrinsic() const {
   Vector6d error;
   error << translation_error_m, rotation_error_deg * kDegree;
@@ -130,6 +145,10 @@ Status ValidateSimulationConfig(const SimulationConfig& config) {
   if (config.camera.enabled) {
     if (Status s = InSim(ValidateCameraConfig(config.camera.model)); !s.ok()) return s;
     if (Status s = ValidatePlacement("camera", config.camera.placement); !s.ok()) return s;
+    const double baseline = config.camera.stereo_baseline_m;
+    if (!(std::isfinite(baseline) && baseline >= 0.0 && baseline <= 10.0))
+      return Status::Error("sim.camera.stereo_baseline_m: must be in [0, 10] m (0: no second camera), got " +
+                           Text(baseline));
   }
   if (config.wheel.enabled) {
     if (Status s = InSim(config.wheel.model.Validate()); !s.ok()) return s;

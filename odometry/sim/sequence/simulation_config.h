@@ -63,7 +63,14 @@ struct SimulatedCameraConfig {
   bool enabled = true;
   CameraConfig model;  // 640x480 at 10 Hz by default
   SensorPlacement placement = {ForwardLookingCamera(Eigen::Vector3d(0.3, 0.0, 0.1))};
+  // > 0: a stereo rig, a second camera (cam1, RightCameraPlacement) this far to the right of cam0, m.
+  double stereo_baseline_m = 0.0;
 };
+
+// The second camera of a stereo rig: cam0's model, timing and placement moved stereo_baseline_m along
+// cam0's x axis (its right). The rig is given as one body: the right camera's given extrinsic is cam0's
+// given one moved by the same baseline, so the pair's relative extrinsic is always exact.
+SensorPlacement RightCameraPlacement(const SimulatedCameraConfig& camera);
 
 struct SimulatedWheelConfig {
   bool enabled = true;

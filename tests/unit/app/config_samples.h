@@ -73,6 +73,7 @@ inline SimulationConfig NonDefaultConfig() {
                         -0.02,
                         {0.5, 0.5, -0.5},
                         {0, 0, 0.01}};
+  c.camera.stereo_baseline_m = 0.12;
 
   c.wheel.enabled = false;
   c.wheel.model.rate_hz = 100.0;
@@ -182,6 +183,7 @@ inline estimator::LidarOdometryConfig NonDefaultOdometry() {
   c.gnss.max_alignment_rms_m = 5;
   c.gnss.max_interpolation_gap_s = 0.5;
   c.gnss.max_snap_s = 0.1;
+  c.visual.stereo = false;
   c.visual.pixel_sigma_px = 1.5;
   c.visual.huber_sigmas = 3;
   c.visual.min_parallax_deg = 2;

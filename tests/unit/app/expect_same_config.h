@@ -119,6 +119,7 @@ inline void ExpectSameConfig(const SimulationConfig& a, const SimulationConfig& 
   ExpectSameWindows(ca.occlusions, cb.occlusions, "camera.occlusions");
   ExpectSameWindows(ca.passing_panels, cb.passing_panels, "camera.passing_panels");
   ExpectSamePlacement(a.camera.placement, b.camera.placement, "camera", extrinsic_tolerance);
+  EXPECT_FIELD(camera.stereo_baseline_m);
 
   EXPECT_FIELD(wheel.enabled);
   EXPECT_FIELD(wheel.model.rate_hz);

@@ -1,10 +1,12 @@
-// FindSensors and ImuFromSensor against hand-built dataset descriptions: the first stream of each kind, and
-// T_imu_lidar = T_body_imu^-1 T_body_lidar computed by hand.
+// FindSensors and ImuFromSensor against hand-built dataset descriptions: the first stream of each kind, a
+// stereo rig's second camera, and T_imu_lidar = T_body_imu^-1 T_body_lidar computed by hand.
 #include <gtest/gtest.h>
 
+#include <memory>
 #include <numbers>
 
 #include "odometry/io/dataset_sensors.h"
+#include "odometry/types/camera_model.h"
 
 namespace uf {
 namespace {
@@ -30,6 +32,41 @@ TEST(DatasetSensors, TheFirstStreamOfEachKind) {
   EXPECT_EQ(none.lidar, -1);
   EXPECT_EQ(none.imu, -1);
   EXPECT_EQ(none.gnss, -1);
+}
+
+TEST(DatasetSensors, AStereoPartnerLooksTheSameWayFromNearby) {
+  // cam0 looks forward; cam1 0.3 m to its right, cam2 backwards, cam3 5 m away, cam4 without an extrinsic.
+  const auto model =
+      std::make_shared<PinholeRadtan>(PinholeRadtanIntrinsics{{640, 480, 400, 400, 319.5, 239.5}});
+  Eigen::Matrix3d forward;  // optical axis (z) along body x, x along -body y, y along -body z
+  forward << 0, 0, 1, -1, 0, 0, 0, -1, 0;
+  const SE3 left(SO3(forward), Eigen::Vector3d(0.3, 0, 0.1));
+  auto camera = [&](std::optional<SE3> T_body_camera) {
+    StreamInfo stream = Stream(SensorKind::kCamera, T_body_camera);
+    stream.camera_model = model;
+    return stream;
+  };
+  const SE3 backwards =
+      SE3(SO3::Exp(Eigen::Vector3d(0, 0, std::numbers::pi)), Eigen::Vector3d::Zero()) * left;
+  DatasetDescription description;
+  description.streams = {
+      Stream(SensorKind::kImu),
+      camera(left),
+      camera(backwards),
+      camera(left * SE3(SO3(), Eigen::Vector3d(5, 0, 0))),
+      camera(std::nullopt),
+      camera(left * SE3(SO3::Exp(Eigen::Vector3d(0, 0.05, 0)), Eigen::Vector3d(0.3, 0, 0)))};
+  DatasetSensors sensors = FindSensors(description);
+  EXPECT_EQ(sensors.camera, 1);
+  EXPECT_EQ(sensors.camera_right, 5);
+  ASSERT_TRUE(sensors.T_imu_camera_right);
+  EXPECT_NEAR((sensors.T_imu_camera->inverse() * *sensors.T_imu_camera_right).translation().norm(), 0.3,
+              1e-12);
+  // Without the partner, no rig: the others are not stereo partners.
+  description.streams.pop_back();
+  sensors = FindSensors(description);
+  EXPECT_EQ(sensors.camera_right, -1);
+  EXPECT_FALSE(sensors.T_imu_camera_right);
 }
 
 TEST(DatasetSensors, ImuFromSensorComposesTheBodyExtrinsics) {

@@ -28,7 +28,7 @@ struct SimArguments {
   std::optional<int> threads;
   bool bag = false, no_camera = false, no_wheel = false, no_gnss = false, print_config = false;
   std::optional<double> lidar_delay_s, lidar_rotation_error_deg, lidar_translation_error_m;
-  std::optional<double> camera_delay_s, camera_rotation_error_deg;
+  std::optional<double> camera_delay_s, camera_rotation_error_deg, stereo_baseline_m;
 };
 
 // A vector of the given length along a direction drawn from the seed, so that "an error of 3 degrees"
@@ -63,6 +63,7 @@ Status ApplyArguments(const SimArguments& a, sim::SimulationConfig& config) {
   if (a.no_gnss) config.gnss.enabled = false;
   if (a.lidar_delay_s) config.lidar.placement.stamp_delay_s = *a.lidar_delay_s;
   if (a.camera_delay_s) config.camera.placement.stamp_delay_s = *a.camera_delay_s;
+  if (a.stereo_baseline_m) config.camera.stereo_baseline_m = *a.stereo_baseline_m;
   if (a.lidar_rotation_error_deg)
     config.lidar.placement.rotation_error_deg = SeededDirection(*a.lidar_rotation_error_deg, config.seed, 1);
   if (a.lidar_translation_error_m)
@@ -173,6 +174,9 @@ Subcommand AddSimCommand(CLI::App& app) {
   sim->add_option("--camera-stamp-delay", a->camera_delay_s, "Camera stamps run this many seconds late");
   sim->add_option("--camera-rotation-error", a->camera_rotation_error_deg,
                   "Degrees of error in the given camera extrinsic rotation (axis drawn from the seed)");
+  sim->add_option(
+      "--stereo-baseline", a->stereo_baseline_m,
+      "A stereo rig: a second camera (cam1) this many metres to the right of cam0 (default 0: none)");
   sim->add_option("--threads", a->threads,
                   "Ray-casting threads (default: all cores); output does not change");
   sim->add_flag("--print-config", a->print_config, "Print the resolved configuration and exit");

@@ -245,6 +245,8 @@ Schema<estimator::VisualScheduleConfig> VisualScheduleSchema() {
 Schema<estimator::VisualFactorConfig> VisualSchema() {
   using V = estimator::VisualFactorConfig;
   Schema<V> s;
+  s.Key("stereo", &V::stereo, "",
+        "with a second camera and its extrinsic in the data: stereo matches as factors and first depths");
   s.Key("pixel_sigma_px", &V::pixel_sigma_px, "px", "reprojection noise");
   s.Key("huber_sigmas", &V::huber_sigmas, "sigmas", "Huber loss of a reprojection: linear beyond this");
   s.Key("min_parallax_deg", &V::min_parallax_deg, "deg", "a landmark's rays must span this angle");

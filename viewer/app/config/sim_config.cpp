@@ -227,6 +227,10 @@ void AddCamera(Schema<SimulationConfig>& s) {
       s, "camera.passing_panels", [](auto& c) -> auto& { return c.camera.model.passing_panels; },
       "[[begin_s, end_s], ...]: a textured panel half the image wide passing across the view");
   AddPlacement(s, "camera", &SimulationConfig::camera);
+  s.Key(
+      "camera.stereo_baseline_m", [](auto& c) -> auto& { return c.camera.stereo_baseline_m; }, "m",
+      "in [0, 10]; > 0: a stereo rig, a second camera (cam1) this far to the right of cam0, same model, "
+      "synchronous, given with the rig's exact relative extrinsic");
 }
 
 void AddWheel(Schema<SimulationConfig>& s) {

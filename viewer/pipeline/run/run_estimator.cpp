@@ -29,6 +29,12 @@ class WindowEstimator final : public RunEstimator {
     else
       return {};
   }
+  Status AddRightCameraFrame(const CameraFrame& frame) override {
+    if constexpr (requires(Odometry & o) { o.AddRightCameraFrame(frame); })
+      return odometry_.AddRightCameraFrame(frame);
+    else
+      return {};
+  }
   std::vector<estimator::TrackedFrame> TakeTrackedFrames() override {
     if constexpr (requires(Odometry & o) { o.TakeTrackedFrames(); })
       return odometry_.TakeTrackedFrames();

@@ -44,6 +44,8 @@ class RunEstimator {
   virtual Status AddGnss(const GnssFix& fix) = 0;
   // A decoded frame of the tracked camera (the inertial window with the camera; ignored otherwise).
   virtual Status AddCameraFrame(const CameraFrame& frame) = 0;
+  // A decoded frame of a stereo rig's right camera (with the tracked camera's factors; ignored otherwise).
+  virtual Status AddRightCameraFrame(const CameraFrame& frame) = 0;
   // The visual front end's result per frame since the last call (none without the camera).
   virtual std::vector<estimator::TrackedFrame> TakeTrackedFrames() = 0;
   // The keyframes that left the window since the last call (the LiDAR window's carry the deskewed scan).

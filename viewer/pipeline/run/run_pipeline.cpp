@@ -135,6 +135,20 @@ void FitImuGapToRate(double& imu_max_gap_s, const DatasetDescription& descriptio
   imu_max_gap_s = fitted;
 }
 
+// The stereo rig's right camera for the camera factors (visual.stereo, and a second camera in the data,
+// dataset_sensors.h); the report's notes say which pair.
+void ConfigureStereo(const DatasetDescription& description, const DatasetSensors& sensors, bool stereo,
+                     std::shared_ptr<const CameraModel>& right, SE3& T_body_right,
+                     std::vector<std::string>& notes) {
+  if (!stereo || sensors.camera_right < 0) return;
+  const StreamInfo& stream = description.streams[static_cast<std::size_t>(sensors.camera_right)];
+  right = stream.camera_model;
+  T_body_right = *sensors.T_imu_camera_right;
+  const double baseline = (sensors.T_imu_camera->inverse() * T_body_right).translation().norm();
+  notes.push_back("stereo: " + description.streams[static_cast<std::size_t>(sensors.camera)].name + " with " +
+                  stream.name + PrintfText(" (baseline %.3f m)", baseline));
+}
+
 // The estimator's configuration from the request's and the dataset's extrinsics. LO and LIO: the body is
 // the LiDAR in LO and the IMU in LIO; WIO: the IMU.
 void ConfigureEstimator(RunPlan& plan) {
@@ -156,6 +170,8 @@ void ConfigureEstimator(RunPlan& plan) {
     if (mode.camera) {  // ChooseMode checked both
       plan.wio_config.camera = description.streams[sensors.camera].camera_model;
       plan.wio_config.T_body_camera = *sensors.T_imu_camera;
+      ConfigureStereo(description, sensors, plan.wio_config.visual.stereo, plan.wio_config.right_camera,
+                      plan.wio_config.T_body_right_camera, plan.summary.notes);
     }
     plan.wio_config.use_gnss = mode.gnss;
     plan.wio_config.T_body_gnss = T_imu_gnss;
@@ -180,6 +196,8 @@ void ConfigureEstimator(RunPlan& plan) {
   if (mode.camera) {  // ChooseMode checked both
     plan.lo_config.camera = description.streams[sensors.camera].camera_model;
     plan.lo_config.T_body_camera = *sensors.T_imu_camera;
+    ConfigureStereo(description, sensors, plan.lo_config.visual.stereo, plan.lo_config.right_camera,
+                    plan.lo_config.T_body_right_camera, plan.summary.notes);
   }
 }
 

@@ -77,6 +77,13 @@ struct RunPlan {
   const SE3& T_imu_camera() const {
     return frames.mode == OdometryMode::kWio ? wio_config.T_body_camera : lo_config.T_body_camera;
   }
+  // The stereo rig's right camera stream whose frames go to the estimator (V modes with visual.stereo and
+  // a second camera in the data); -1: none.
+  int stereo_stream() const {
+    const bool right = frames.mode == OdometryMode::kWio ? wio_config.right_camera != nullptr
+                                                         : lo_config.right_camera != nullptr;
+    return right ? sensors.camera_right : -1;
+  }
 };
 
 // Whether a planning error is the user's options or configuration (exit code 2) or the data (1).

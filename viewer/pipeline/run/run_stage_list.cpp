@@ -86,6 +86,11 @@ std::string VisualNote(const RunPlan& plan, const estimator::SensorFactorStats& 
   if (plan.frames.mode == OdometryMode::kLio)
     note +=
         "; " + std::to_string(factors.visual_map_depths) + " landmarks took their depth from the LiDAR map";
+  if (plan.stereo_stream() >= 0)
+    note += PrintfText(
+        "; stereo: %.0f frame pairs matched, %.0f landmarks took their depth from a pair, %.0f "
+        "of the reprojections are the right camera's",
+        factors.stereo_pairs, factors.stereo_depths, factors.stereo_factors);
   return note;
 }
 
@@ -156,6 +161,7 @@ std::vector<Stage> RunStageList(RunPlan& plan, const fs::path& out, StageOutputs
                                 .frames = plan.frames,
                                 .gnss_factors = plan.mode.gnss,
                                 .camera_factors = plan.mode.camera,
+                                .stereo_stream = plan.stereo_stream(),
                                 .overlay_every = r.overlay_every,
                                 .min_track_length = plan.visual_config().tracker.min_track_length,
                                 .calibration = plan.calibration.get(),

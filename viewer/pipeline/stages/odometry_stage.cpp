@@ -252,6 +252,14 @@ Expected<OdometryStageOutput> RunOdometryStage(const OdometryStageInput& in, Sta
   const int paced_stream = PacedStream(sensors, in.frames.mode);
   const bool lidar_window = in.frames.mode != OdometryMode::kWio;  // WIO reads no scan
   context.SetUnit(paced_stream == sensors.lidar ? "scans" : "IMU samples");
+  // Decodes a frame for the estimator; one that cannot be decoded is a kept warning, and skipped.
+  auto decode = [&](CameraFrame& frame, const std::string& what) {
+    const Status decoded = DecodeCameraFrame(frame);
+    if (!decoded.ok() && ++out.camera_undecodable <= kMaxKeptDecodeErrors)
+      collected.camera_warnings.push_back(what + " at " + StampText(frame.stamp) + ": " + decoded.message() +
+                                          "; skipped");
+    return decoded.ok();
+  };
   // One measurement to the estimator (or the mapper): as read, or when the calibration's hold ends.
   auto feed = [&](Measurement& m) {
     if (m.stream == paced_stream) ++paced;
@@ -269,14 +277,14 @@ Expected<OdometryStageOutput> RunOdometryStage(const OdometryStageInput& in, Sta
       status = odometry.AddWheel(*wheel);
     } else if (auto* frame = std::get_if<CameraFrame>(&m.data);
                frame && in.camera_factors && m.stream == sensors.camera) {
-      if (Status decoded = DecodeCameraFrame(*frame); !decoded.ok()) {
-        if (++out.camera_undecodable <= kMaxKeptDecodeErrors)
-          collected.camera_warnings.push_back("frame at " + StampText(frame->stamp) + ": " +
-                                              decoded.message() + "; skipped");
-        return Status();
-      }
+      if (!decode(*frame, "frame")) return Status();
       status = odometry.AddCameraFrame(*frame);
       if (status.ok()) status = KeepTracked(in, odometry.TakeTrackedFrames(), frame->image, out);
+      if (in.mapper && in.mapper->UsesCamera(m.stream))
+        in.mapper->AddCameraFrame(m.stream, std::move(*frame));
+    } else if (auto* frame = std::get_if<CameraFrame>(&m.data); frame && m.stream == in.stereo_stream) {
+      if (!decode(*frame, "right frame")) return Status();
+      status = odometry.AddRightCameraFrame(*frame);
       if (in.mapper && in.mapper->UsesCamera(m.stream))
         in.mapper->AddCameraFrame(m.stream, std::move(*frame));
     } else if (auto* frame = std::get_if<CameraFrame>(&m.data);

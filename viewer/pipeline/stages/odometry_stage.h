@@ -34,6 +34,7 @@ struct OdometryStageInput {
   RunFrames frames;
   bool gnss_factors = false;    // the fixes go to the estimator (a G mode)
   bool camera_factors = false;  // the frames of sensors.camera go to the estimator, decoded (a V mode)
+  int stereo_stream = -1;       // a stereo rig's right camera: its frames go to the estimator too (-1: none)
   int overlay_every = 0;        // V modes: an overlay of the tracks on every N-th frame (0: none)
   int min_track_length = 4;     // of the overlay's colours: the length the estimator needs
   // run --calibrate-online: the calibration branch (holds the run for the locks, re-stamps the scans, hands

@@ -104,6 +104,46 @@ TEST(SequenceGenerator, LidarPointsLieOnTheSceneWithTheTrueCalibrationAndClock) 
   EXPECT_GT(worst_delay_ignored, 0.05) << "ignoring the 50 ms clock offset must be visible";
 }
 
+TEST(SequenceGenerator, AStereoRigsSecondCameraSitsTheBaselineToTheRight) {
+  testing::TempDir dir;
+  SimulationConfig config = SmallConfig();
+  config.duration_s = 2;
+  config.lidar.enabled = false;
+  config.camera.stereo_baseline_m = 0.4;
+  config.camera.placement.rotation_error_deg = Eigen::Vector3d(1.0, -2.0, 3.0);
+  config.camera.placement.translation_error_m = Eigen::Vector3d(0.01, 0.02, -0.03);
+  auto summary = GenerateSequence(config, dir.path() / "seq");
+  ASSERT_TRUE(summary.ok()) << summary.error();
+  auto calibration_true = ReadCalibrationFile(dir.path() / "seq/calibration_true.yaml");
+  auto calibration_given = ReadCalibrationFile(dir.path() / "seq/calibration.yaml");
+  ASSERT_TRUE(calibration_true.ok() && calibration_given.ok());
+  // cam1 is 0.4 m along cam0's x axis (its right), in the truth and in what the user is given: the rig's
+  // error is cam0's, its relative extrinsic exact.
+  const SE3 baseline(SO3(), Eigen::Vector3d(0.4, 0, 0));
+  for (const Calibration* calibration : {&*calibration_true, &*calibration_given}) {
+    const SE3 left = calibration->Find("cam0")->T_body_sensor,
+              right = calibration->Find("cam1")->T_body_sensor;
+    EXPECT_LT(((left * baseline).inverse() * right).Log().norm(), 1e-9);
+  }
+  const SE3 true_left = calibration_true->Find("cam0")->T_body_sensor;
+  EXPECT_GT((true_left.inverse() * calibration_given->Find("cam0")->T_body_sensor).so3().angle(), 0.06);
+  // Both cameras' frames at the same stamps, with their indices in the rig, and not the same pictures.
+  auto reader = OpenDataset(dir.path() / "seq", DatasetOptions{});
+  ASSERT_TRUE(reader.ok()) << reader.error();
+  std::vector<Stamp> stamps[2];
+  std::vector<std::vector<std::uint8_t>> bytes[2];
+  for (const Measurement& m : ReadAll(**reader))
+    if (const auto* frame = std::get_if<CameraFrame>(&m.data)) {
+      ASSERT_TRUE(frame->camera == 0 || frame->camera == 1) << frame->camera;
+      stamps[frame->camera].push_back(frame->stamp);
+      bytes[frame->camera].push_back(frame->encoded.bytes);
+    }
+  EXPECT_EQ(stamps[0].size(), 21u);  // 0 to 2 s at 10 Hz
+  EXPECT_EQ(stamps[0], stamps[1]);
+  for (std::size_t k = 0; k < bytes[0].size() && k < bytes[1].size(); ++k)
+    EXPECT_NE(bytes[0][k], bytes[1][k]);
+}
+
 TEST(SequenceGenerator, SameSeedSameBytesAndTheBagMatchesTheFolder) {
   testing::TempDir dir;
   SimulationConfig config = SmallConfig();
