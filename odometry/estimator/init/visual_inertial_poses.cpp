@@ -8,6 +8,8 @@
 #include <sstream>
 #include <string>
 
+#include "odometry/estimator/init/imu_chain.h"
+
 namespace uf::estimator {
 namespace {
 
@@ -16,26 +18,6 @@ constexpr std::size_t kMinSpanningTracks = 8;
 constexpr int kResectionRounds = 3;  // resection and triangulation in turn
 // The rig's scale rests on at least this many spanning tracks with a depth from the rig.
 constexpr std::size_t kMinRigDepths = 5;
-
-// What the IMU alone says about node k (see the header): R_k, a_k, b_k, t_k.
-struct ImuChain {
-  std::vector<SO3> R;
-  std::vector<Eigen::Vector3d> a, b;  // b_k: the velocity gained from rest without gravity
-  std::vector<double> t;
-};
-
-ImuChain Chain(std::span<const ImuPreintegration> preintegrations) {
-  ImuChain chain{{SO3()}, {Eigen::Vector3d::Zero()}, {Eigen::Vector3d::Zero()}, {0.0}};
-  for (const ImuPreintegration& pre : preintegrations) {
-    const double T = pre.sum_dt_seconds();
-    const SO3& R = chain.R.back();
-    chain.a.push_back(chain.a.back() + chain.b.back() * T + R * pre.delta_p());
-    chain.b.push_back(chain.b.back() + R * pre.delta_v());
-    chain.R.push_back(R * pre.delta_R());
-    chain.t.push_back(chain.t.back() + T);
-  }
-  return chain;
-}
 
 // Step 1 (see the header): the camera centres c_0 = 0 .. c_last up to scale (|c_last| = 1), from the tracks
 // seen at both ends of the window with enough parallax; `tracks` counts them.
@@ -185,7 +167,7 @@ Expected<VisualInertialStart> VisualInertialPoses(std::span<const ImuPreintegrat
                                                   const std::vector<FeatureTrack>& tracks,
                                                   const SE3& T_body_camera,
                                                   const VisualInertialStartConfig& config) {
-  const ImuChain chain = Chain(preintegrations);
+  ImuChain chain = ChainPreintegrations(preintegrations, Eigen::Vector3d::Zero());
   const std::size_t n = chain.R.size();
   if (n < 3) return Status::Error("visual-inertial start: need 3 nodes at least");
   std::vector<FeatureTrack> usable;
@@ -203,15 +185,25 @@ Expected<VisualInertialStart> VisualInertialPoses(std::span<const ImuPreintegrat
   if (!rig)
     if (std::optional<std::string> steady = SteadyMotion(chain, config))
       return Status::Error("visual-inertial start: " + *steady);
-  const Centres centres = UpToScaleCentres(usable, chain, T_body_camera, config.min_parallax_rad);
+  Centres centres = UpToScaleCentres(usable, chain, T_body_camera, config.min_parallax_rad);
   if (!centres.failure.empty()) return Status::Error("visual-inertial start: " + centres.failure);
+  // Step 2: the structure and the gyro bias together; the IMU chained again at that bias.
+  std::vector<TrackObservations> spanning;
+  for (const std::size_t i : centres.track_of) spanning.push_back(usable[i].observations);
+  GyroBiasBundle bundle =
+      AdjustWithGyroBias(preintegrations, spanning, T_body_camera, centres.c, std::move(centres.points));
+  if (!bundle.gyro_bias.allFinite())
+    return Status::Error("visual-inertial start: the bundle adjustment diverged");
+  chain = ChainPreintegrations(preintegrations, bundle.gyro_bias);
+  centres.c = std::move(bundle.centres);
+  centres.points = std::move(bundle.points);
   // The rig's scale, 0 when there is none (an optional here trips GCC's maybe-uninitialized).
   const double rig_scale = rig ? RigScale(usable, centres, chain, T_body_camera).value_or(0.0) : 0.0;
   const bool scale_from_rig = rig_scale > 0;
   if (rig && !scale_from_rig)
     if (std::optional<std::string> steady = SteadyMotion(chain, config))
       return Status::Error("visual-inertial start: too few depths from the stereo rig, and " + *steady);
-  // Step 2: the IMU's positions are p_k = s c_k - R_k t_bc + t_bc (p_0 = 0) and also
+  // Step 3: the IMU's positions are p_k = s c_k - R_k t_bc + t_bc (p_0 = 0) and also
   // v_0 t_k + g t_k^2 / 2 + a_k: linear in y = [s, v_0, g], or in y = [v_0, g] with the rig's s.
   const Eigen::Vector3d& t_bc = T_body_camera.translation();
   const long v = scale_from_rig ? 0 : 1;  // where v_0 starts in y
@@ -239,6 +231,8 @@ Expected<VisualInertialStart> VisualInertialPoses(std::span<const ImuPreintegrat
   start.velocity = y.segment<3>(v);
   start.gravity = y.segment<3>(v + 3);
   start.tracks = centres.tracks;
+  start.gyro_bias = bundle.gyro_bias;
+  start.reprojection_rms = bundle.rms_after;
   // The covariance of y from the fit's own residual (its variance per row).
   const long dof = A.rows() - A.cols();
   const double variance = dof > 0 ? (A * y - rhs).squaredNorm() / static_cast<double>(dof) : INFINITY;

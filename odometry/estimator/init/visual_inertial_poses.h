@@ -15,7 +15,10 @@
 //    known: linear), and each point is triangulated again from all its rays, likewise weighted. A
 //    forward-driving camera's two-view constraints alone would leave the ratios of collinear baselines free;
 //    the points fix them.
-// 2. Inertial alignment: the IMU's position is p_k = s c_k - R_k t_bc + t_bc (p_0 = 0, T_body_camera =
+// 2. The structure and the gyro bias together by a bundle adjustment (init/gyro_bias_bundle.h), the
+//    preintegrations then chained again at that bias (init/imu_chain.h): the rotations R_k, a_k and b_k
+//    below are the corrected ones.
+// 3. Inertial alignment: the IMU's position is p_k = s c_k - R_k t_bc + t_bc (p_0 = 0, T_body_camera =
 //    (R_bc, t_bc)) and also v_0 t_k + g t_k^2 / 2 + a_k, linear in [s, v_0, g] (scale, first velocity,
 //    gravity in "lo"); least squares, with their covariance from the fit's residual.
 //    With a stereo rig (FeatureTrack::depths) the scale is the rig's instead: each spanning track's depth
@@ -30,14 +33,15 @@
 // - s > 0, |g| is within max_gravity_error of gravity, gravity's direction is pinned within max_tilt_sigma
 //   and v_0 within max_velocity_sigma.
 //
-// Assumed: the biases are zero over the window (a MEMS gyro bias of 0.005 rad/s turns the body by 0.3 deg
-// in 1 s; an accelerometer bias tilts the gravity found by b_a / g); the window then estimates them.
+// Assumed: the accelerometer bias is zero over the window (it tilts the gravity found by b_a / g); the
+// window then estimates it.
 #pragma once
 
 #include <Eigen/Core>
 #include <span>
 #include <vector>
 
+#include "odometry/estimator/init/gyro_bias_bundle.h"
 #include "odometry/estimator/preintegration/imu_preintegration.h"
 #include "odometry/types/se3.h"
 #include "odometry/types/status.h"
@@ -47,7 +51,7 @@ namespace uf::estimator {
 // One feature's observations: node index in the window and undistorted normalized coordinates there; with a
 // stereo rig, its depth (z in the camera, m) from the rig's pair at some of those nodes.
 struct FeatureTrack {
-  std::vector<std::pair<std::size_t, Eigen::Vector2d>> observations;
+  TrackObservations observations;
   std::vector<std::pair<std::size_t, double>> depths;
 };
 
@@ -68,6 +72,8 @@ struct VisualInertialStart {
   int tracks = 0;  // used
   double scale = 0;             // s of the alignment, the camera centres' units in metres
   bool scale_from_rig = false;  // s is the stereo rig's (not the accelerometer's)
+  Eigen::Vector3d gyro_bias = Eigen::Vector3d::Zero();  // rad/s, from the bundle adjustment
+  double reprojection_rms = 0;                          // the structure's after it, normalized image units
 };
 
 // preintegrations[k] between nodes k and k + 1 (linearized at zero biases); tracks over those nodes.

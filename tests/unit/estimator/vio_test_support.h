@@ -45,6 +45,7 @@ struct VioRun {
   SensorFactorStats factors;
   int frames = 0;
   double first_speed_mps = 0;  // of the first keyframe
+  Eigen::Vector3d first_gyro_bias = Eigen::Vector3d::Zero();  // likewise
   double reprojection_px = 0;  // the largest mean reprojection error after a node's solve
   int min_landmarks = std::numeric_limits<int>::max();  // the fewest in the window once moving
   double ate_m = std::numeric_limits<double>::infinity();
@@ -95,7 +96,10 @@ inline VioRun RunVio(const std::filesystem::path& folder,
   }
   for (const Keyframe& k : vio->TakeFinished()) {
     EXPECT_TRUE(k.T_world_body.matrix().allFinite()) << ToSeconds(k.stamp);
-    if (run.estimate.empty()) run.first_speed_mps = k.velocity.norm();
+    if (run.estimate.empty()) {
+      run.first_speed_mps = k.velocity.norm();
+      run.first_gyro_bias = k.bias_gyro;
+    }
     run.estimate.stamps.push_back(k.stamp);
     run.estimate.poses.push_back(k.T_world_body);
     run.camera_checks.insert(run.camera_checks.end(), k.camera_checks.begin(), k.camera_checks.end());
