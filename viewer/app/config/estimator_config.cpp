@@ -67,9 +67,11 @@ Schema<LidarOdometryConfig> MakeLoSchema() {
   map.Key("min_plane_points", &VoxelMapConfig::min_plane_points, "points",
           "points needed in the 3x3x3 block for a plane");
   map.Key("min_plane_sigma_m", &VoxelMapConfig::min_plane_sigma_m, "m", "floor of a plane's sigma");
-  map.Key("min_plane_rings", &VoxelMapConfig::min_plane_rings, "rings",
-          "distinct LiDAR rings needed in the 3x3x3 block for a plane (1: off; 0: auto, 2 for a LiDAR of "
-          "32 rings or more, else 1; applies where rings are known)");
+  map.Key(
+      "min_plane_rings", &VoxelMapConfig::min_plane_rings, "rings",
+      "distinct LiDAR rings needed in the 3x3x3 block for a plane (1: off; 0: auto, 2 for a LiDAR of "
+      "32 rings or more, else 1; applies where rings are known; 2 suits a sparser LiDAR outdoors too, not "
+      "indoors)");
   s.Nest("map", &C::map, map);
   return s;
 }
