@@ -131,9 +131,11 @@ TEST_F(CliRun, AutoModeRunsLidarInertialOdometryWithWheelAndGnssFactorsInTheImuF
   EXPECT_NE(report.find("lio:"), std::string::npos) << report;  // the resolved config
   // A 16-beam LiDAR: the ring gate's auto keeps one-ring planes (docs/METHOD.md "Voxel-hash map and PCA
   // planes").
-  EXPECT_NE(report.find("LiDAR map: planes from blocks of any number of LiDAR rings (lo.map.min_plane_rings "
-                        "auto: the scans' rings are unknown or fewer than 32)"),
-            std::string::npos)
+  EXPECT_NE(
+      report.find("LiDAR map: planes from blocks of any number of LiDAR rings (lo.map.min_plane_rings "
+                  "auto: the scans' rings are unknown or fewer than 32; with a sparse LiDAR outdoors, 2 "
+                  "keeps the map from tilting"),
+      std::string::npos)
       << report;
   // LIO writes the IMU (body) frame by default, the frame of the ground truth.
   const double ate = ReportedAte(report);

@@ -101,7 +101,10 @@ std::string RingGateNote(const RunPlan& plan, int rings) {
       "lo.map.min_plane_rings " + (automatic ? std::string("auto: ") : std::to_string(rings));
   if (rings == 1)
     return "LiDAR map: planes from blocks of any number of LiDAR rings (" + setting +
-           (automatic ? "the scans' rings are unknown or fewer than 32)" : ")");
+           (automatic
+                ? "the scans' rings are unknown or fewer than 32; with a sparse LiDAR outdoors, 2 keeps "
+                  "the map from tilting: docs/METHOD.md \"Voxel-hash map and PCA planes\")"
+                : ")");
   return "LiDAR map: planes only from blocks spanning >= " + std::to_string(rings) + " LiDAR rings (" +
          setting + (automatic ? "a LiDAR of 32 rings or more)" : ")");
 }
