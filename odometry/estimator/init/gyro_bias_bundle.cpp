@@ -137,8 +137,6 @@ GyroBiasBundle AdjustWithGyroBias(std::span<const ImuPreintegration> preintegrat
   Normal normal;
   int observations = 0;
   double cost = problem.Evaluate(e, &normal, &observations);
-  GyroBiasBundle out;
-  out.rms_before = std::sqrt(cost / std::max(observations, 1));
   double mu = kInitialDamping;
   for (int iteration = 0; iteration < kMaxIterations; ++iteration) {
     const Estimate next = problem.Step(e, normal, mu);
@@ -152,14 +150,9 @@ GyroBiasBundle AdjustWithGyroBias(std::span<const ImuPreintegration> preintegrat
     e = next;
     cost = problem.Evaluate(e, &normal, nullptr);
     mu = std::max(mu / 10, 1e-8);
-    out.iterations = iteration + 1;
     if (decrease < 1e-6) break;
   }
-  out.gyro_bias = e.b;
-  out.centres = std::move(e.c);
-  out.points = std::move(e.P);
-  out.rms_after = std::sqrt(cost / std::max(observations, 1));
-  return out;
+  return {e.b, std::move(e.c), std::move(e.P), std::sqrt(cost / std::max(observations, 1))};
 }
 
 }  // namespace uf::estimator

@@ -25,8 +25,7 @@ using TrackObservations = std::vector<std::pair<std::size_t, Eigen::Vector2d>>;
 struct GyroBiasBundle {
   Eigen::Vector3d gyro_bias = Eigen::Vector3d::Zero();  // rad/s
   std::vector<Eigen::Vector3d> centres, points;         // in the units of |c_last| = 1
-  double rms_before = 0, rms_after = 0;                 // reprojection, normalized image units
-  int iterations = 0;
+  double reprojection_rms = 0;                          // at the result, normalized image units
 };
 
 // preintegrations[k] between nodes k and k + 1 (linearized at zero biases); tracks[f] observes points[f];

@@ -232,7 +232,7 @@ Expected<VisualInertialStart> VisualInertialPoses(std::span<const ImuPreintegrat
   start.gravity = y.segment<3>(v + 3);
   start.tracks = centres.tracks;
   start.gyro_bias = bundle.gyro_bias;
-  start.reprojection_rms = bundle.rms_after;
+  start.reprojection_rms = bundle.reprojection_rms;
   // The covariance of y from the fit's own residual (its variance per row).
   const long dof = A.rows() - A.cols();
   const double variance = dof > 0 ? (A * y - rhs).squaredNorm() / static_cast<double>(dof) : INFINITY;

@@ -11,9 +11,8 @@ std::vector<SequenceStream> SequenceStreams(const SimulationConfig& config) {
     if (!enabled) return;
     topic.kind = kind;
     const Stamp delay = placement ? FromSeconds(placement->stamp_delay_s) : 0;
-    std::optional<SensorPlacement> placed;
-    if (placement) placed = *placement;
-    streams.push_back({kind, name, std::move(topic), rate_hz, 0.0, placed, delay});
+    streams.push_back({kind, name, std::move(topic), rate_hz, 0.0,
+                       placement ? std::optional(*placement) : std::nullopt, delay});
   };
   add(config.imu.enabled, SensorKind::kImu, "imu", {"/imu/data", "imu_link"}, config.imu.rate_hz, nullptr);
   const double keyframe_rate_hz = config.lidar.keyframe_rate_hz;
