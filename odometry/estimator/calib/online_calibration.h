@@ -127,8 +127,8 @@ class OnlineCalibration {
   std::vector<CalibrationSolve> solves_;
 };
 
-// The gyro integrated over [a, b] (seconds, the track's clock), each sample's rate held until the next:
-// Log(prod Exp(w dt)) / (b - a). None when the track does not cover [a, b].
+// The gyro integrated over [a, b] (seconds, the track's clock), the rate linear between samples (midpoint
+// rule): Log(prod Exp(w dt)) / (b - a). None when the track does not cover [a, b].
 std::optional<Eigen::Vector3d> MeanGyroRate(std::span<const RateSample> gyro, double a, double b);
 
 }  // namespace uf::estimator

@@ -124,12 +124,18 @@ TEST(RateTrack, IntervalRatesAndInterpolation) {
   EXPECT_DOUBLE_EQ(MedianSpacing(ramp), 0.1);
 }
 
-TEST(RateTrack, MeanGyroRateIntegratesTheHeldSamples) {
+TEST(RateTrack, MeanGyroRateIsExactForARateLinearInTime) {
+  // About a fixed axis the rotations commute, so the mean rate over [a, b] is the rate at (a + b) / 2.
+  // Samples at 200 Hz of w(t) = axis (0.5 + 20 t): holding each sample until the next would come out
+  // 20 * 0.0025 = 0.05 rad/s low.
+  const Eigen::Vector3d axis = Eigen::Vector3d(0.2, 0.0, -0.4).normalized();
   std::vector<RateSample> gyro;
-  for (int i = 0; i <= 20; ++i) gyro.push_back({0.005 * i, Eigen::Vector3d(0.2, 0.0, -0.4)});
-  const std::optional<Eigen::Vector3d> mean = MeanGyroRate(gyro, 0.0123, 0.0871);
-  ASSERT_TRUE(mean);
-  EXPECT_LT((*mean - Eigen::Vector3d(0.2, 0.0, -0.4)).norm(), 1e-12);
+  for (int i = 0; i <= 20; ++i) gyro.push_back({0.005 * i, axis * (0.5 + 20.0 * 0.005 * i)});
+  for (const auto& [a, b] : {std::pair{0.0123, 0.0871}, std::pair{0.0, 0.1}, std::pair{0.031, 0.0335}}) {
+    const std::optional<Eigen::Vector3d> mean = MeanGyroRate(gyro, a, b);
+    ASSERT_TRUE(mean);
+    EXPECT_LT((*mean - axis * (0.5 + 20.0 * 0.5 * (a + b))).norm(), 1e-12) << a << " " << b;
+  }
   EXPECT_FALSE(MeanGyroRate(gyro, 0.05, 0.2));  // beyond the track
 }
 
