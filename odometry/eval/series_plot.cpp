@@ -3,6 +3,7 @@
 #include <plplot.h>
 
 #include <algorithm>
+#include <array>
 
 #include "odometry/eval/plot_draw.h"
 #include "odometry/eval/plot_input.h"
@@ -17,25 +18,39 @@ constexpr PLFLT kLegendSample = 0.06;  // length of a legend's line sample, of t
 constexpr PLFLT kLegendRowFraction = 0.065;
 constexpr PLFLT kViewportBottom = 0.11, kViewportTop = 0.91;
 
+constexpr std::size_t kMaxSeries = 3;
+
+// The colour of series i of n: one is blue, three are red, green, blue (x, y, z).
+PLINT SeriesColour(std::size_t i, std::size_t n) {
+  constexpr std::array<PLINT, kMaxSeries> kXyz = {kRmse, kMean, kSeries};
+  return n == 1 ? kSeries : kXyz[i];
+}
+
 // Everything the drawing needs, prepared before PLplot is touched (see DrawFunction).
 struct SeriesScene {
-  std::vector<PLFLT> t, v;
+  std::vector<PLFLT> t;
+  std::vector<std::vector<PLFLT>> v;
+  std::vector<std::string> labels;
   bool has_level = false;
   double level = 0;
   Box window{};
-  std::string title, x_label, y_label, series_label, level_label;
+  std::string title, x_label, y_label, level_label;
 };
 
-SeriesScene MakeSeriesScene(const std::vector<double>& seconds, const std::vector<double>& values,
-                            const std::string& series_label, const std::optional<SeriesLevel>& level,
-                            const std::string& title, const std::string& x_label,
-                            const std::string& y_label) {
+SeriesScene MakeSeriesScene(const std::vector<double>& seconds, const std::vector<NamedSeries>& series,
+                            const std::optional<SeriesLevel>& level, const std::string& title,
+                            const std::string& x_label, const std::string& y_label) {
   SeriesScene scene;
   scene.t = seconds;
-  scene.v = values;
   const auto [t_lo, t_hi] = std::minmax_element(scene.t.begin(), scene.t.end());
-  auto [v_lo, v_hi] = std::minmax_element(values.begin(), values.end());
-  double x0 = *t_lo, x1 = *t_hi, y0 = *v_lo, y1 = *v_hi;
+  double x0 = *t_lo, x1 = *t_hi, y0 = series[0].values[0], y1 = y0;
+  for (const NamedSeries& s : series) {
+    scene.v.push_back(s.values);
+    scene.labels.push_back(PlplotText(s.label, kMaxTextChars));
+    const auto [v_lo, v_hi] = std::minmax_element(s.values.begin(), s.values.end());
+    y0 = std::min(y0, *v_lo);
+    y1 = std::max(y1, *v_hi);
+  }
   if (level) {
     scene.has_level = true;
     scene.level = level->value;
@@ -53,7 +68,6 @@ SeriesScene MakeSeriesScene(const std::vector<double>& seconds, const std::vecto
   scene.title = PlplotText(title, kMaxTextChars);
   scene.x_label = PlplotText(x_label, kMaxTextChars);
   scene.y_label = PlplotText(y_label, kMaxTextChars);
-  scene.series_label = PlplotText(series_label, kMaxTextChars);
   return scene;
 }
 
@@ -70,19 +84,29 @@ void DrawSeriesPlot(const void* data) {
     pljoin(s.window.x0, s.level, s.window.x1, s.level);
     pllsty(1);
   }
-  plcol0(kSeries);
   plwidth(2.0);
-  if (s.t.size() > 1) plline(static_cast<PLINT>(s.t.size()), s.t.data(), s.v.data());
-  for (std::size_t i = 0; i < s.t.size(); ++i) DrawDot(s.t[i], s.v[i], viewport, s.window, 4.0);
+  const std::size_t n = s.v.size();
+  for (std::size_t k = 0; k < n; ++k) {
+    plcol0(SeriesColour(k, n));
+    if (s.t.size() > 1) plline(static_cast<PLINT>(s.t.size()), s.t.data(), s.v[k].data());
+    for (std::size_t i = 0; i < s.t.size(); ++i) DrawDot(s.t[i], s.v[k][i], viewport, s.window, 4.0);
+  }
   DrawAxes(viewport, x_tick, y_label_displacement, s.x_label.c_str(), s.y_label.c_str(), s.title.c_str());
 
-  const int entries = s.has_level ? 2 : 1;
-  const PLINT opts[2] = {PL_LEGEND_LINE, PL_LEGEND_LINE};
-  const char* text[2] = {s.series_label.c_str(), s.level_label.c_str()};
-  const PLINT text_colours[2] = {kInk, kInk};
-  const PLINT line_colours[2] = {kSeries, kMean};
-  const PLINT line_styles[2] = {1, 5};
-  const PLFLT line_widths[2] = {2.0, 2.2};
+  constexpr std::size_t kMaxEntries = kMaxSeries + 1;
+  const int entries = static_cast<int>(n) + (s.has_level ? 1 : 0);
+  PLINT opts[kMaxEntries], text_colours[kMaxEntries], line_colours[kMaxEntries], line_styles[kMaxEntries];
+  const char* text[kMaxEntries];
+  PLFLT line_widths[kMaxEntries];
+  for (int e = 0; e < entries; ++e) {
+    const bool is_level = e == static_cast<int>(n);
+    opts[e] = PL_LEGEND_LINE;
+    text[e] = is_level ? s.level_label.c_str() : s.labels[e].c_str();
+    text_colours[e] = kInk;
+    line_colours[e] = is_level ? kMean : SeriesColour(e, n);
+    line_styles[e] = is_level ? 5 : 1;
+    line_widths[e] = is_level ? 2.2 : 2.0;
+  }
   const PLFLT text_scale =
       LegendTextScale(text, entries, entries, kLegendSample, (viewport.x1 - viewport.x0) * kWidthPx, 0.9);
   PLFLT legend_width = 0, legend_height = 0;
@@ -102,16 +126,27 @@ Status WriteSeriesPlot(const std::string& png_path, const std::vector<double>& s
                        const std::vector<double>& values, const std::string& series_label,
                        const std::optional<SeriesLevel>& level, const std::string& title,
                        const std::string& x_label, const std::string& y_label) {
-  if (values.empty()) return Status::Error("plot " + png_path + ": the series is empty");
-  if (seconds.size() != values.size())
-    return Status::Error("plot " + png_path + ": " + std::to_string(seconds.size()) + " stamps for " +
-                         std::to_string(values.size()) + " values");
+  return WriteSeriesPlot(png_path, seconds, {NamedSeries{series_label, values}}, level, title, x_label,
+                         y_label);
+}
+
+Status WriteSeriesPlot(const std::string& png_path, const std::vector<double>& seconds,
+                       const std::vector<NamedSeries>& series, const std::optional<SeriesLevel>& level,
+                       const std::string& title, const std::string& x_label, const std::string& y_label) {
+  if (series.empty() || series.size() > plot::kMaxSeries)
+    return Status::Error("plot " + png_path + ": " + std::to_string(series.size()) +
+                         " series, expected 1 to " + std::to_string(plot::kMaxSeries));
+  for (const NamedSeries& s : series) {
+    if (s.values.empty()) return Status::Error("plot " + png_path + ": the series is empty");
+    if (seconds.size() != s.values.size())
+      return Status::Error("plot " + png_path + ": " + std::to_string(seconds.size()) + " stamps for " +
+                           std::to_string(s.values.size()) + " values");
+    if (Status st = plot::CheckPlottable(png_path, "values", s.values, plot::kMaxValue); !st.ok()) return st;
+  }
   if (Status s = plot::CheckPlottable(png_path, "seconds", seconds, plot::kMaxSeconds); !s.ok()) return s;
-  if (Status s = plot::CheckPlottable(png_path, "values", values, plot::kMaxValue); !s.ok()) return s;
   if (level)
     if (Status s = plot::CheckPlottable(png_path, "level", level->value, plot::kMaxValue); !s.ok()) return s;
-  const plot::SeriesScene scene =
-      plot::MakeSeriesScene(seconds, values, series_label, level, title, x_label, y_label);
+  const plot::SeriesScene scene = plot::MakeSeriesScene(seconds, series, level, title, x_label, y_label);
   return plot::WritePng(png_path, plot::DrawSeriesPlot, &scene);
 }
 

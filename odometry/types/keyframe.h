@@ -75,6 +75,7 @@ struct Keyframe {
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();   // of the body, in the world frame, m/s
   Eigen::Vector3d bias_acc = Eigen::Vector3d::Zero();   // accelerometer bias, imu frame, m/s^2
   Eigen::Vector3d bias_gyro = Eigen::Vector3d::Zero();  // gyroscope bias, imu frame, rad/s
+  bool inertial = false;  // velocity and biases are an inertial window's estimates (else not estimated)
   std::vector<Eigen::Vector3f> scan_world;              // deskewed scan, world frame, m
   std::vector<float> scan_intensity;  // one per point of scan_world, as the sensor reports it
   std::vector<CameraFrame> images;    // frames taken near stamp, any cameras of the rig

@@ -33,6 +33,7 @@ TEST_F(CliRun, LidarOdometryOnASimulatedSequenceWritesEveryOutput) {
                            "report.md", "plots/ape_top_view.png", "plots/ape_over_time.png",
                            "reliability.csv", "plots/reliability_lidar.png"})
     EXPECT_TRUE(fs::exists(run + "/" + file)) << file;
+  EXPECT_FALSE(fs::exists(run + "/imu_states.csv"));  // LO estimates no inertial state
   // One LiDAR row per registered scan (all but the first), each with its score in [0, 1].
   std::istringstream reliability(testing::ReadText(run + "/reliability.csv"));
   std::string line;
@@ -128,6 +129,35 @@ TEST_F(CliRun, AutoModeRunsLidarInertialOdometryWithWheelAndGnssFactorsInTheImuF
   // 1 s at rest first: static after the second scan; the console says so too.
   EXPECT_NE(report.find("LIO initialized: S (static) after 0.2 s"), std::string::npos) << report;
   EXPECT_NE(result.output.find("  initialized: S (static) after 0.2 s"), std::string::npos) << result.output;
+  // The stationary branch holds the intervals at rest after the initialization (0.2 s to the drive-off at
+  // 1 s: 8, give or take the one where the wheels start to turn).
+  const std::size_t held = report.find(" intervals held at rest (the wheels read no motion");
+  ASSERT_NE(held, std::string::npos) << report;
+  const int held_intervals = std::stoi(report.substr(report.rfind(' ', held - 1) + 1));
+  EXPECT_GE(held_intervals, 7);
+  EXPECT_LE(held_intervals, 9);
+  // The inertial states: a row per keyframe, and the speed of those the branch held (0.3-0.9 s, after the
+  // initialization's first two scans) within its 5 mm/s.
+  ASSERT_TRUE(fs::exists(run + "/plots/imu_accel_bias.png"));
+  ASSERT_TRUE(fs::exists(run + "/plots/imu_gyro_bias.png"));
+  std::istringstream states(testing::ReadText(run + "/imu_states.csv"));
+  std::getline(states, line);
+  EXPECT_EQ(line.rfind("stamp_ns,vx_mps,vy_mps,vz_mps,speed_mps,accel_bias_x,", 0), 0u) << line;
+  int state_rows = 0;
+  while (std::getline(states, line)) {
+    ++state_rows;
+    std::istringstream fields(line);
+    std::string stamp, speed;
+    std::getline(fields, stamp, ',');
+    for (int k = 1; k < 5; ++k) std::getline(fields, speed, ',');  // the fifth: speed_mps
+    const double t = 1e-9 * static_cast<double>(std::stoll(stamp) - 1'700'000'000'000'000'000);
+    if (t > 0.3 && t < 0.9) {
+      EXPECT_LT(std::stod(speed), 0.005) << line;
+    }
+  }
+  EXPECT_GE(state_rows, 37);
+  EXPECT_NE(report.find("## Inertial states"), std::string::npos) << report;
+  EXPECT_NE(report.find("![Gyroscope bias](plots/imu_gyro_bias.png)"), std::string::npos) << report;
   EXPECT_NE(report.find("lio:"), std::string::npos) << report;  // the resolved config
   // A 16-beam LiDAR: the ring gate's auto keeps one-ring planes (docs/METHOD.md "Voxel-hash map and PCA
   // planes").

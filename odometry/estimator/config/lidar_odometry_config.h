@@ -75,10 +75,12 @@ struct LidarOdometryConfig {
   // rather than WIO's speed-dependent model (wheel_factor_config.h): with that model the LiDAR-degenerate
   // corridor start lags further (simulated corridor 60 s: ATE 0.109 -> 0.231 m; the estimate falls behind
   // while the vehicle pulls away either way, 0.5 m and 1.3 m at 5 s; docs/METHOD.md "Wheel factor"), which
-  // needs its own look.
+  // needs its own look. The stationary branch is on (wheel_factor_config.h): at rest the LiDAR's
+  // registration wanders along a corridor, and the window took that for motion.
   WheelFactorConfig wheel = {.nonholonomic_velocity_density = 0.2,
                              .suspension_tilt_sigma = 0.0,
                              .tilt_per_acceleration = 0.0,
+                             .stationary_updates = true,
                              .schedule = {}};
   SE3 T_body_wheel;  // the wheel (base) frame in the body frame, from the calibration like T_body_lidar
 

@@ -133,6 +133,13 @@ struct WheelFactorConfig {
   // rolling radius differs from its nominal value, and keeps s near 1 while the motion does not observe it
   // (standing still).
   double scale_prior_sigma = 0.05;
+  // The stationary branch (a zero-velocity update): where every wheel sample over a node interval reads
+  // no motion, the interval's nodes are held at one pose with zero velocity (factors/zero_motion_factor.h).
+  // At rest a LiDAR's registration still wanders (by centimetres along a corridor), and the window would
+  // otherwise explain that with velocity and accelerometer bias. Wheels that stand while the vehicle moves
+  // (towed, on a ferry) need false. Off here and in WIO, on in the LIO window (lidar_odometry_config.h):
+  // in WIO it made the wheel scale worse (docs/METHOD.md "Stationary branch").
+  bool stationary_updates = false;
 
   WheelScheduleConfig schedule;
 

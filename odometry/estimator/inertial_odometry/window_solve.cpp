@@ -28,7 +28,8 @@ long InertialOdometry::Impl::PushNode(const WindowNode& node) {
 }
 
 // The factors between node id - 1 and node id: the IMU's, and the wheel's when the wheel samples cover the
-// interval (else a warning, and the IMU alone bridges it). Another provider links its factors here.
+// interval (else a warning, and the IMU alone bridges it), and the stationary branch's where the wheels
+// stand. Another provider links its factors here.
 void InertialOdometry::Impl::LinkNode(long id, ImuPreintegration imu_preintegration) {
   WindowNode &from = NodeAt(id - 1), &to = NodeAt(id);
   const WheelReference reference = WheelReferenceOf(&imu_preintegration);
@@ -41,6 +42,8 @@ void InertialOdometry::Impl::LinkNode(long id, ImuPreintegration imu_preintegrat
                             from.speed_bias.data(), to.speed_bias.data());
       !s.ok())
     warnings.push_back("wheel factor at " + StampText(to.stamp) + " skipped: " + s.message());
+  wheel.LinkAtRest(graph, id, from.pose.data(), to.pose.data(), from.speed_bias.data(), to.speed_bias.data(),
+                   from.stamp, to.stamp);
 }
 
 // The gauge of the window (gauge_prior_factor.h): the oldest node's position and yaw, anchoring, so the
@@ -130,6 +133,7 @@ void InertialOdometry::Impl::ReleaseOldest() {
   keyframe.velocity = state.velocity;
   keyframe.bias_acc = state.accel_bias;
   keyframe.bias_gyro = state.gyro_bias;
+  keyframe.inertial = true;
   keyframe.imu_reliability = TakeImuScore(first_node_id);
   if (config.use_wheel) keyframe.wheel_consistency = wheel.TakeConsistency(first_node_id);
   if (gnss) keyframe.gnss_checks = gnss->TakeChecks(state.stamp);

@@ -133,7 +133,12 @@ InertialInitializer::Outcome InertialInitializer::Attempt(const ImuBuffer& imu, 
                                                     config_.lidar_position_sigma_m, gravity);
   indicators.scans = static_cast<int>(scans_.size());
   indicators.lidar_scans = static_cast<int>(lidar_stamps.size());
-  const ModeDecision decision = SelectInitMode(indicators, config_, gravity);
+  const bool wheels_at_rest = window.wheels_at_rest && window.wheels_at_rest(scans_.front().begin, now);
+  if (wheels_at_rest) indicators.lo_speed = 0;
+  ModeDecision decision = SelectInitMode(indicators, config_, gravity);
+  if (wheels_at_rest && decision.mode == InitMode::kStatic)
+    decision.reason += " (the wheels read no motion: the LO speed " +
+                       std::to_string(indicators.lo_raw_speed) + " m/s is its noise)";
   record_.mode = decision.mode;
   record_.reason = decision.reason;
 

@@ -26,6 +26,7 @@
 
 #include <Eigen/Core>
 #include <deque>
+#include <functional>
 #include <optional>
 #include <span>
 #include <string>
@@ -56,6 +57,10 @@ struct InitWindow {
   std::vector<InitScan> scans;
   std::vector<Stamp> node_stamps;
   std::vector<SE3> node_poses;  // T_lo_imu
+  // Whether the wheels read no motion over [from, to] (null without wheels, or with the stationary branch
+  // off): S then takes the platform for at rest whatever speed the LO poses show, which is their noise (the
+  // wheel-aided S; at rest along a corridor LO wanders by centimetres from scan to scan).
+  std::function<bool(Stamp, Stamp)> wheels_at_rest;
 };
 
 // How LIO initialized (or is still trying to).

@@ -15,7 +15,8 @@ Stamp LidarOdometry::Impl::InitializationStart() const {
 }
 
 // Every scan of the window with its middle (stamp and current LO pose) and whether it is registered (a
-// rejected scan's poses are only predicted), and the window's nodes.
+// rejected scan's poses are only predicted), the window's nodes, and with the stationary branch the wheels'
+// rest test.
 InitWindow LidarOdometry::Impl::InitializationWindow() const {
   InitWindow out;
   for (const ScanState& scan : window) {
@@ -27,6 +28,8 @@ InitWindow LidarOdometry::Impl::InitializationWindow() const {
     out.node_stamps.push_back(n.stamp);
     out.node_poses.push_back(PoseFromBlock(n.pose.data()));
   }
+  if (wheel && config.wheel.stationary_updates)
+    out.wheels_at_rest = [this](Stamp from, Stamp to) { return wheel->AtRest(from, to); };
   return out;
 }
 

@@ -71,6 +71,11 @@ void LidarOdometry::Impl::LinkWheel(long id, WheelReference reference) {
                              NodeAt(id - 1).speed_bias.data(), NodeAt(id).speed_bias.data());
       !s.ok())
     warnings.push_back("wheel factor at " + StampText(NodeAt(id).stamp) + " skipped: " + s.message());
+  // Once initialized (the velocities are states then), the stationary branch holds intervals at rest.
+  if (inertial)
+    wheel->LinkAtRest(graph, id, NodeAt(id - 1).pose.data(), NodeAt(id).pose.data(),
+                      NodeAt(id - 1).speed_bias.data(), NodeAt(id).speed_bias.data(), NodeAt(id - 1).stamp,
+                      NodeAt(id).stamp);
 }
 
 Status LidarOdometry::Impl::AddWheel(const WheelSample& sample) {

@@ -158,6 +158,7 @@ void LidarOdometry::Impl::Release(ScanState& scan) {
     keyframe.velocity = (1 - alpha) * b.velocity + alpha * e.velocity;
     keyframe.bias_acc = b.accel_bias;
     keyframe.bias_gyro = b.gyro_bias;
+    keyframe.inertial = true;
   } else if (scan.end > scan.stamp) {
     keyframe.velocity = (end.translation() - begin.translation()) / ToSeconds(scan.end - scan.stamp);
   }

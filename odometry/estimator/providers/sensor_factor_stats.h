@@ -16,6 +16,7 @@ struct FactorCount {
 struct SensorFactorStats {
   FactorCount wheel;
   double wheel_scale = 1;  // the estimated wheel scale (1 without wheel factors or with it fixed)
+  int wheel_at_rest = 0;   // node intervals held by the stationary branch's zero-motion factor
   FactorCount gnss;
   int gnss_horizontal_only = 0;  // of gnss.added: used without their height (it failed the innovation test)
   int gnss_held_out = 0;         // of gnss.rejected: held out by the step guard (schedule/gnss_step_guard.h)

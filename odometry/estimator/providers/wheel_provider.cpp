@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "odometry/estimator/factors/wheel_factor.h"
+#include "odometry/estimator/factors/zero_motion_factor.h"
 #include "odometry/estimator/schedule/wheel_consistency.h"
 #include "odometry/estimator/state/nav_state.h"
 
@@ -152,8 +153,34 @@ Expected<SE3> WheelProvider::Motion(Stamp from, Stamp to) const {
   return T_body_wheel_ * SE3(pre->delta_R(), pre->delta_p()) * T_body_wheel_.inverse();
 }
 
+bool WheelProvider::AtRest(Stamp from, Stamp to) const {
+  const Stamp offset = FromSeconds(config_.time_offset_s);
+  const auto before = [](const WheelSample& s, Stamp t) { return s.stamp < t; };
+  auto first = std::lower_bound(samples_.begin(), samples_.end(), from - offset, before);
+  if (first == samples_.end()) return false;
+  if (first->stamp > from - offset) {
+    if (first == samples_.begin()) return false;
+    --first;
+  }
+  auto last = std::lower_bound(first, samples_.end(), to - offset, before);
+  if (last == samples_.end()) return false;
+  return std::all_of(first, last + 1, [](const WheelSample& s) {
+    return s.linear_velocity.norm() <= kRestSpeed && s.angular_velocity.norm() <= kRestTurnRate;
+  });
+}
+
+bool WheelProvider::LinkAtRest(FactorGraph& graph, long tag, double* pose_from, double* pose_to,
+                               double* speed_bias_from, double* speed_bias_to, Stamp from, Stamp to) {
+  if (!config_.stationary_updates || !AtRest(from, to)) return false;
+  graph.Add(FactorKind::kWheel, tag, MakeZeroMotionFactor({}), nullptr,
+            {pose_from, pose_to, speed_bias_from, speed_bias_to});
+  ++at_rest_;
+  return true;
+}
+
 void WheelProvider::Report(SensorFactorStats& stats) const {
   stats.wheel = {added_, skipped_, suppressed_};
+  stats.wheel_at_rest = at_rest_;
   stats.wheel_scale = scale_;
 }
 

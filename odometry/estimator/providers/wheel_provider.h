@@ -64,6 +64,17 @@ class WheelProvider {
   // T_body(from)^-1 T_body(to) = T_body_wheel dT_wheel T_body_wheel^-1 (dT_wheel: the preintegrated
   // motion); an error when the samples do not cover the interval. For an initialization without the window.
   Expected<SE3> Motion(Stamp from, Stamp to) const;
+  // Whether the wheels read no motion over [from, to] (estimator clock): every sample from the last at or
+  // before `from` to the first at or after `to` within kRestSpeed / kRestTurnRate of zero. False when the
+  // samples do not cover the interval.
+  bool AtRest(Stamp from, Stamp to) const;
+  // The stationary branch (config.stationary_updates): where the wheels are AtRest over [from, to], adds
+  // the zero-motion factor (factors/zero_motion_factor.h) on the two nodes' poses and velocities (tagged
+  // `tag`, kind kWheel) and returns true.
+  bool LinkAtRest(FactorGraph& graph, long tag, double* pose_from, double* pose_to, double* speed_bias_from,
+                  double* speed_bias_to, Stamp from, Stamp to);
+  static constexpr double kRestSpeed = 1e-3;     // m/s
+  static constexpr double kRestTurnRate = 1e-3;  // rad/s
   // Drops the samples no interval from `oldest` on needs (one before it is kept).
   void Trim(Stamp oldest);
 
@@ -88,7 +99,7 @@ class WheelProvider {
   SE3 T_body_wheel_;
   std::vector<WheelSample> samples_;  // wheel clock, increasing
   double scale_ = 1.0;
-  int added_ = 0, skipped_ = 0, suppressed_ = 0;
+  int added_ = 0, skipped_ = 0, suppressed_ = 0, at_rest_ = 0;
   ActivationGate gate_;
   std::optional<Stamp> shut_at_;                        // when the gate last shut
   Eigen::Vector2d baseline_ = Eigen::Vector2d::Zero();  // u_0 (schedule/wheel_consistency.h), m/s

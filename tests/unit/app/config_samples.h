@@ -155,6 +155,7 @@ inline estimator::LidarOdometryConfig NonDefaultOdometry() {
              .time_offset_s = 0.01,
              .estimate_scale = false,
              .scale_prior_sigma = 0.03,
+             .stationary_updates = false,
              .schedule = {.enabled = false,
                           .speed_tolerance_mps = 0.7,
                           .yaw_rate_tolerance_rad_s = 0.4,
@@ -251,6 +252,7 @@ inline estimator::InertialOdometryConfig NonDefaultWio() {
   c.init.accel_bias_sigma = defaults.accel_bias_sigma;
   c.init.max_chi2_per_dof = defaults.max_chi2_per_dof;
   c.wheel = lio.wheel;
+  c.wheel.stationary_updates = true;  // off by default in WIO, on in LIO
   c.gnss = lio.gnss;
   c.visual = lio.visual;
   return c;

@@ -227,6 +227,7 @@ inline void ExpectSameInertialParts(const Config& a, const Config& b) {
   EXPECT_FIELD(wheel.time_offset_s);
   EXPECT_FIELD(wheel.estimate_scale);
   EXPECT_FIELD(wheel.scale_prior_sigma);
+  EXPECT_FIELD(wheel.stationary_updates);
   EXPECT_FIELD(wheel.schedule.enabled);
   EXPECT_FIELD(wheel.schedule.speed_tolerance_mps);
   EXPECT_FIELD(wheel.schedule.yaw_rate_tolerance_rad_s);

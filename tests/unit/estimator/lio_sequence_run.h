@@ -46,6 +46,7 @@ inline std::filesystem::path Simulate(const uf::testing::TempDir& dir, double du
 
 struct LioRun {
   Trajectory estimate;
+  std::vector<Eigen::Vector3d> velocities;  // of each keyframe of estimate, world, m/s
   std::vector<std::string> warnings;
   std::string initialization;
   InitializationRecord init;
@@ -88,6 +89,7 @@ inline LioRun RunLio(
     EXPECT_TRUE(k.T_world_body.matrix().allFinite() && k.velocity.allFinite()) << ToSeconds(k.stamp);
     run.estimate.stamps.push_back(k.stamp);
     run.estimate.poses.push_back(k.T_world_body);
+    run.velocities.push_back(k.velocity);
   }
   run.warnings = lio->warnings();
   run.initialization = lio->initialization();

@@ -265,6 +265,27 @@ TEST_F(PlotsTest, SeriesPlotShowsItsDataOrRefusesBadInput) {
   ExpectFolderHolds({"series.png", "one.png"});
 }
 
+TEST_F(PlotsTest, ThreeSeriesPlotInOneOrRefuseBadInput) {
+  const SpiralCase c = Spiral(40);
+  std::vector<double> y = c.error, z = c.error;
+  for (double& v : y) v = -v;
+  for (double& v : z) v *= 0.5;
+  ASSERT_TRUE(WriteSeriesPlot(Path("xyz.png"), c.seconds, {{"x", c.error}, {"y", y}, {"z", z}}, std::nullopt,
+                              "Three", "t [s]", "v")
+                  .ok());
+  ExpectPng(Path("xyz.png"), 1280, 960);
+  EXPECT_GT(fs::file_size(Path("xyz.png")), 4 * kBlankPageBytes);
+  const std::vector<double> short_one(c.seconds.size() - 1, 1.0);
+  for (const std::vector<NamedSeries>& bad :
+       {std::vector<NamedSeries>{}, std::vector<NamedSeries>{{"x", c.error}, {"y", y}, {"z", z}, {"w", z}},
+        std::vector<NamedSeries>{{"x", c.error}, {"y", short_one}}}) {
+    const Status status = WriteSeriesPlot(Path("bad.png"), c.seconds, bad, std::nullopt, "t", "x", "y");
+    EXPECT_FALSE(status.ok());
+    EXPECT_NE(status.message().find("bad.png"), std::string::npos) << status.message();
+  }
+  ExpectFolderHolds({"xyz.png"});
+}
+
 TEST_F(PlotsTest, ThreadsCanPlotAtTheSameTime) {
   const SpiralCase c = Spiral(300);
   const ErrorStats stats = ComputeStats(c.error);

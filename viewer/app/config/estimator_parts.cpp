@@ -155,6 +155,9 @@ Schema<WheelFactorConfig> WheelSchema() {
   wheel.Key("time_offset_s", &W::time_offset_s, "s", "added to the wheel stamps (fixed, |.| <= 1)");
   wheel.Key("estimate_scale", &W::estimate_scale, "", "estimate the wheel scale (false: held at 1)");
   wheel.Key("scale_prior_sigma", &W::scale_prior_sigma, "", "prior of the wheel scale, relative to 1");
+  wheel.Key("stationary_updates", &W::stationary_updates, "",
+            "hold the nodes of an interval whose wheel samples all read no motion at one pose, at zero "
+            "velocity (false: wheels that stand while the vehicle moves)");
   wheel.Nest("schedule", &W::schedule, WheelScheduleSchema());
   return wheel;
 }

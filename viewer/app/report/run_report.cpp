@@ -210,6 +210,16 @@ std::string FormatImuReliability(const pipeline::OdometrySummary& o) {
   return md + PlotLink("IMU reliability", o.imu_reliability_plot);
 }
 
+// With an IMU: the inertial window's velocities and biases (imu_states.csv) and the bias plots.
+std::string FormatImuStates(const pipeline::OdometrySummary& o) {
+  std::string md = "\n## Inertial states\n\n";
+  md += "The velocity and the IMU biases of the " + std::to_string(o.imu_states) +
+        " keyframes the inertial window estimated, in `imu_states.csv` (the velocity in the estimator's "
+        "world, the biases in the IMU frame).\n";
+  return md + PlotLink("Accelerometer bias", o.imu_accel_bias_plot) +
+         PlotLink("Gyroscope bias", o.imu_gyro_bias_plot);
+}
+
 // With the camera: where its frames were left out.
 std::string FormatCameraReliability(const pipeline::OdometrySummary& o) {
   std::string md = "\n## Reliability (camera)\n\n";
@@ -281,6 +291,7 @@ std::string FormatRunReport(const pipeline::RunSummary& r) {
   if (o.gnss_scored > 0) md += FormatGnssReliability(o);
   if (o.imu_scored > 0) md += FormatImuReliability(o);
   if (o.camera_scored > 0) md += FormatCameraReliability(o);
+  if (o.imu_states > 0) md += FormatImuStates(o);
   if (o.online_calibration && o.calibration_estimates)
     md += FormatOnlineCalibration(*o.online_calibration, *o.calibration_estimates);
   md += "\n## Timing per " + o.step + " (" + (o.step == "scan" ? "AddScan" : "the node's solve") +

@@ -255,7 +255,8 @@ void Summarize(const RunPlan& plan, StageOutputs& o, RunSummary& summary) {
                               std::to_string(factors.wheel.rejected) +
                               " left out by the reliability scheduling (the wheel disagreed with the IMU); "
                               "estimated wheel scale " +
-                              scale);
+                              scale + "; " + std::to_string(factors.wheel_at_rest) +
+                              " intervals held at rest (the wheels read no motion: the stationary branch)");
     }
     if (plan.mode.camera) summary.notes.push_back(VisualNote(plan, factors));
     if (plan.mode.gnss)

@@ -7,6 +7,7 @@
 #include "odometry/io/geo_trajectory_file.h"
 #include "odometry/io/image_decode.h"
 #include "odometry/types/segmented_vector.h"
+#include "viewer/pipeline/stages/imu_states_file.h"
 #include "viewer/pipeline/track/track_overlay.h"
 
 namespace uf::pipeline {
@@ -29,6 +30,7 @@ struct Collected {
   SegmentedVector<ScoredKeyframe> scored;
   std::vector<std::string> camera_warnings;  // the first frames that failed to decode
   SegmentedVector<StepTime> visual;          // the steps with the camera's figures (V modes)
+  SegmentedVector<ImuStateRow> imu_states;   // the keyframes with inertial estimates (Keyframe::inertial)
 };
 
 constexpr std::int64_t kMaxKeptDecodeErrors = 5;  // undecodable frames whose reason is kept as a warning
@@ -43,6 +45,7 @@ Status CollectFinished(const OdometryStageInput& in, OdometryStageOutput& out, C
       continue;  // keep stamps increasing
     collected.pose_stamps.push_back(k.stamp);
     collected.poses.push_back(k.T_world_body);
+    if (k.inertial) collected.imu_states.push_back({k.stamp, k.velocity, k.bias_acc, k.bias_gyro});
     if (k.lidar_degeneracy || k.wheel_consistency || !k.gnss_checks.empty() || k.imu_reliability ||
         !k.camera_checks.empty())
       collected.scored.push_back({k.stamp, k.lidar_degeneracy, k.wheel_consistency, k.gnss_checks,
@@ -226,6 +229,15 @@ Status WriteOdometryFiles(const OdometryStageInput& in, const OdometryStageOutpu
   fs::create_directories(in.out / "plots", error);
   if (error) return Status::Error((in.out / "plots").string() + ": cannot create: " + error.message());
   if (Status s = WriteVisualSummary(collected.visual, in.out, summary, context); !s.ok()) return s;
+  const std::vector<ImuStateRow> states = std::move(collected.imu_states).TakeVector();
+  Expected<std::vector<std::string>> state_files = WriteImuStateFiles(in.out, states);
+  if (!state_files) return state_files.status();
+  for (const std::string& file : *state_files) context.AddOutput(file);
+  if (state_files->size() == 3) {
+    summary.imu_states = static_cast<std::int64_t>(states.size());
+    summary.imu_accel_bias_plot = (*state_files)[1];
+    summary.imu_gyro_bias_plot = (*state_files)[2];
+  }
   const std::string plot = "plots/timing_per_" + summary.step + ".png";
   if (Status s = WriteTimingPlot(in.out / plot, std::move(collected.stamps).TakeVector(),
                                  std::move(collected.ms).TakeVector(), summary.step);

@@ -91,6 +91,9 @@ struct OdometrySummary {
   std::int64_t camera_scored = 0;
   std::vector<DegenerateSpan> camera_suppressed;
   std::string camera_reliability_plot;
+  // The keyframes with inertial estimates (imu_states.csv) and their bias plots (none without).
+  std::int64_t imu_states = 0;
+  std::string imu_accel_bias_plot, imu_gyro_bias_plot;
 };
 
 // The stream whose messages pace the odometry, for the progress line: the LiDAR's, or the IMU's in WIO.

@@ -1,0 +1,51 @@
+// imu_states_file.h: imu_states.csv against hand-computed rows, its plots, and a non-finite state refused
+// with nothing written.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "tests/support/temp_dir.h"
+#include "viewer/pipeline/stages/imu_states_file.h"
+
+namespace uf::pipeline {
+namespace {
+
+namespace fs = std::filesystem;
+
+TEST(ImuStatesFile, OneRowPerKeyframeAndABiasPlotPerSensor) {
+  uf::testing::TempDir dir;
+  fs::create_directories(dir.path() / "plots");
+  const std::vector<ImuStateRow> rows = {{1'000'000'000, {3, 4, 0}, {0.01, -0.02, 0.03}, {1e-4, -2e-4, 3e-4}},
+                                         {1'100'000'000, {0, 0, -2}, {0, 0, 0}, {0, 0, 0}}};
+  Expected<std::vector<std::string>> written = WriteImuStateFiles(dir.path(), rows);
+  ASSERT_TRUE(written.ok()) << written.error();
+  EXPECT_EQ(*written, (std::vector<std::string>{"imu_states.csv", "plots/imu_accel_bias.png",
+                                                "plots/imu_gyro_bias.png"}));
+  EXPECT_EQ(testing::ReadText(dir.File("imu_states.csv")),
+            "stamp_ns,vx_mps,vy_mps,vz_mps,speed_mps,accel_bias_x,accel_bias_y,accel_bias_z,gyro_bias_x,"
+            "gyro_bias_y,gyro_bias_z\n"
+            "1000000000,3.000000,4.000000,0.000000,5.000000,0.0100000,-0.0200000,0.0300000,0.00010000,"
+            "-0.00020000,0.00030000\n"
+            "1100000000,0.000000,0.000000,-2.000000,2.000000,0.0000000,0.0000000,0.0000000,0.00000000,"
+            "0.00000000,0.00000000\n");
+  for (const std::string& file : *written) EXPECT_GT(fs::file_size(dir.path() / file), 0u) << file;
+}
+
+TEST(ImuStatesFile, NothingForNoRowsAndNoFileForANonFiniteState) {
+  uf::testing::TempDir dir;
+  fs::create_directories(dir.path() / "plots");
+  Expected<std::vector<std::string>> none = WriteImuStateFiles(dir.path(), {});
+  ASSERT_TRUE(none.ok());
+  EXPECT_TRUE(none->empty());
+  const std::vector<ImuStateRow> rows = {{5, {0, 0, 0}, {0, std::nan(""), 0}, {0, 0, 0}}};
+  Expected<std::vector<std::string>> bad = WriteImuStateFiles(dir.path(), rows);
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.error().find("imu_states.csv"), std::string::npos) << bad.error();
+  EXPECT_NE(bad.error().find("not finite"), std::string::npos) << bad.error();
+  EXPECT_FALSE(fs::exists(dir.path() / "imu_states.csv"));
+  EXPECT_TRUE(fs::is_empty(dir.path() / "plots"));
+}
+
+}  // namespace
+}  // namespace uf::pipeline

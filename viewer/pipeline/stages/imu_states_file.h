@@ -1,0 +1,31 @@
+// The inertial states of a run that estimated them (LIO, WIO and the modes built on them): imu_states.csv,
+// one row per keyframe with the body's velocity and speed and the IMU's accelerometer and gyroscope biases,
+// and plots/imu_accel_bias.png and plots/imu_gyro_bias.png (each bias's x, y, z over time). The biases are
+// in the IMU frame; the velocity is in the estimator's world frame (gravity-aligned, the first pose's
+// position and yaw; not ENU even when the trajectory is written in ENU).
+#pragma once
+
+#include <Eigen/Core>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "odometry/types/stamp.h"
+#include "odometry/types/status.h"
+
+namespace uf::pipeline {
+
+struct ImuStateRow {
+  Stamp stamp = 0;
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();    // body, world frame, m/s
+  Eigen::Vector3d accel_bias = Eigen::Vector3d::Zero();  // imu frame, m/s^2
+  Eigen::Vector3d gyro_bias = Eigen::Vector3d::Zero();   // imu frame, rad/s
+};
+
+// Writes folder/imu_states.csv and the two plots (folder/plots must exist); returns the files written,
+// relative to folder, in that order. Nothing is written for no rows. Errors: a file that cannot be written or
+// a non-finite state (nothing half written is left behind).
+Expected<std::vector<std::string>> WriteImuStateFiles(const std::filesystem::path& folder,
+                                                      const std::vector<ImuStateRow>& rows);
+
+}  // namespace uf::pipeline
