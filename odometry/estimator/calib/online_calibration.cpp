@@ -22,21 +22,13 @@ std::optional<Eigen::Vector3d> MeanGyroRate(std::span<const RateSample> gyro, do
   // piece [t, end] is the rate at its middle (the midpoint rule of the IMU preintegration). Holding each
   // sample until the next instead lags by half a sample, which shows as a rotation: on simulated wild
   // drives 0.2 deg about the vertical per 2.5 ms (docs/METHOD.md, "Online spatiotemporal calibration").
+  // The track covers [a, b] and increases, so while t < b there is a sample after k, and t < its stamp.
   SO3 R;
-  double t = a;
-  while (t < b && k < gyro.size()) {
-    const bool last = k + 1 == gyro.size();
-    const double end = last ? b : std::min(b, gyro[k + 1].t);
-    if (end > t) {
-      const double mid = 0.5 * (t + end);
-      const Eigen::Vector3d omega =
-          last ? gyro[k].omega
-               : gyro[k].omega +
-                     (gyro[k + 1].omega - gyro[k].omega) * ((mid - gyro[k].t) / (gyro[k + 1].t - gyro[k].t));
-      R = R * SO3::Exp(omega * (end - t));
-    }
+  for (double t = a; t < b; ++k) {
+    const RateSample &s0 = gyro[k], &s1 = gyro[k + 1];
+    const double end = std::min(b, s1.t), mid = 0.5 * (t + end);
+    R = R * SO3::Exp((s0.omega + (s1.omega - s0.omega) * ((mid - s0.t) / (s1.t - s0.t))) * (end - t));
     t = end;
-    ++k;
   }
   return (R.Log() / (b - a)).eval();
 }

@@ -37,6 +37,15 @@ std::string OffsetNote(const WheelFactorConfig& config) {
 
 }  // namespace
 
+std::span<const WheelSample> SamplesBracketing(std::span<const WheelSample> samples, Stamp begin, Stamp end) {
+  if (samples.empty() || samples.front().stamp > begin || samples.back().stamp < end) return {};
+  const auto is_before = [](const WheelSample& s, Stamp t) { return s.stamp < t; };
+  const auto is_after = [](Stamp t, const WheelSample& s) { return t < s.stamp; };
+  const auto first = std::upper_bound(samples.begin(), samples.end(), begin, is_after) - 1;
+  const auto last = std::lower_bound(first, samples.end(), end, is_before);
+  return {first, last + 1};
+}
+
 WheelPreintegration::WheelPreintegration(const WheelFactorConfig& config, Stamp from, Stamp to)
     : from_(from), to_(to) {
   const double v = config.forward_velocity_density, v_nh = config.nonholonomic_velocity_density;
@@ -70,11 +79,8 @@ Expected<WheelPreintegration> WheelPreintegration::Between(const std::vector<Whe
     return Status::Error(message.str());
   }
 
-  // The samples used: first = the last one at or before begin, last = the first one at or after end.
-  const auto is_before = [](const WheelSample& s, Stamp t) { return s.stamp < t; };
-  const auto is_after = [](Stamp t, const WheelSample& s) { return t < s.stamp; };
-  const auto first = std::upper_bound(samples.begin(), samples.end(), begin, is_after) - 1;
-  const auto last = std::lower_bound(samples.begin(), samples.end(), end, is_before);
+  const std::span<const WheelSample> used = SamplesBracketing(samples, begin, end);
+  const auto first = used.begin(), last = used.end() - 1;
   const Stamp max_gap = FromSeconds(config.max_gap_s);
   for (auto it = first; it <= last; ++it) {
     if (!Finite(*it)) {

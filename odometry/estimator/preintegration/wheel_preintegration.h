@@ -36,6 +36,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <span>
 #include <vector>
 
 #include "odometry/estimator/config/wheel_factor_config.h"
@@ -49,6 +50,10 @@ namespace uf::estimator {
 
 // Block offsets of the error state, the covariance and the wheel factor's residual.
 constexpr int kWheelPosition = 0, kWheelRotation = 3;
+
+// The samples (sorted by stamp) an interval [begin, end] of their own clock uses: from the last at or before
+// begin to the first at or after end. Empty when they do not cover it.
+std::span<const WheelSample> SamplesBracketing(std::span<const WheelSample> samples, Stamp begin, Stamp end);
 
 class WheelPreintegration {
  public:

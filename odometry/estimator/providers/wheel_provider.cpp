@@ -155,16 +155,8 @@ Expected<SE3> WheelProvider::Motion(Stamp from, Stamp to) const {
 
 bool WheelProvider::AtRest(Stamp from, Stamp to) const {
   const Stamp offset = FromSeconds(config_.time_offset_s);
-  const auto before = [](const WheelSample& s, Stamp t) { return s.stamp < t; };
-  auto first = std::lower_bound(samples_.begin(), samples_.end(), from - offset, before);
-  if (first == samples_.end()) return false;
-  if (first->stamp > from - offset) {
-    if (first == samples_.begin()) return false;
-    --first;
-  }
-  auto last = std::lower_bound(first, samples_.end(), to - offset, before);
-  if (last == samples_.end()) return false;
-  return std::all_of(first, last + 1, [](const WheelSample& s) {
+  const std::span<const WheelSample> used = SamplesBracketing(samples_, from - offset, to - offset);
+  return !used.empty() && std::all_of(used.begin(), used.end(), [](const WheelSample& s) {
     return s.linear_velocity.norm() <= kRestSpeed && s.angular_velocity.norm() <= kRestTurnRate;
   });
 }

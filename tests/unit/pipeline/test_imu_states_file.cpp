@@ -18,10 +18,12 @@ TEST(ImuStatesFile, OneRowPerKeyframeAndABiasPlotPerSensor) {
   fs::create_directories(dir.path() / "plots");
   const std::vector<ImuStateRow> rows = {{1'000'000'000, {3, 4, 0}, {0.01, -0.02, 0.03}, {1e-4, -2e-4, 3e-4}},
                                          {1'100'000'000, {0, 0, -2}, {0, 0, 0}, {0, 0, 0}}};
-  Expected<std::vector<std::string>> written = WriteImuStateFiles(dir.path(), rows);
+  Expected<ImuStateFiles> written = WriteImuStateFiles(dir.path(), rows);
   ASSERT_TRUE(written.ok()) << written.error();
-  EXPECT_EQ(*written, (std::vector<std::string>{"imu_states.csv", "plots/imu_accel_bias.png",
-                                                "plots/imu_gyro_bias.png"}));
+  EXPECT_EQ(written->files, (std::vector<std::string>{"imu_states.csv", "plots/imu_accel_bias.png",
+                                                      "plots/imu_gyro_bias.png"}));
+  EXPECT_EQ(written->accel_bias_plot, "plots/imu_accel_bias.png");
+  EXPECT_EQ(written->gyro_bias_plot, "plots/imu_gyro_bias.png");
   EXPECT_EQ(testing::ReadText(dir.File("imu_states.csv")),
             "stamp_ns,vx_mps,vy_mps,vz_mps,speed_mps,accel_bias_x,accel_bias_y,accel_bias_z,gyro_bias_x,"
             "gyro_bias_y,gyro_bias_z\n"
@@ -29,17 +31,18 @@ TEST(ImuStatesFile, OneRowPerKeyframeAndABiasPlotPerSensor) {
             "-0.00020000,0.00030000\n"
             "1100000000,0.000000,0.000000,-2.000000,2.000000,0.0000000,0.0000000,0.0000000,0.00000000,"
             "0.00000000,0.00000000\n");
-  for (const std::string& file : *written) EXPECT_GT(fs::file_size(dir.path() / file), 0u) << file;
+  for (const std::string& file : written->files) EXPECT_GT(fs::file_size(dir.path() / file), 0u) << file;
 }
 
 TEST(ImuStatesFile, NothingForNoRowsAndNoFileForANonFiniteState) {
   uf::testing::TempDir dir;
   fs::create_directories(dir.path() / "plots");
-  Expected<std::vector<std::string>> none = WriteImuStateFiles(dir.path(), {});
+  Expected<ImuStateFiles> none = WriteImuStateFiles(dir.path(), {});
   ASSERT_TRUE(none.ok());
-  EXPECT_TRUE(none->empty());
+  EXPECT_TRUE(none->files.empty());
+  EXPECT_TRUE(none->accel_bias_plot.empty());
   const std::vector<ImuStateRow> rows = {{5, {0, 0, 0}, {0, std::nan(""), 0}, {0, 0, 0}}};
-  Expected<std::vector<std::string>> bad = WriteImuStateFiles(dir.path(), rows);
+  Expected<ImuStateFiles> bad = WriteImuStateFiles(dir.path(), rows);
   ASSERT_FALSE(bad.ok());
   EXPECT_NE(bad.error().find("imu_states.csv"), std::string::npos) << bad.error();
   EXPECT_NE(bad.error().find("not finite"), std::string::npos) << bad.error();

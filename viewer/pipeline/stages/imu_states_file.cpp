@@ -20,9 +20,12 @@ std::vector<NamedSeries> Components(const std::vector<ImuStateRow>& rows,
 
 }  // namespace
 
-Expected<std::vector<std::string>> WriteImuStateFiles(const std::filesystem::path& folder,
-                                                      const std::vector<ImuStateRow>& rows) {
-  if (rows.empty()) return std::vector<std::string>{};
+Expected<ImuStateFiles> WriteImuStateFiles(const std::filesystem::path& folder,
+                                           const std::vector<ImuStateRow>& rows) {
+  if (rows.empty()) return ImuStateFiles{};
+  const ImuStateFiles written = {{"imu_states.csv", "plots/imu_accel_bias.png", "plots/imu_gyro_bias.png"},
+                                 "plots/imu_accel_bias.png",
+                                 "plots/imu_gyro_bias.png"};
   std::ostringstream csv;
   csv << "stamp_ns,vx_mps,vy_mps,vz_mps,speed_mps,accel_bias_x,accel_bias_y,accel_bias_z,gyro_bias_x,"
          "gyro_bias_y,gyro_bias_z\n";
@@ -36,19 +39,19 @@ Expected<std::vector<std::string>> WriteImuStateFiles(const std::filesystem::pat
         << PrintfText(",%.8f,%.8f,%.8f", g.x(), g.y(), g.z()) << "\n";
     seconds.push_back(ToSeconds(row.stamp - rows.front().stamp));
   }
-  if (Status s = WriteTextFileAtomically(folder / "imu_states.csv", csv.str()); !s.ok()) return s;
+  if (Status s = WriteTextFileAtomically(folder / written.files[0], csv.str()); !s.ok()) return s;
   const std::string x_label = "time since the first keyframe [s]";
-  if (Status s = WriteSeriesPlot((folder / "plots/imu_accel_bias.png").string(), seconds,
+  if (Status s = WriteSeriesPlot((folder / written.accel_bias_plot).string(), seconds,
                                  Components(rows, &ImuStateRow::accel_bias), std::nullopt,
                                  "Accelerometer bias (imu frame)", x_label, "bias [m/s^2]");
       !s.ok())
     return s;
-  if (Status s = WriteSeriesPlot((folder / "plots/imu_gyro_bias.png").string(), seconds,
+  if (Status s = WriteSeriesPlot((folder / written.gyro_bias_plot).string(), seconds,
                                  Components(rows, &ImuStateRow::gyro_bias), std::nullopt,
                                  "Gyroscope bias (imu frame)", x_label, "bias [rad/s]");
       !s.ok())
     return s;
-  return std::vector<std::string>{"imu_states.csv", "plots/imu_accel_bias.png", "plots/imu_gyro_bias.png"};
+  return written;
 }
 
 }  // namespace uf::pipeline

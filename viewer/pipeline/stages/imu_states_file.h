@@ -22,10 +22,16 @@ struct ImuStateRow {
   Eigen::Vector3d gyro_bias = Eigen::Vector3d::Zero();   // imu frame, rad/s
 };
 
-// Writes folder/imu_states.csv and the two plots (folder/plots must exist); returns the files written,
-// relative to folder, in that order. Nothing is written for no rows. Errors: a file that cannot be written or
-// a non-finite state (nothing half written is left behind).
-Expected<std::vector<std::string>> WriteImuStateFiles(const std::filesystem::path& folder,
-                                                      const std::vector<ImuStateRow>& rows);
+// What WriteImuStateFiles wrote, relative to its folder: every file, and the two plots (all empty for no
+// rows).
+struct ImuStateFiles {
+  std::vector<std::string> files;
+  std::string accel_bias_plot, gyro_bias_plot;
+};
+
+// Writes folder/imu_states.csv and the two plots (folder/plots must exist). Nothing is written for no rows.
+// Errors: a file that cannot be written or a non-finite state (nothing half written is left behind).
+Expected<ImuStateFiles> WriteImuStateFiles(const std::filesystem::path& folder,
+                                           const std::vector<ImuStateRow>& rows);
 
 }  // namespace uf::pipeline

@@ -230,14 +230,12 @@ Status WriteOdometryFiles(const OdometryStageInput& in, const OdometryStageOutpu
   if (error) return Status::Error((in.out / "plots").string() + ": cannot create: " + error.message());
   if (Status s = WriteVisualSummary(collected.visual, in.out, summary, context); !s.ok()) return s;
   const std::vector<ImuStateRow> states = std::move(collected.imu_states).TakeVector();
-  Expected<std::vector<std::string>> state_files = WriteImuStateFiles(in.out, states);
+  Expected<ImuStateFiles> state_files = WriteImuStateFiles(in.out, states);
   if (!state_files) return state_files.status();
-  for (const std::string& file : *state_files) context.AddOutput(file);
-  if (state_files->size() == 3) {
-    summary.imu_states = static_cast<std::int64_t>(states.size());
-    summary.imu_accel_bias_plot = (*state_files)[1];
-    summary.imu_gyro_bias_plot = (*state_files)[2];
-  }
+  for (const std::string& file : state_files->files) context.AddOutput(file);
+  summary.imu_states = static_cast<std::int64_t>(states.size());
+  summary.imu_accel_bias_plot = state_files->accel_bias_plot;
+  summary.imu_gyro_bias_plot = state_files->gyro_bias_plot;
   const std::string plot = "plots/timing_per_" + summary.step + ".png";
   if (Status s = WriteTimingPlot(in.out / plot, std::move(collected.stamps).TakeVector(),
                                  std::move(collected.ms).TakeVector(), summary.step);
