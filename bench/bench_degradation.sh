@@ -13,9 +13,9 @@
 # camera outside the camera cases, GNSS only in the GNSS cases. Each runs with
 # the reliability scheduling on (the default; with the clipping gyro, its full scale given as
 # `imu.gyro_range`, as a datasheet would) and off (the ablation: `lio|wio.wheel.schedule.enabled: false`,
-# no range, the GNSS innovation test's gate at 1e9 and no step guard; in the LiDAR cases on is
-# `lo.drop_weak_directions: true` and in the camera cases `lio|wio.visual.schedule.enabled: true`, both off
-# by default), the solves' time budget lifted, in
+# no range, the GNSS innovation test's gate at 1e9 and no step guard, and the LiDAR's weak translations
+# not left to the wheel: `lio.wheel_carries_weak_translations: false`; in the camera cases on is
+# `lio|wio.visual.schedule.enabled: true`, off by default), the solves' time budget lifted, in
 # WIO and LWIO on `urban` and `wild`, in LWIO on `corridor` (where the LiDAR leaves the axis to the wheel),
 # in WGIO and LWGIO for the GNSS cases and in LWIO for the LiDAR cases, against the simulator's ground
 # truth, the scheduled ATE also per 100 m driven. The GNSS cases add how far
@@ -63,7 +63,8 @@ off="$work/schedule-off.yaml"
 camera_budget='  visual:\n    max_solver_time_s: 10'
 unscheduled="$camera_budget"'\n    schedule:\n      enabled: false\n  wheel:\n    schedule:\n      enabled: false\n  gnss:\n    integrity_gate: 1e9\n    step_max_hold_s: 0'
 sed -e 's/^lo:$/lo:\n  max_solver_time_s: 10/' -e "s/^lio:$/lio:\n$camera_budget/" "$root/configs/run-sim.yaml" >"$on"
-sed -e 's/^lo:$/lo:\n  max_solver_time_s: 10/' -e "s/^lio:$/lio:\n$unscheduled/" "$root/configs/run-sim.yaml" >"$off"
+sed -e 's/^lo:$/lo:\n  max_solver_time_s: 10/' -e "s/^lio:$/lio:\n  wheel_carries_weak_translations: false\n$unscheduled/" \
+  "$root/configs/run-sim.yaml" >"$off"
 printf "\nwio:\n  max_solver_time_s: 10\n$camera_budget\n" >>"$on"
 printf "\nwio:\n  max_solver_time_s: 10\n$unscheduled\n" >>"$off"
 # With the clipping gyro, scheduling on knows its full scale.
@@ -73,9 +74,6 @@ sed -e 's/^  imu:$/  imu:\n    gyro_range: 0.25/' -e 's/^wio:$/wio:\n  imu:\n   
 # (off by default).
 on_camera="$work/schedule-on-camera.yaml"
 sed 's/^    max_solver_time_s: 10$/    max_solver_time_s: 10\n    schedule:\n      enabled: true/' "$on" >"$on_camera"
-# In the LiDAR cases, scheduling on drops the LiDAR's weak directions.
-on_lidar="$work/schedule-on-lidar.yaml"
-sed 's/^lo:$/lo:\n  drop_weak_directions: true/' "$on" >"$on_lidar"
 
 # A sequence: scene, seed, slips ("[]" for none), floats ("[]" for none), gyro saturation (0: none), GNSS
 # ("none", "clean" RTK fixes, "faulty": with the multipath and the outage), out, and the camera ("none",
@@ -179,7 +177,6 @@ for seed in $seeds; do
       }
       config="$on"
       [[ $kind == clip ]] && config="$on_clip"
-      [[ $scene == lidar ]] && config="$on_lidar"
       [[ $scene == camera ]] && config="$on_camera"
       driven=$(awk '!/^#/ { if (n++) d += sqrt(($2 - x) ^ 2 + ($3 - y) ^ 2 + ($4 - z) ^ 2); x = $2; y = $3; z = $4 }
         END { printf "%.0f", d }' "$data/groundtruth.tum")

@@ -83,6 +83,13 @@ struct LidarOdometryConfig {
                              .stationary_updates = true,
                              .schedule = {}};
   SE3 T_body_wheel;  // the wheel (base) frame in the body frame, from the calibration like T_body_lidar
+  // Reliability scheduling of the LiDAR beside the wheel (docs/METHOD.md "Factor-wise reliability
+  // scheduling"): where a registered scan pins a translation weakly (below 0.1 of its mean) and less than the
+  // wheel does over its interval (forward speed and non-holonomic terms; also while the wheel's gate is
+  // shut), its point-to-plane factors lose their say along it (LooseTranslationProjector): along a corridor's
+  // axis the planes fitted to the scan lines held the estimate back while the vehicle pulled away.
+  // drop_weak_directions, when on, drops more.
+  bool wheel_carries_weak_translations = true;
 
   // GNSS position factors (LIO+G, LWGIO; providers/gnss_provider.h). Needs use_imu: the factor's 4-dof
   // alignment (yaw and translation) holds only in a gravity-aligned world.

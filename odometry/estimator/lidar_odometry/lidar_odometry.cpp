@@ -261,6 +261,7 @@ SensorFactorStats LidarOdometry::sensor_factors() const {
   if (impl_->gnss) impl_->gnss->Report(stats);
   if (impl_->visual) impl_->visual->Report(stats);
   stats.lidar_plane_rings = impl_->map.min_plane_rings_in_use();
+  stats.lidar_translations_to_wheel = impl_->scans_leaving_translations_to_wheel;
   return stats;
 }
 

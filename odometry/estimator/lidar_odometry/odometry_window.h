@@ -79,8 +79,9 @@ struct ScanState {
   // The information of its point-to-plane factors at registration (ScanInformation), none before or when
   // rejected: the wheel scale's test (ForwardSigma) and the keyframe's LiDAR degeneracy read it.
   std::optional<Matrix6d> information;
-  // With config.drop_weak_directions, when the information leaves a direction weak: the projector its
-  // point-to-plane factors are taken through (ProjectedFactor) from then on.
+  // With config.drop_weak_directions (or wheel_carries_weak_translations), when the information leaves a
+  // direction weak: the projector its point-to-plane factors are taken through (ProjectedFactor) from then
+  // on.
   std::optional<Matrix6d> projector;
 };
 
@@ -151,6 +152,7 @@ struct LidarOdometry::Impl {
   std::deque<double> recent_match_fractions;      // of the last registered scans
   std::deque<double> recent_guess_turns;  // rad: MoveFromGuess's angle, last registered scans kept apart
   int consecutive_rejections = 0;
+  int scans_leaving_translations_to_wheel = 0;  // LeaveWeakTranslationsToWheel's, over the run
   std::vector<TrackEvent> events;  // since the last TakeEvents
   // LIO.
   ImuBuffer imu;                  // from before the oldest node on
@@ -212,6 +214,8 @@ struct LidarOdometry::Impl {
   void PopOldest();
   Matrix6d ScanInformation(const ScanState& scan);
   void DropWeakDirections(ScanState& scan);
+  void LeaveWeakTranslationsToWheel(ScanState& scan);
+  bool Project(ScanState& scan, const Matrix6d& P);  // false (nothing done) for P = I
   double ForwardSigma(const ScanState& scan) const;
 
   // Solve and marginalize (window_solve.cpp).

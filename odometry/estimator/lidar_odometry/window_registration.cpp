@@ -267,7 +267,10 @@ bool LidarOdometry::Impl::RegisterNewScan(ScanState& current) {
   if (!why) {
     current.information = ScanInformation(current);
     if (wheel) current.forward_sigma_m = ForwardSigma(current);
-    if (config.drop_weak_directions) DropWeakDirections(current);
+    if (config.drop_weak_directions)
+      DropWeakDirections(current);
+    else if (wheel && config.wheel_carries_weak_translations)
+      LeaveWeakTranslationsToWheel(current);
     // A scan taken where the last one was matches the map it just made almost fully: at a standstill the
     // match fraction says nothing of what a moving scan reaches, so only scans that moved count.
     const SE3 moved = last_registered ? last_registered->pose.inverse() * NodePose(current.end_node) : SE3();

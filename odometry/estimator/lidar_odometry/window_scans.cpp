@@ -242,12 +242,29 @@ Matrix6d LidarOdometry::Impl::ScanInformation(const ScanState& scan) {
 // factors are taken through the projector of its weak directions from now on, so that the window solves and
 // the marginalization get no LiDAR information along them.
 void LidarOdometry::Impl::DropWeakDirections(ScanState& scan) {
-  if (!scan.information) return;
-  const Matrix6d P = WeakDirectionProjector(*scan.information);
-  if (P.isIdentity(0.0)) return;
+  if (scan.information) Project(scan, WeakDirectionProjector(*scan.information));
+}
+
+// The same for the translations the wheel holds better over the scan's last node interval
+// (WheelProvider::PositionInformation), where wheel samples cover the interval. Also while the wheel's gate
+// leaves the interval's factor out: handing the axis back to the scan then pulled the window towards the map
+// it had drifted with, which kept the wheel disagreeing and its gate shut (docs/METHOD.md "Factor-wise
+// reliability scheduling").
+void LidarOdometry::Impl::LeaveWeakTranslationsToWheel(ScanState& scan) {
+  const long id = scan.end_node;
+  if (!scan.information || id <= first_node_id || wheel->CoveredUntil() < NodeAt(id).stamp) return;
+  const double dt = ToSeconds(NodeAt(id).stamp - NodeAt(id - 1).stamp);
+  if (!(dt > 0)) return;
+  const Eigen::Matrix3d W = wheel->PositionInformation(NodePose(id).so3(), dt);
+  if (Project(scan, LooseTranslationProjector(*scan.information, W))) ++scans_leaving_translations_to_wheel;
+}
+
+bool LidarOdometry::Impl::Project(ScanState& scan, const Matrix6d& P) {
+  if (P.isIdentity(0.0)) return false;
   scan.projector = P;
   for (Factor& factor : graph.Entries(FactorKind::kLidar))
     if (factor.tag == scan.id) factor.cost = std::make_unique<ProjectedFactor>(std::move(factor.cost), P);
+  return true;
 }
 
 // The standard deviation of the scan's position along the wheel's forward axis f = R_world_body R_body_wheel

@@ -42,6 +42,8 @@ struct SensorFactorStats {
   // LiDAR modes: the rings a map block needed for a plane (lo.map.min_plane_rings, or what its auto chose
   // for the LiDAR); 0 without LiDAR.
   int lidar_plane_rings = 0;
+  // LWIO: scans whose weak translations were left to the wheel (lio.wheel_carries_weak_translations).
+  int lidar_translations_to_wheel = 0;
 };
 
 }  // namespace uf::estimator

@@ -1,6 +1,7 @@
 #include "odometry/estimator/providers/wheel_provider.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include "odometry/estimator/factors/wheel_factor.h"
@@ -151,6 +152,13 @@ Expected<SE3> WheelProvider::Motion(Stamp from, Stamp to) const {
   Expected<WheelPreintegration> pre = WheelPreintegration::Between(samples_, from, to, config_);
   if (!pre) return pre.status();
   return T_body_wheel_ * SE3(pre->delta_R(), pre->delta_p()) * T_body_wheel_.inverse();
+}
+
+Eigen::Matrix3d WheelProvider::PositionInformation(const SO3& R_world_body, double dt) const {
+  const Eigen::Vector3d forward = R_world_body * T_body_wheel_.so3() * Eigen::Vector3d::UnitX();
+  const double along = 1 / (std::pow(config_.forward_velocity_density, 2) * dt);
+  const double across = 1 / (std::pow(config_.nonholonomic_velocity_density, 2) * dt);
+  return across * Eigen::Matrix3d::Identity() + (along - across) * forward * forward.transpose();
 }
 
 bool WheelProvider::AtRest(Stamp from, Stamp to) const {

@@ -68,6 +68,10 @@ class WheelProvider {
   // before `from` to the first at or after `to` within kRestSpeed / kRestTurnRate of zero. False when the
   // samples do not cover the interval.
   bool AtRest(Stamp from, Stamp to) const;
+  // The information (1/m^2, world) the wheel factor's noise gives the body's position over an interval of dt
+  // seconds, the body at attitude R_world_body: a velocity density q gives the position a variance q^2 dt,
+  // the forward speed's along the wheel's x axis, the non-holonomic terms' across it.
+  Eigen::Matrix3d PositionInformation(const SO3& R_world_body, double dt) const;
   // The stationary branch (config.stationary_updates): where the wheels are AtRest over [from, to], adds
   // the zero-motion factor (factors/zero_motion_factor.h) on the two nodes' poses and velocities (tagged
   // `tag`, kind kWheel) and returns true.

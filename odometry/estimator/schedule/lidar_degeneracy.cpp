@@ -25,6 +25,20 @@ double Isotropy(const BlockSpectrum& s) {
   return s.mean > 0 ? std::clamp(s.eigen.eigenvalues()(0) / s.mean, 0.0, 1.0) : 0.0;
 }
 
+// The block's projector off its eigenvectors below kHealthyIsotropy of its mean for which `drop` (given
+// the eigenvector and its eigenvalue) holds too.
+template <typename Drop>
+Eigen::Matrix3d BlockProjector(const BlockSpectrum& s, Drop drop) {
+  Eigen::Matrix3d P = Eigen::Matrix3d::Identity();
+  if (!(s.mean > 0)) return P;
+  for (int i = 0; i < 3; ++i) {
+    const Eigen::Vector3d v = s.eigen.eigenvectors().col(i);
+    if (s.eigen.eigenvalues()(i) < kHealthyIsotropy * s.mean && drop(v, s.eigen.eigenvalues()(i)))
+      P -= v * v.transpose();
+  }
+  return P;
+}
+
 }  // namespace
 
 LidarDegeneracy AnalyzeLidarInformation(const Matrix6d& information, int matches) {
@@ -43,15 +57,18 @@ LidarDegeneracy AnalyzeLidarInformation(const Matrix6d& information, int matches
 Matrix6d WeakDirectionProjector(const Matrix6d& information) {
   Matrix6d P = Matrix6d::Identity();
   if (!information.allFinite()) return P;
-  for (int block = 0; block < 2; ++block) {
-    const BlockSpectrum s = Spectrum(information, block);
-    if (!(s.mean > 0)) continue;
-    for (int i = 0; i < 3; ++i) {
-      if (s.eigen.eigenvalues()(i) >= kHealthyIsotropy * s.mean) continue;
-      const Eigen::Vector3d v = s.eigen.eigenvectors().col(i);
-      P.block<3, 3>(3 * block, 3 * block) -= v * v.transpose();
-    }
-  }
+  const auto always = [](const Eigen::Vector3d&, double) { return true; };
+  for (int block = 0; block < 2; ++block)
+    P.block<3, 3>(3 * block, 3 * block) = BlockProjector(Spectrum(information, block), always);
+  return P;
+}
+
+Matrix6d LooseTranslationProjector(const Matrix6d& information, const Eigen::Matrix3d& other_information) {
+  Matrix6d P = Matrix6d::Identity();
+  if (!information.allFinite() || !other_information.allFinite()) return P;
+  P.block<3, 3>(0, 0) = BlockProjector(
+      Spectrum(information, 0),
+      [&](const Eigen::Vector3d& u, double lambda) { return lambda < u.dot(other_information * u); });
   return P;
 }
 

@@ -29,4 +29,11 @@ LidarDegeneracy AnalyzeLidarInformation(const Matrix6d& information, int matches
 // information.
 Matrix6d WeakDirectionProjector(const Matrix6d& information);
 
+// The same beside another sensor that holds the translation with information W (1/m^2, world, over the
+// scan's interval): P = blockdiag(I - sum u u^T, I) over the eigenvectors u of H_tt below kHealthyIsotropy
+// of their block's mean whose eigenvalue is also below u^T W u, where the other sensor pins the position
+// better than the scan does. Rotations stay. (The wheel in the LIO window: docs/METHOD.md "Factor-wise
+// reliability scheduling".)
+Matrix6d LooseTranslationProjector(const Matrix6d& information, const Eigen::Matrix3d& other_information);
+
 }  // namespace uf::estimator

@@ -302,6 +302,7 @@ inline void ExpectSameInertialParts(const Config& a, const Config& b) {
 
 inline void ExpectSameLio(const estimator::LidarOdometryConfig& a, const estimator::LidarOdometryConfig& b) {
   EXPECT_FIELD(imu_deskew);
+  EXPECT_FIELD(wheel_carries_weak_translations);
   EXPECT_FIELD(imu_max_gap_s);
   EXPECT_FIELD(imu_max_wait_s);
   EXPECT_FIELD(init.min_scans);

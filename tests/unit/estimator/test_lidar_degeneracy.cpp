@@ -12,6 +12,7 @@
 #include "odometry/estimator/state/nav_state.h"
 #include "odometry/estimator/state/pose_manifold.h"
 #include "odometry/sim/sequence/sequence_generator.h"
+#include "odometry/types/so3.h"
 #include "tests/support/temp_dir.h"
 #include "tests/unit/estimator/lio_test_support.h"
 
@@ -93,6 +94,32 @@ TEST(LidarDegeneracy, TheProjectorRemovesTheWeakDirectionsOnly) {
   H.diagonal() << 1, 1, 4, 2, 2, 2;  // healthy
   EXPECT_TRUE(WeakDirectionProjector(H).isIdentity(0.0));
   EXPECT_TRUE(WeakDirectionProjector(Matrix6d::Zero()).isIdentity(0.0));
+}
+
+TEST(LidarDegeneracy, BesideAnotherSensorOnlyTheTranslationsItHoldsBetterAreDropped) {
+  Matrix6d H = Matrix6d::Zero();
+  H.diagonal() << 0.02, 1, 1, 2, 2, 2;  // x translation weak (0.02 < 0.1 * 0.673)
+  Matrix6d without_x = Matrix6d::Identity();
+  without_x(0, 0) = 0;
+  // The other sensor holds x better than the scan (1 > 0.02): x goes; where it holds it less, x stays.
+  EXPECT_LT((LooseTranslationProjector(H, Eigen::Vector3d(1, 0, 0).asDiagonal()) - without_x).norm(), 1e-12);
+  EXPECT_TRUE(LooseTranslationProjector(H, Eigen::Vector3d(0.01, 5, 5).asDiagonal()).isIdentity(0.0));
+  // Along a turned weak direction: W's information along it is what counts.
+  const Eigen::Matrix3d R = SO3::Exp(Eigen::Vector3d(0, 0, 0.5)).matrix();
+  Matrix6d H_turned = H;
+  H_turned.block<3, 3>(0, 0) = R * H.block<3, 3>(0, 0) * R.transpose();
+  const Eigen::Vector3d u = R.col(0);
+  Matrix6d expected = Matrix6d::Identity();
+  expected.block<3, 3>(0, 0) -= u * u.transpose();
+  const Eigen::Matrix3d W =
+      0.05 * u * u.transpose() + 0.001 * Eigen::Matrix3d::Identity();  // u^T W u = 0.051
+  EXPECT_LT((LooseTranslationProjector(H_turned, W) - expected).norm(), 1e-9);
+  // Rotations stay, however weak; a healthy scan keeps everything.
+  H.diagonal() << 1, 1, 1, 0.01, 2, 0.05;
+  EXPECT_TRUE(LooseTranslationProjector(H, 1e6 * Eigen::Matrix3d::Identity()).isIdentity(0.0));
+  H.diagonal() << 1, 1, 4, 2, 2, 2;
+  EXPECT_TRUE(LooseTranslationProjector(H, 1e6 * Eigen::Matrix3d::Identity()).isIdentity(0.0));
+  EXPECT_TRUE(LooseTranslationProjector(Matrix6d::Zero(), Eigen::Matrix3d::Identity()).isIdentity(0.0));
 }
 
 TEST(LidarDegeneracy, AProjectedFactorKeepsTheResidualAndProjectsTheJacobians) {

@@ -88,6 +88,9 @@ Schema<LidarOdometryConfig> MakeLioSchema() {
   s.Nest("imu", &C::imu,
          config::ImuNoiseSchema("10x the ADIS16448 datasheet: a margin for the budgeted solves"));
   s.Nest("init", &C::init, config::InitSchema(true));
+  s.Key("wheel_carries_weak_translations", &C::wheel_carries_weak_translations, "",
+        "LWIO: a scan's point-to-plane factors lose their say along the translations it pins weakly and "
+        "less than the wheel does over its interval (reliability scheduling)");
   s.Nest("wheel", &C::wheel, config::WheelSchema());
   s.Nest("gnss", &C::gnss, config::GnssSchema());
   s.Nest("visual", &C::visual, config::VisualSchema());

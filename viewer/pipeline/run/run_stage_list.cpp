@@ -256,7 +256,9 @@ void Summarize(const RunPlan& plan, StageOutputs& o, RunSummary& summary) {
                               " left out by the reliability scheduling (the wheel disagreed with the IMU); "
                               "estimated wheel scale " +
                               scale + "; " + std::to_string(factors.wheel_at_rest) +
-                              " intervals held at rest (the wheels read no motion: the stationary branch)");
+                              " intervals held at rest (the wheels read no motion: the stationary branch); " +
+                              std::to_string(factors.lidar_translations_to_wheel) +
+                              " scans left a weakly held translation to the wheel (reliability scheduling)");
     }
     if (plan.mode.camera) summary.notes.push_back(VisualNote(plan, factors));
     if (plan.mode.gnss)
