@@ -71,6 +71,7 @@ Status PointTimeCheckOptions::Validate() const {
   if (min_scans < 2) return error("min_scans", ">= 2", min_scans);
   if (max_scans < min_scans) return error("max_scans", ">= min_scans", max_scans);
   if (max_scans_read < max_scans) return error("max_scans_read", ">= max_scans", max_scans_read);
+  if (!(max_still_s > 0)) return error("max_still_s", "> 0", max_still_s);
   if (!(min_sweep_motion_m >= 0)) return error("min_sweep_motion_m", ">= 0", min_sweep_motion_m);
   if (!(reference_range_m > 0)) return error("reference_range_m", "> 0", reference_range_m);
   if (!(margin >= 0 && margin < 1)) return error("margin", "in [0, 1)", margin);
@@ -147,6 +148,7 @@ struct PointTimeCheck::Impl {
   std::deque<LidarScan> held;
   std::map<Stamp, SE3> poses;         // the motion odometry's keyframe poses by keyframe stamp (scan middle)
   std::optional<Stamp> first_moving;  // stamp of the first moving scan
+  std::optional<Stamp> first_read, last_read;  // stamps of the first and the latest scan read
   int read = 0;
   double seconds = 0;
 
@@ -243,8 +245,10 @@ PointTimeCheckResult PointTimeCheck::Impl::Decide() {
   const std::string motion_rule = PrintfText("%g", options.min_sweep_motion_m) + " m per sweep at " +
                                   PrintfText("%g", options.reference_range_m) + " m range";
   if (!first_moving) {
-    result.reason = NotCompared("no motion in the " + std::to_string(read) + " scans read (none moved " +
-                                motion_rule + "); every convention fits a still scan equally");
+    const double span = first_read ? ToSeconds(*last_read - *first_read) : 0.0;
+    result.reason = NotCompared("no motion in the " + std::to_string(read) + " scans read over " +
+                                PrintfText("%.1f", span) + " s (none moved " + motion_rule +
+                                "); every convention fits a still scan equally");
     return finish();
   }
   const std::size_t count = std::min(held.size(), static_cast<std::size_t>(options.max_scans));
@@ -301,7 +305,9 @@ Expected<PointTimeCheck> PointTimeCheck::Create(const LidarOdometryConfig& confi
                                              .motion = std::move(*motion),
                                              .held = {},
                                              .poses = {},
-                                             .first_moving = std::nullopt});
+                                             .first_moving = std::nullopt,
+                                             .first_read = std::nullopt,
+                                             .last_read = std::nullopt});
   return PointTimeCheck(std::move(impl));
 }
 
@@ -317,6 +323,8 @@ Status PointTimeCheck::Add(const LidarScan& scan) {
   LidarScan thinned = scan;
   thinned.points = VoxelDownsample(scan.points, impl_->options.thin_voxel_m);
   ++impl_->read;
+  if (!impl_->first_read) impl_->first_read = scan.stamp;
+  impl_->last_read = std::max(impl_->last_read.value_or(scan.stamp), scan.stamp);
   Status status = impl_->motion.AddScan(thinned);
   if (status.ok()) {
     impl_->held.push_back(std::move(thinned));
@@ -327,8 +335,10 @@ Status PointTimeCheck::Add(const LidarScan& scan) {
 }
 
 bool PointTimeCheck::Done() const {
-  return impl_->read >= impl_->options.max_scans_read ||
-         (impl_->first_moving && impl_->held.size() >= static_cast<std::size_t>(impl_->options.max_scans));
+  const Impl& d = *impl_;
+  if (d.read >= d.options.max_scans_read) return true;
+  if (d.first_moving) return d.held.size() >= static_cast<std::size_t>(d.options.max_scans);
+  return d.first_read && ToSeconds(*d.last_read - *d.first_read) >= d.options.max_still_s;
 }
 
 PointTimeCheckResult PointTimeCheck::Decide() { return impl_->Decide(); }

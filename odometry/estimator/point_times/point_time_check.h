@@ -9,7 +9,8 @@
 //    when, between the poses of scans i-1 and i, a point at reference_range_m moves at least
 //    min_sweep_motion_m per sweep period T:  (|dt| + |dtheta| r_ref) T / (t_i - t_i-1). Standing still,
 //    every convention fits equally, so still scans are dropped until two scans in a row move; the scan
-//    before them is kept as the anchor (the odometry maps its first scan as if at rest).
+//    before them is kept as the anchor (the odometry maps its first scan as if at rest). A platform that
+//    stands is waited for up to max_still_s of stream time.
 // 2. Candidates (CandidateConventions). On the anchor and the scans after it (max_scans in all): the
 //    current convention, the other direction, for a fixed start also both directions from the other fixed
 //    start (behind <-> ahead), and none (no deskew). For each, the times of those scans are derived again
@@ -50,7 +51,10 @@ namespace uf::estimator {
 struct PointTimeCheckOptions {
   int max_scans = 12;       // the anchor and the scans after it that the conventions are compared on
   int min_scans = 6;        // moving scans needed among them; fewer: not enough to judge
-  int max_scans_read = 60;  // Done() after this many scans even without motion
+  // Without motion, Done() once the scans read span this much stream time: a vehicle that waits before it
+  // drives (tens of seconds at a start line or a gate) is waited out.
+  double max_still_s = 120.0;
+  int max_scans_read = 3000;  // and after this many scans in any case (a bound on the work)
   double min_sweep_motion_m =
       0.05;  // a scan moves when a point at reference_range_m moves this much per sweep
   double reference_range_m = 10.0;
@@ -95,7 +99,8 @@ class PointTimeCheck {
   // The stream's next scan, as read (times derived with `current`). Scans without azimuth-derived times
   // are an error (misuse); empty or out-of-order scans are passed to the odometry, which skips them.
   Status Add(const LidarScan& scan);
-  // Enough scans held to compare (max_scans from the anchor), or max_scans_read scans read.
+  // Enough scans held to compare (max_scans from the anchor), or no motion over max_still_s of stream
+  // time, or max_scans_read scans read.
   bool Done() const;
   // Compares the conventions on the scans held (call once, at Done() or at the end of the stream).
   PointTimeCheckResult Decide();

@@ -1,8 +1,8 @@
 // The check of azimuth conventions (odometry/estimator/point_times/point_time_check.h) against truths it
 // does not see:
 // - the simulator's spinning LiDAR sweeps clockwise from behind (lidar_model.h, with true per-point times):
-//   scans whose times are derived the wrong way on purpose (counter-clockwise) are switched back; standing
-//   still, the times as read are kept and the reason says why;
+//   scans whose times are derived the wrong way on purpose (counter-clockwise) are switched back, also
+//   after a long still start; standing still, the times as read are kept and the reason says why;
 // - real Ouster OS1-64 scans (../shared/data/newer-college-06-deskew) with their true per-point times: the
 //   convention whose derived times match the true ones best (clockwise from ahead) is a fact about the
 //   sensor. Three scans are too few for the check (the odometry does not register them one after the other
@@ -156,14 +156,43 @@ TEST_F(SimulatedScans, StandingStillKeepsTheTimesAsReadAndSaysWhy) {
   PointTimeCheckOptions options;
   options.max_scans = 6;
   options.min_scans = 4;
-  options.max_scans_read = 9;
-  const PointTimeCheckResult result = Check(Scans(0.0, 9, kCcwBehind), kCcwBehind, SimConfig(), options);
+  options.max_still_s = 0.75;  // the 9th scan starts 0.8 s after the first
+  const PointTimeCheckResult result = Check(Scans(0.0, 10, kCcwBehind), kCcwBehind, SimConfig(), options);
   EXPECT_FALSE(result.compared);
   EXPECT_EQ(result.chosen, kCcwBehind);
   EXPECT_TRUE(result.scores.empty());
   EXPECT_EQ(result.scans_read, 9);
   EXPECT_NE(result.reason.find("counter-clockwise from behind kept"), std::string::npos) << result.reason;
-  EXPECT_NE(result.reason.find("no motion"), std::string::npos) << result.reason;
+  EXPECT_NE(result.reason.find("no motion in the 9 scans read over 0.8 s"), std::string::npos)
+      << result.reason;
+}
+
+// `scan` taken `by` later.
+LidarScan Restamped(LidarScan scan, Stamp by) {
+  scan.stamp += by;
+  scan.end += by;
+  return scan;
+}
+
+TEST_F(SimulatedScans, ALongStillStartIsWaitedOut) {
+  // A vehicle that waits 8 s before it drives (80 still scans: the standing second's, repeated), then the
+  // default trajectory's drive-off from 1 s on, its times derived the wrong way. The check waits for the
+  // motion (it gave up after 60 scans before) and switches to the sensor's convention.
+  const std::vector<LidarScan> still = Scans(0.0, 10, kCcwBehind), moving = Scans(1.0, 40, kCcwBehind);
+  const Stamp period = still[1].stamp - still[0].stamp;
+  std::vector<LidarScan> scans;
+  for (int i = 0; i < 80; ++i) scans.push_back(Restamped(still[i % 10], (i - i % 10) * period));
+  for (const LidarScan& scan : moving) scans.push_back(Restamped(scan, 70 * period));
+  const PointTimeCheckResult result = Check(scans, kCcwBehind, SimConfig(), {});
+  ASSERT_TRUE(result.compared) << result.reason;
+  EXPECT_GT(result.scans_read, 80);
+  EXPECT_EQ(result.chosen, kClockwiseFromBehind) << result.reason;
+  // Standing longer than max_still_s: the times as read are kept, after the scans of max_still_s.
+  PointTimeCheckOptions options;
+  options.max_still_s = 5.0;
+  const PointTimeCheckResult waited = Check(scans, kCcwBehind, SimConfig(), options);
+  EXPECT_FALSE(waited.compared);
+  EXPECT_EQ(waited.scans_read, 51) << waited.reason;
 }
 
 TEST(PointTimeCheck, OptionsAndCandidates) {
@@ -172,6 +201,9 @@ TEST(PointTimeCheck, OptionsAndCandidates) {
   options.margin = 1.5;
   EXPECT_EQ(options.Validate().message(), "point_time_check.margin: must be in [0, 1), got 1.5");
   EXPECT_FALSE(PointTimeCheck::Create({}, kClockwiseFromBehind, options).ok());
+  options.margin = 0.1;
+  options.max_still_s = std::nan("");
+  EXPECT_EQ(options.Validate().message(), "point_time_check.max_still_s: must be > 0, got nan");
   // A fixed start: both directions from behind and from ahead, and none; the first point: its directions.
   const std::vector<AzimuthConvention> fixed = CandidateConventions(kClockwiseFromBehind);
   const std::vector<AzimuthConvention> expected = {kClockwiseFromBehind,
