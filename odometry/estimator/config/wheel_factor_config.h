@@ -64,7 +64,9 @@ struct WheelScheduleConfig {
   // accelerating: ATE 4.2 m against 0.95 m without scheduling). The wheel's speed change over the last
   // change_window_s against the IMU's (sum over the intervals of (v_wheel(to) - v_wheel(from)) -
   // (v_imu(to) - v_imu(from)), which does not depend on the window's velocity) catches it; e_v is the larger
-  // of the two disagreements. 0 turns it off.
+  // of the two disagreements. 0 turns it off. It is also how long the wheel joins unscored after the
+  // inertial initialization and after a clipped IMU interval, where the IMU's prediction is not yet to be
+  // trusted (WheelProvider::Link).
   double change_window_s = 1.0;
   // tau_c: the disagreement of the speed changes that saturates the speed term (alone it shuts the gate at
   // half of it). Measured (simulated, 60 s): at 0.5 m/s, as tau_v, the end of a pull-away shut it on clean

@@ -56,7 +56,13 @@ Status WheelProvider::Link(FactorGraph& graph, long tag, double* pose_from, doub
     clipped_at_ = to;
     restart_baseline_ = true;
   }
-  const bool settled = !clipped_at_ || ToSeconds(from - *clipped_at_) >= config_.schedule.change_window_s;
+  if (reference == WheelReference::kPredicted && !predicted_from_) {
+    predicted_from_ = from;
+    restart_baseline_ = true;
+  }
+  const double settle_s = config_.schedule.change_window_s;
+  const bool settled = (!clipped_at_ || ToSeconds(from - *clipped_at_) >= settle_s) &&
+                       (!predicted_from_ || ToSeconds(from - *predicted_from_) >= settle_s);
   if (reference == WheelReference::kPredicted && settled &&
       !Admit(tag, *pre, pose_from, pose_to, from, to, speed_bias_from, speed_bias_to)) {
     ++suppressed_;

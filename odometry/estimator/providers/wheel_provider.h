@@ -113,6 +113,10 @@ class WheelProvider {
   // interval's error for a while, so scoring resumes change_window_s after it, the first scored interval
   // restarting u_0 and the change window.
   std::optional<Stamp> clipped_at_;
+  // The start of the first interval the IMU predicted (the inertial initialization): its prediction rests
+  // on a velocity and biases nothing has confirmed yet, so scoring starts change_window_s later, like after
+  // a clipped interval.
+  std::optional<Stamp> predicted_from_;
   bool restart_baseline_ = false;
 };
 

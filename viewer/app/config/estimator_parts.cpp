@@ -120,7 +120,8 @@ Schema<WheelScheduleConfig> WheelScheduleSchema() {
         "while the wheel is out the speed tolerance grows by this per second (the IMU's prediction drifts)");
   s.Key("change_window_s", &S::change_window_s, "s",
         "the wheel's speed change against the IMU's over this long also counts (a fault that builds up "
-        "slowly; 0: off)");
+        "slowly; 0: off); and the wheel joins unscored for this long after the inertial initialization and "
+        "after a clipped IMU interval");
   s.Key("change_tolerance_mps", &S::change_tolerance_mps, "m/s",
         "the disagreement of those speed changes that saturates the speed term");
   s.Key(
