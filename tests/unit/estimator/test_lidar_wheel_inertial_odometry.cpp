@@ -1,7 +1,8 @@
 // LiDAR-wheel-inertial odometry (LWIO) end to end on short simulated sequences: the wheel factors join the
 // window, the wheel scale is held where the LiDAR cannot see the forward motion and estimated where it can,
-// bad wheel samples (NaN, stamps going back, gaps) are skipped with warnings, and the wheel carries the
-// translations the LiDAR holds more loosely (a corridor's axis).
+// bad wheel samples (NaN, stamps going back, gaps) are skipped with warnings, the wheel carries the
+// translations the LiDAR holds more loosely (a corridor's axis), and a noisy encoder is not left out right
+// after the initialization.
 #include <gtest/gtest.h>
 
 #include <cmath>
