@@ -61,6 +61,16 @@ std::vector<Eigen::Vector3f> DeskewAlong(const Trajectory& trajectory, const Lid
   return world;
 }
 
+// Whether the scans are keyframes whose sweeps do not touch (the median gap from a sweep's end to the next
+// one's start above 1 ms).
+bool SeparateSweeps(const std::vector<LidarScan>& scans) {
+  std::vector<Stamp> gaps;
+  for (std::size_t i = 1; i < scans.size(); ++i) gaps.push_back(scans[i].stamp - scans[i - 1].end);
+  if (gaps.empty()) return false;
+  std::nth_element(gaps.begin(), gaps.begin() + gaps.size() / 2, gaps.end());
+  return gaps[gaps.size() / 2] > 1'000'000;
+}
+
 }  // namespace
 
 Status PointTimeCheckOptions::Validate() const {
@@ -209,15 +219,21 @@ struct PointTimeCheck::Impl {
     }
     odometry->Finish();
     Trajectory trajectory;
-    for (const Keyframe& keyframe : odometry->TakeFinished()) {
+    std::map<Stamp, std::vector<Eigen::Vector3f>> deskewed;  // as the odometry's own sweep nodes place them
+    for (Keyframe& keyframe : odometry->TakeFinished()) {
       if (!trajectory.stamps.empty() && keyframe.stamp <= trajectory.stamps.back()) continue;
       trajectory.stamps.push_back(keyframe.stamp);
       trajectory.poses.push_back(keyframe.T_world_body);
+      deskewed[keyframe.stamp] = std::move(keyframe.scan_world);
     }
+    const bool separate = SeparateSweeps(scans);
     std::vector<std::vector<Eigen::Vector3f>> scans_world;
-    for (const LidarScan& scan : scans)
-      if (std::binary_search(trajectory.stamps.begin(), trajectory.stamps.end(), Middle(scan)))
-        scans_world.push_back(DeskewAlong(trajectory, scan, config.min_range_m, config.max_range_m));
+    for (const LidarScan& scan : scans) {
+      auto own = deskewed.find(Middle(scan));
+      if (own == deskewed.end()) continue;
+      scans_world.push_back(separate ? std::move(own->second)
+                                     : DeskewAlong(trajectory, scan, config.min_range_m, config.max_range_m));
+    }
     ConventionScore score = ScoreKeyframes(scans_world, config.map, options.max_distance_m);
     score.convention = convention;
     return score;
@@ -272,9 +288,22 @@ PointTimeCheckResult PointTimeCheck::Impl::Decide() {
   }
   result.compared = true;
   const ConventionScore& kept = result.scores.front();
-  const auto best = std::min_element(result.scores.begin(), result.scores.end(),
-                                     [](const auto& a, const auto& b) { return a.score_m < b.score_m; });
-  const bool clearly_better = best->score_m < (1 - options.margin) * kept.score_m;
+  const auto lowest = std::min_element(result.scores.begin(), result.scores.end(),
+                                       [](const auto& a, const auto& b) { return a.score_m < b.score_m; });
+  // Not `margin` above the lowest score: a tie with it.
+  auto ties = [&](const ConventionScore& score) {
+    return lowest->score_m >= (1 - options.margin) * score.score_m;
+  };
+  const bool clearly_better = !ties(kept);
+  // The lowest, or a candidate tied with it that spins like the current convention: where the sweeps are
+  // separate, the scores do not tell the direction (step 3 in point_time_check.h).
+  auto best = lowest;
+  if (lowest->convention.sweep != current.sweep)
+    for (auto score = result.scores.begin(); score != result.scores.end(); ++score)
+      if (score->convention.sweep == current.sweep && ties(*score)) {
+        best = score;
+        break;
+      }
   if (clearly_better) result.chosen = best->convention;
   std::string others;
   for (const ConventionScore& score : result.scores) {
@@ -286,9 +315,11 @@ PointTimeCheckResult PointTimeCheck::Impl::Decide() {
   result.reason = AzimuthConventionText(result.chosen) + ": point-to-plane " +
                   PrintfText("%.4f m", chosen.score_m) + others + " over " + std::to_string(count) +
                   " scans (" + std::to_string(result.moving_scans) + " moving)";
-  if (!clearly_better && best->convention != current)
-    result.reason += "; kept: " + AzimuthConventionText(best->convention) + " is not " +
-                     PrintfText("%g", 100 * options.margin) + " % lower";
+  const std::string within = " is not " + PrintfText("%g", 100 * options.margin) + " % lower";
+  if (!clearly_better && lowest->convention != current)
+    result.reason += "; kept: " + AzimuthConventionText(lowest->convention) + within;
+  else if (clearly_better && best != lowest)
+    result.reason += "; the direction kept: " + AzimuthConventionText(lowest->convention) + within;
   return finish();
 }
 
