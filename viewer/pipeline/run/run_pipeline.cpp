@@ -215,6 +215,20 @@ Status PlanOnlineCalibration(RunPlan& plan) {
   return {};
 }
 
+// Point times whose convention the check chose at the start are checked again after the first rejected
+// registration or restart of the local map (point_time_recheck.h); LO and LIO from the start.
+Status PlanPointTimeRecheck(RunPlan& plan) {
+  const std::optional<PointTimeSelection>& times = plan.summary.point_times;
+  if (!times || !times->check || !times->convention || plan.frames.mode == OdometryMode::kWio ||
+      plan.request.from != RunFrom::kStart)
+    return {};
+  Expected<estimator::PointTimeRecheck> recheck =
+      estimator::PointTimeRecheck::Create(plan.lo_config, *times->convention);
+  if (!recheck) return recheck.status();
+  plan.point_time_recheck = std::make_unique<estimator::PointTimeRecheck>(std::move(*recheck));
+  return {};
+}
+
 }  // namespace
 
 Expected<RunPlan> PlanRun(RunRequest request, PlanErrorKind& kind) {
@@ -264,6 +278,7 @@ Expected<RunPlan> PlanRun(RunRequest request, PlanErrorKind& kind) {
   if (!odometry) return odometry.status();
   plan.odometry = std::move(*odometry);
   if (Status s = PlanOnlineCalibration(plan); !s.ok()) return s;
+  if (Status s = PlanPointTimeRecheck(plan); !s.ok()) return s;
   if (!r.no_map && r.from != RunFrom::kSplat && mode->core != OdometryMode::kWio) {
     mapping::KeyframeMapperOptions options;
     options.map.voxel_size_m = r.map_voxel_m;

@@ -62,6 +62,8 @@ struct RunPlan {
   std::unique_ptr<MeasurementStream> stream;
   std::unique_ptr<RunEstimator> odometry;
   std::unique_ptr<CalibrationBranch> calibration;   // --calibrate-online
+  // The point-time convention that the check chose, checked again when the registration degrades
+  std::unique_ptr<estimator::PointTimeRecheck> point_time_recheck;
   std::unique_ptr<mapping::KeyframeMapper> mapper;  // none with --no-map, --from splat or in WIO
   DatasetSensors sensors;
   EstimatorMode mode;

@@ -3,6 +3,7 @@
 // summary.
 #include <chrono>
 #include <cstdio>
+#include <iostream>
 #include <numbers>
 
 #include "odometry/types/printf_text.h"
@@ -168,9 +169,13 @@ std::vector<Stage> RunStageList(RunPlan& plan, const fs::path& out, StageOutputs
                                 .overlay_every = r.overlay_every,
                                 .min_track_length = plan.visual_config().tracker.min_track_length,
                                 .calibration = plan.calibration.get(),
+                                .point_time_recheck = plan.point_time_recheck.get(),
                                 .paced_messages = o.dataset ? o.dataset->paced_messages : 0,
                                 .out = out};
     if (Status s = Keep(o.odometry, RunOdometryStage(in, c)); !s.ok()) return s;
+    if (const auto& recheck = o.odometry->summary.point_time_recheck)
+      std::cerr << "ultrafusion: point times of " << plan.summary.point_times->stream << ": "
+                << recheck->Line() << "\n";
     if (Status s = WriteRunTracks(plan, *o.odometry, out, c); !s.ok()) return s;
     if (Status s = WriteCameraCalibrationEstimate(plan, *o.odometry, out, c); !s.ok()) return s;
     const std::optional<OnlineCalibrationSummary>& calibration = o.odometry->summary.online_calibration;
@@ -246,6 +251,12 @@ void Summarize(const RunPlan& plan, StageOutputs& o, RunSummary& summary) {
                                            : "WIO initialized: " + init);
     const estimator::SensorFactorStats& factors = summary.odometry.sensor_factors;
     if (factors.lidar_plane_rings > 0) summary.notes.push_back(RingGateNote(plan, factors.lidar_plane_rings));
+    if (const auto& recheck = summary.odometry.point_time_recheck)
+      summary.notes.push_back("point times of " + summary.point_times->stream + ": " + recheck->Line() +
+                              (recheck->switched_from
+                                   ? " (config.yaml keeps the convention the run started with; "
+                                     "dataset.point_time_convention sets this one from the start)"
+                                   : ""));
     if (plan.mode.wheel) {
       char scale[32];
       std::snprintf(scale, sizeof(scale), "%.4f", factors.wheel_scale);

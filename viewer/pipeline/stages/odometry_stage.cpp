@@ -280,6 +280,10 @@ Expected<OdometryStageOutput> RunOdometryStage(const OdometryStageInput& in, Sta
         ApplyLockedExtrinsic(*in.calibration, scan->stamp, odometry, out, collected);
         if (!in.calibration->Restamp(*scan)) return Status();  // re-stamped behind the previous scan
       }
+      if (in.point_time_recheck) {
+        in.point_time_recheck->Notice(out.summary.track_events);
+        if (Status s = in.point_time_recheck->Prepare(*scan); !s.ok()) return s;
+      }
       status = odometry.AddScan(*scan);
     } else if (const auto* sample = std::get_if<ImuSample>(&m.data); sample && m.stream == sensors.imu) {
       status = odometry.AddImu(*sample);
@@ -339,6 +343,10 @@ Expected<OdometryStageOutput> RunOdometryStage(const OdometryStageInput& in, Sta
   odometry.Finish();
   if (Status s = CollectFinished(in, out, collected, keyframes); !s.ok()) return s;
   out.estimated = {std::move(collected.pose_stamps).TakeVector(), std::move(collected.poses).TakeVector()};
+  if (in.point_time_recheck) {
+    in.point_time_recheck->Finish();
+    out.summary.point_time_recheck = in.point_time_recheck->result();
+  }
   if (in.calibration) {  // after the window's last poses, which may still be from before the lock
     in.calibration->Finish();
     out.summary.online_calibration = in.calibration->summary();

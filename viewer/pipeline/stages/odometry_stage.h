@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "mapping/keyframe_mapper.h"
+#include "odometry/estimator/point_times/point_time_recheck.h"
 #include "odometry/io/dataset_sensors.h"
 #include "odometry/io/measurement_stream.h"
 #include "viewer/pipeline/calibrate/calibration_branch.h"
@@ -40,6 +41,9 @@ struct OdometryStageInput {
   // run --calibrate-online: the calibration branch (holds the run for the locks, re-stamps the scans, hands
   // over the locked rotation)
   CalibrationBranch* calibration = nullptr;
+  // Point times that the check at the start chose: checked again when the registration degrades
+  // (point_time_recheck.h); none otherwise.
+  estimator::PointTimeRecheck* point_time_recheck = nullptr;
   // The total of the stream that paces the odometry (PacedStream) for the progress line; 0: unknown.
   std::int64_t paced_messages = 0;
   std::filesystem::path out;
@@ -55,6 +59,8 @@ struct OdometrySummary {
   std::vector<std::string> odometry_warnings;
   std::string initialization;                       // LIO and WIO: how it initialized ("" never); LO: ""
   std::vector<estimator::TrackEvent> track_events;  // rejections, fallback guesses, restarts
+  // The point-time convention checked again after the first rejection or restart (none: it was not)
+  std::optional<estimator::PointTimeRecheckResult> point_time_recheck;
   estimator::SensorFactorStats sensor_factors;      // wheel (and GNSS) factors added and skipped
   std::string timing_plot;                          // "plots/timing_per_scan.png" once written
   // V modes: the camera's landmarks per step (node or scan) after its solve (the fewest over the steps that
