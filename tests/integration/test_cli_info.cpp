@@ -115,6 +115,7 @@ TEST(CliInfo, KittiKeyframeFolder) {
   EXPECT_EQ(times["check"]["scores"].size(), 5u);
   EXPECT_EQ(times["check"]["scores"][0]["convention"], "clockwise_from_behind");
   EXPECT_EQ(times["check"]["scans_used"], 12);
+  EXPECT_EQ(times["check"]["separate_sweeps"], true);  // keyframes 0.2 s apart, 0.1 s sweeps
   EXPECT_NE(times["line"].get<std::string>().find("clockwise from behind: point-to-plane"), std::string::npos)
       << times["line"];
 }

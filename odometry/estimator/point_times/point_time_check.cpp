@@ -61,11 +61,11 @@ std::vector<Eigen::Vector3f> DeskewAlong(const Trajectory& trajectory, const Lid
   return world;
 }
 
-// Whether the scans are keyframes whose sweeps do not touch (the median gap from a sweep's end to the next
-// one's start above 1 ms).
-bool SeparateSweeps(const std::vector<LidarScan>& scans) {
+// Whether the first `count` scans are keyframes whose sweeps do not touch (the median gap from a sweep's end
+// to the next one's start above 1 ms).
+bool SeparateSweeps(const std::deque<LidarScan>& scans, std::size_t count) {
   std::vector<Stamp> gaps;
-  for (std::size_t i = 1; i < scans.size(); ++i) gaps.push_back(scans[i].stamp - scans[i - 1].end);
+  for (std::size_t i = 1; i < count; ++i) gaps.push_back(scans[i].stamp - scans[i - 1].end);
   if (gaps.empty()) return false;
   std::nth_element(gaps.begin(), gaps.begin() + gaps.size() / 2, gaps.end());
   return gaps[gaps.size() / 2] > 1'000'000;
@@ -208,8 +208,10 @@ struct PointTimeCheck::Impl {
   }
 
   // A LiDAR-only odometry over the first `count` held scans, their times derived by `convention`; then the
-  // scans deskewed along the trajectory through its keyframe poses, scored.
-  Expected<ConventionScore> Score(const AzimuthConvention& convention, std::size_t count) const {
+  // scans deskewed (step 3: along the trajectory through its keyframe poses, or as its own sweep nodes place
+  // them where the sweeps are `separate`), scored.
+  Expected<ConventionScore> Score(const AzimuthConvention& convention, std::size_t count,
+                                  bool separate) const {
     Expected<LidarOdometry> odometry = LidarOdometry::Create(config);
     if (!odometry) return odometry.status();
     std::vector<LidarScan> scans(held.begin(), held.begin() + static_cast<std::ptrdiff_t>(count));
@@ -226,7 +228,6 @@ struct PointTimeCheck::Impl {
       trajectory.poses.push_back(keyframe.T_world_body);
       deskewed[keyframe.stamp] = std::move(keyframe.scan_world);
     }
-    const bool separate = SeparateSweeps(scans);
     std::vector<std::vector<Eigen::Vector3f>> scans_world;
     for (const LidarScan& scan : scans) {
       auto own = deskewed.find(Middle(scan));
@@ -270,6 +271,7 @@ PointTimeCheckResult PointTimeCheck::Impl::Decide() {
   const std::size_t count = std::min(held.size(), static_cast<std::size_t>(options.max_scans));
   result.scans_used = static_cast<int>(count);
   result.moving_scans = MovingScans(count);
+  result.separate_sweeps = SeparateSweeps(held, count);
   if (result.moving_scans < options.min_scans) {
     result.reason =
         NotCompared("only " + std::to_string(result.moving_scans) + " scans moved (" + motion_rule +
@@ -278,7 +280,7 @@ PointTimeCheckResult PointTimeCheck::Impl::Decide() {
     return finish();
   }
   for (const AzimuthConvention& candidate : CandidateConventions(current)) {
-    Expected<ConventionScore> score = Score(candidate, count);
+    Expected<ConventionScore> score = Score(candidate, count, result.separate_sweeps);
     if (!score) {
       result.scores.clear();
       result.reason = NotCompared("the odometry failed: " + score.error());
@@ -314,7 +316,8 @@ PointTimeCheckResult PointTimeCheck::Impl::Decide() {
   const ConventionScore& chosen = clearly_better ? *best : kept;
   result.reason = AzimuthConventionText(result.chosen) + ": point-to-plane " +
                   PrintfText("%.4f m", chosen.score_m) + others + " over " + std::to_string(count) +
-                  " scans (" + std::to_string(result.moving_scans) + " moving)";
+                  " scans (" + std::to_string(result.moving_scans) + " moving" +
+                  (result.separate_sweeps ? "; separate sweeps, each deskewed by its own nodes)" : ")");
   const std::string within = " is not " + PrintfText("%g", 100 * options.margin) + " % lower";
   if (!clearly_better && lowest->convention != current)
     result.reason += "; kept: " + AzimuthConventionText(lowest->convention) + within;

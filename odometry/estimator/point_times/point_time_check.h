@@ -88,6 +88,7 @@ struct PointTimeCheckResult {
   int scans_read = 0;                   // scans Add was given
   int scans_used = 0;                   // scans the conventions were compared on (anchor included)
   int moving_scans = 0;                 // of those, the ones that moved
+  bool separate_sweeps = false;         // of those: keyframes whose sweeps do not touch (step 3)
   double seconds = 0;                   // wall time of Add and Decide together
   // One line: "counter-clockwise from behind: point-to-plane 0.031 m vs clockwise from behind 0.058 m,
   // none (no deskew) 0.040 m over 12 scans".

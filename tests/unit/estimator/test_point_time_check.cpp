@@ -140,6 +140,7 @@ TEST_F(SimulatedScans, WrongDirectionIsSwitchedToTheSensors) {
   EXPECT_EQ(result.scores.front().convention, kCcwBehind);
   EXPECT_EQ(result.scans_used, 8);
   EXPECT_GE(result.moving_scans, 6);
+  EXPECT_FALSE(result.separate_sweeps);  // every sweep starts where the one before ended
   const ConventionScore* right = ScoreOf(result, kClockwiseFromBehind);
   const ConventionScore* none = ScoreOf(result, kNoDeskew);
   ASSERT_TRUE(right && none);
@@ -200,6 +201,8 @@ TEST_F(HandheldKeyframes, SweepStartingAheadIsFound) {
   const PointTimeCheckResult result =
       Check(Scans(0.5, 12, kClockwiseFromBehind, true, 5), kClockwiseFromBehind, SimConfig(), options);
   ASSERT_TRUE(result.compared) << result.reason;
+  EXPECT_TRUE(result.separate_sweeps);
+  EXPECT_NE(result.reason.find("; separate sweeps, each deskewed by its own nodes)"), std::string::npos);
   EXPECT_EQ(result.chosen, kCwAhead) << result.reason;
   const ConventionScore* right = ScoreOf(result, kCwAhead);
   const ConventionScore* none = ScoreOf(result, kNoDeskew);

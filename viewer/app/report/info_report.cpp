@@ -54,7 +54,8 @@ void PrintPointTimes(std::ostream& out, const pipeline::PointTimeSelection& time
         << Fixed(score.score_m, 4) << " m (" << score.points << " points, " << score.keyframes
         << " keyframes)\n";
   out << indent << "  check: " << check.scans_read << " scans read, " << check.scans_used << " compared ("
-      << check.moving_scans << " moving), " << Fixed(check.seconds, 1) << " s\n";
+      << check.moving_scans << " moving" << (check.separate_sweeps ? "; separate sweeps" : "") << "), "
+      << Fixed(check.seconds, 1) << " s\n";
 }
 
 // The ground-truth file, or the reference the reader derived (with its pose count and frame).
@@ -184,6 +185,7 @@ void PrintDatasetJson(std::ostream& out, const DatasetSummary& summary) {
                               {"scans_read", check->scans_read},
                               {"scans_used", check->scans_used},
                               {"moving_scans", check->moving_scans},
+                              {"separate_sweeps", check->separate_sweeps},
                               {"seconds", check->seconds},
                               {"reason", check->reason},
                               {"scores", scores}};
