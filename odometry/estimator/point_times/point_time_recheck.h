@@ -31,8 +31,8 @@ struct PointTimeRecheckResult {
   PointTimeCheckResult check;          // its decision (check.current: the convention the run derived with)
   std::optional<Stamp> switched_from;  // the first scan whose times were derived with check.chosen; none:
                                        //   the convention was kept (or no scan came after the decision)
-  // One line for the report: "re-checked after the scan rejected at 12.300000000 s: <reason>; from the scan
-  // at 14.000000000 s on, the times are derived clockwise from ahead".
+  // One line for the report: "re-checked after the scan rejected at 12.300000 s: <reason>; from the scan at
+  // 14.000000 s on, the times are derived clockwise from ahead".
   std::string Line() const;
 };
 
@@ -46,8 +46,9 @@ class PointTimeRecheck {
   // The track's events so far (in order; a prefix of the next call's): the first rejection or restart starts
   // the check.
   void Notice(const std::vector<TrackEvent>& events);
-  // The next scan of the stream, before the odometry gets it: held by the check while it runs; its times
-  // derived again once another convention was chosen. Errors: the check's (a scan without azimuth times).
+  // The next scan of the stream, before the odometry gets it: while the check runs, a thinned copy goes to
+  // it; once another convention was chosen, the scan's times are derived again with that one. Errors: the
+  // check's (a scan without azimuth times).
   Status Prepare(LidarScan& scan);
   // At the end of the stream: a check still running decides on what it holds.
   void Finish();
