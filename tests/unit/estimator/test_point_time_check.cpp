@@ -17,117 +17,21 @@
 #include <filesystem>
 
 #include "odometry/estimator/point_times/point_time_check.h"
-#include "odometry/estimator/point_times/point_time_recheck.h"
 #include "odometry/io/dataset_reader.h"
-#include "odometry/sim/scene/scene_builder.h"
-#include "odometry/sim/sensors/lidar_model.h"
-#include "odometry/sim/sensors/ray_caster.h"
-#include "odometry/sim/sequence/sim_trajectory.h"
 #include "tests/support/temp_dir.h"
+#include "tests/unit/estimator/point_time_test_support.h"
 
 namespace uf::estimator {
 namespace {
 
 namespace fs = std::filesystem;
 
-constexpr AzimuthConvention kCcwBehind{AzimuthSweep::kCounterClockwise, SweepStart::kBehind};
-constexpr AzimuthConvention kCwAhead{AzimuthSweep::kClockwise, SweepStart::kAhead};
-
-PointTimeCheckResult Check(const std::vector<LidarScan>& scans, const AzimuthConvention& current,
-                           const LidarOdometryConfig& config, const PointTimeCheckOptions& options) {
-  Expected<PointTimeCheck> check = PointTimeCheck::Create(config, current, options);
-  EXPECT_TRUE(check.ok()) << check.error();
-  for (const LidarScan& scan : scans) {
-    EXPECT_TRUE(check->Add(scan).ok());
-    if (check->Done()) break;
-  }
-  return check->Decide();
-}
-
-const ConventionScore* ScoreOf(const PointTimeCheckResult& result, const AzimuthConvention& convention) {
-  for (const ConventionScore& score : result.scores)
-    if (score.convention == convention) return &score;
-  return nullptr;
-}
-
-// The simulated wild scene driven through for 6 s (the simulator's default rig: spinning32 at 10 Hz).
-sim::SimulationConfig WildDrive() {
-  sim::SimulationConfig config;
-  config.scene = "wild";
-  config.duration_s = 6.0;
-  return config;
-}
-
-// The same scene walked through with the sensor in hand for 9 s (turning at up to ~90 deg/s).
-sim::SimulationConfig WildHandheld() {
-  sim::SimulationConfig config = WildDrive();
-  config.duration_s = 9.0;
-  config.trajectory.motion = sim::Motion::kHandheld;
-  config.body_height_m = sim::kHandheldBodyHeightM;
-  return config;
-}
-
-// Scans of the simulation `Make()` starting every `every` sweeps (0.1 s each) from `from_s` on; their true
-// times replaced by times derived by `derived`.
-template <sim::SimulationConfig (*Make)()>
-class SimulatedScansOf : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() {
-    config_ = new sim::SimulationConfig(Make());
-    auto motion = sim::MakeSimulationTrajectory(*config_);
-    ASSERT_TRUE(motion.ok()) << motion.error();
-    motion_ = new sim::SimulationTrajectory(std::move(*motion));
-    auto scene = sim::BuildScene(
-        {config_->scene, config_->seed, motion_->poses, config_->body_height_m, config_->origin});
-    ASSERT_TRUE(scene.ok()) << scene.error();
-    scene_ = new sim::Scene(std::move(*scene));
-    auto caster = sim::RayCaster::Create(*scene_);
-    ASSERT_TRUE(caster.ok()) << caster.error();
-    caster_ = new sim::RayCaster(std::move(*caster));
-  }
-  static void TearDownTestSuite() {
-    delete caster_;
-    delete scene_;
-    delete motion_;
-    delete config_;
-  }
-
-  // `turned`: the points in a LiDAR frame turned 180 deg about z (x backwards), where the sweep starts
-  // ahead: the frame of the Newer College Ouster scans (below), whose true times fit clockwise from ahead.
-  static std::vector<LidarScan> Scans(double from_s, int count, const AzimuthConvention& derived,
-                                      bool turned = false, int every = 1) {
-    auto lidar = sim::LidarSimulator::Create(config_->lidar.model, *caster_, motion_->spline,
-                                             config_->lidar.placement.T_body_sensor, 3);
-    EXPECT_TRUE(lidar.ok()) << lidar.error();
-    std::vector<LidarScan> scans;
-    for (int i = 0; i < count; ++i) {
-      auto scan = lidar->Scan(motion_->begin + FromSeconds(from_s) + i * every * lidar->period());
-      EXPECT_TRUE(scan.ok()) << scan.error();
-      if (turned)
-        for (LidarPoint& p : scan->points) {
-          p.x = -p.x;
-          p.y = -p.y;
-        }
-      DeriveAzimuthPointTimes(*scan, lidar->period(), derived);  // the true times stripped
-      scans.push_back(std::move(*scan));
-    }
-    return scans;
-  }
-
-  static LidarOdometryConfig SimConfig() {  // configs/run-sim.yaml's lo: section
-    LidarOdometryConfig config;
-    config.input_voxel_m = 0.5;
-    return config;
-  }
-
-  static inline sim::SimulationConfig* config_ = nullptr;
-  static inline sim::SimulationTrajectory* motion_ = nullptr;
-  static inline sim::Scene* scene_ = nullptr;
-  static inline sim::RayCaster* caster_ = nullptr;
-};
-
-using SimulatedScans = SimulatedScansOf<WildDrive>;
-using HandheldKeyframes = SimulatedScansOf<WildHandheld>;
+using point_time_testing::Check;
+using point_time_testing::HandheldKeyframes;
+using point_time_testing::kCcwBehind;
+using point_time_testing::kCwAhead;
+using point_time_testing::ScoreOf;
+using point_time_testing::SimulatedScans;
 
 TEST_F(SimulatedScans, WrongDirectionIsSwitchedToTheSensors) {
   PointTimeCheckOptions options;
@@ -209,55 +113,6 @@ TEST_F(HandheldKeyframes, SweepStartingAheadIsFound) {
   ASSERT_TRUE(right && none);
   EXPECT_LT(right->score_m, 0.9 * none->score_m) << result.reason;
   EXPECT_LT(right->score_m, 0.9 * result.scores.front().score_m) << result.reason;
-}
-
-TEST_F(SimulatedScans, ADegradedRegistrationChecksTheTimesAgain) {
-  // A run deriving its times counter-clockwise (the sensor sweeps clockwise) whose start did not tell: the
-  // scans pass untouched until the first rejection (a fallback guess does not count); the scans after it go
-  // to the check, which picks clockwise from behind, and every later scan's times are derived with that.
-  PointTimeCheckOptions options;
-  options.max_scans = 8;
-  Expected<PointTimeRecheck> recheck = PointTimeRecheck::Create(SimConfig(), kCcwBehind, options);
-  ASSERT_TRUE(recheck.ok()) << recheck.error();
-  const std::vector<LidarScan> scans = Scans(2.0, 24, kCcwBehind);
-  std::vector<TrackEvent> events;
-  std::optional<std::size_t> decided;
-  for (std::size_t i = 0; i < scans.size(); ++i) {
-    if (i == 3) events.push_back({TrackEvent::Kind::kFallbackGuess, scans[2].stamp, "a guess"});
-    if (i == 5 || i == 20) events.push_back({TrackEvent::Kind::kRejected, scans[i - 1].stamp, "rejected"});
-    recheck->Notice(events);
-    LidarScan scan = scans[i];
-    ASSERT_TRUE(recheck->Prepare(scan).ok());
-    LidarScan expected = scans[i];
-    if (decided) DeriveAzimuthPointTimes(expected, expected.end - expected.stamp, kClockwiseFromBehind);
-    ASSERT_EQ(scan.points.size(), expected.points.size());
-    for (std::size_t k = 0; k < scan.points.size(); k += 97)
-      ASSERT_EQ(scan.points[k].offset_ns, expected.points[k].offset_ns) << "scan " << i << " point " << k;
-    if (!decided && recheck->result()) decided = i;
-  }
-  ASSERT_TRUE(decided.has_value());
-  EXPECT_GE(*decided, 5u + 8u - 1u);  // the check held the anchor and 7 scans after the rejection at least
-  const PointTimeRecheckResult& result = *recheck->result();
-  EXPECT_EQ(result.trigger.stamp, scans[4].stamp);  // the first rejection; the second checks nothing
-  EXPECT_EQ(result.check.current, kCcwBehind);
-  EXPECT_EQ(result.check.chosen, kClockwiseFromBehind) << result.check.reason;
-  ASSERT_TRUE(result.switched_from.has_value());
-  EXPECT_EQ(*result.switched_from, scans[*decided + 1].stamp);
-  EXPECT_EQ(result.Line().rfind("re-checked after the scan rejected at " + StampText(scans[4].stamp) +
-                                    ": clockwise from behind: point-to-plane",
-                                0),
-            0u)
-      << result.Line();
-  EXPECT_NE(result.Line().find("on, the times are derived clockwise from behind"), std::string::npos);
-  // Without a rejection or restart, nothing is checked and the scans pass as read.
-  Expected<PointTimeRecheck> quiet = PointTimeRecheck::Create(SimConfig(), kCcwBehind, options);
-  ASSERT_TRUE(quiet.ok());
-  quiet->Notice({{TrackEvent::Kind::kFallbackGuess, scans[0].stamp, "a guess"}});
-  LidarScan scan = scans[10];
-  ASSERT_TRUE(quiet->Prepare(scan).ok());
-  quiet->Finish();
-  EXPECT_FALSE(quiet->result().has_value());
-  EXPECT_EQ(scan.points[7].offset_ns, scans[10].points[7].offset_ns);
 }
 
 // `scan` taken `by` later.
