@@ -4,7 +4,7 @@
 // Nothing is asserted.
 //   usage: bench_lidar_odometry [KITTI_FOLDER] [--window N] [--input-voxel M] [--residuals N]
 //          [--iterations N] [--rounds N] [--acc A] [--ang W] [--sweep-acc S] [--huber M]
-//          [--map-insert-voxel M]
+//          [--map-insert-voxel M] [--neighbour-weight W]
 //          [--no-deskew] [--out EST.tum]
 #include <time.h>
 
@@ -63,6 +63,8 @@ int main(int argc, char** argv) {
       config.huber_m = std::atof(argv[++i]);
     else if (arg == "--map-insert-voxel" && has_value)
       config.map_insert_voxel_m = std::atof(argv[++i]);
+    else if (arg == "--neighbour-weight" && has_value)
+      config.map.neighbour_weight = std::atof(argv[++i]);
     else if (arg == "--solver-time" && has_value)
       config.max_solver_time_s = std::atof(argv[++i]);
     else if (arg == "--gate" && has_value)

@@ -17,6 +17,8 @@ Status VoxelMapConfig::Validate() const {
   if (!(max_range_m > 0)) return FieldError("max_range_m", "> 0", max_range_m);
   if (!(plane_eigen_ratio > 0 && plane_eigen_ratio <= 1))
     return FieldError("plane_eigen_ratio", "in (0, 1]", plane_eigen_ratio);
+  if (!(neighbour_weight > 0 && neighbour_weight <= 1))
+    return FieldError("neighbour_weight", "in (0, 1]", neighbour_weight);
   if (min_plane_points < 3) return FieldError("min_plane_points", ">= 3", min_plane_points);
   if (!(min_plane_sigma_m >= 0)) return FieldError("min_plane_sigma_m", ">= 0", min_plane_sigma_m);
   if (min_plane_rings < 0 || min_plane_rings > 63)

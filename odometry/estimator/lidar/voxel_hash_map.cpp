@@ -26,6 +26,11 @@ VoxelHashMap::VoxelHashMap(const VoxelMapConfig& config)
       gate_{config.plane_eigen_ratio, config.min_plane_points, config.min_plane_sigma_m},
       inverse_voxel_m_(1.0 / config.voxel_m) {
   assert(config.Validate().ok());
+  for (int o = 0; o < kBlockSize; ++o) {
+    const VoxelIndex offset = OffsetOf(o);
+    weight_[o] = std::pow(config.neighbour_weight, offset.cwiseAbs().sum());
+    shift_[o] = offset.cast<double>() * config.voxel_m;
+  }
 }
 
 VoxelHashMap::Slot VoxelHashMap::Find(const VoxelIndex& index) const {
@@ -101,31 +106,36 @@ void VoxelHashMap::RemoveFarFrom(const Eigen::Vector3d& center) {
 }
 
 std::optional<Plane> VoxelHashMap::FitBlock(const Voxel& voxel) const {
-  // Moments of the block relative to the centre c_v of voxel v: a neighbour u's moments are relative to
-  // c_u, so shift by c_u - c_v = (u - v) voxel_m.
-  ShiftedMomentSum block;
-  std::uint64_t rings = 0;
-  for (int o = 0; o < kBlockSize; ++o)
-    if (voxel.block[o] != kNoVoxel) {
-      block.Add(voxels_[voxel.block[o]].moments, OffsetOf(o).cast<double>() * config_.voxel_m);
-      rings |= voxels_[voxel.block[o]].rings;
-    }
-  if (!EnoughRings(rings)) return std::nullopt;
-  return FitPlane(block.Total(), CenterOf(voxel.index), gate_);
+  return FitSlots(voxel.block, CenterOf(voxel.index));
 }
 
 std::optional<Plane> VoxelHashMap::FitBlockAround(const VoxelIndex& index) const {
+  std::array<Slot, kBlockSize> slots;
+  for (int o = 0; o < kBlockSize; ++o) slots[o] = Find(index + OffsetOf(o));
+  return FitSlots(slots, CenterOf(index));
+}
+
+std::optional<Plane> VoxelHashMap::FitSlots(const std::array<Slot, kBlockSize>& slots,
+                                            const Eigen::Vector3d& centre) const {
+  // Moments of the block relative to the centre c_v of the middle voxel v: a neighbour u's moments are
+  // relative to c_u, so shift by c_u - c_v = (u - v) voxel_m. The normal, sigma and the gates come from the
+  // whole block; the plane's point is the centroid weighted by the kernel (VoxelMapConfig::neighbour_weight).
   ShiftedMomentSum block;
+  Eigen::Vector3d weighted_sum = Eigen::Vector3d::Zero();
+  double weight = 0;
   std::uint64_t rings = 0;
   for (int o = 0; o < kBlockSize; ++o) {
-    const Slot neighbour = Find(index + OffsetOf(o));
-    if (neighbour != kNoVoxel) {
-      block.Add(voxels_[neighbour].moments, OffsetOf(o).cast<double>() * config_.voxel_m);
-      rings |= voxels_[neighbour].rings;
-    }
+    if (slots[o] == kNoVoxel) continue;
+    const Voxel& u = voxels_[slots[o]];
+    block.Add(u.moments, shift_[o]);
+    weighted_sum += weight_[o] * (u.moments.sum + u.moments.count * shift_[o]);
+    weight += weight_[o] * u.moments.count;
+    rings |= u.rings;
   }
   if (!EnoughRings(rings)) return std::nullopt;
-  return FitPlane(block.Total(), CenterOf(index), gate_);
+  std::optional<Plane> plane = FitPlane(block.Total(), centre, gate_);
+  if (plane) plane->point = centre + weighted_sum / weight;
+  return plane;
 }
 
 int VoxelHashMap::min_plane_rings_in_use() const {

@@ -4,7 +4,8 @@
 //
 // Each voxel keeps at most max_points_per_voxel points (later ones are ignored) and their moments relative
 // to its centre. The plane of voxel v is the PCA plane (plane_fit.h) of the points of v and its 26
-// neighbours (a 3x3x3 block of voxels, 1.5 m wide at 0.5 m voxels), gated by lambda_min / lambda_mid and,
+// neighbours (a 3x3x3 block of voxels, 1.5 m wide at 0.5 m voxels), moved to pass through their centroid
+// weighted towards v (VoxelMapConfig::neighbour_weight), gated by lambda_min / lambda_mid and,
 // optionally, by the number of distinct LiDAR rings (scan lines) among its points (min_plane_rings); a
 // voxel that holds no points gets the plane of its neighbours' points the same way. Planes are fitted on
 // each query from the block's moments (27 moment sums and a 3x3 eigen-decomposition), never cached: every
@@ -91,10 +92,15 @@ class VoxelHashMap {
   std::optional<Plane> FitBlock(const Voxel& voxel) const;
   bool EnoughRings(std::uint64_t rings) const;  // the block's OR of Voxel::rings passes min_plane_rings
   std::optional<Plane> FitBlockAround(const VoxelIndex& index) const;  // for a voxel that holds no points
+  // The plane of the block whose voxels are `slots` (by block offset), middle voxel centred at `centre`.
+  std::optional<Plane> FitSlots(const std::array<Slot, kBlockSize>& slots,
+                                const Eigen::Vector3d& centre) const;
 
   VoxelMapConfig config_;
   PlaneFitGate gate_;
   double inverse_voxel_m_;
+  std::array<double, kBlockSize> weight_;          // per block offset: neighbour_weight^(|dx| + |dy| + |dz|)
+  std::array<Eigen::Vector3d, kBlockSize> shift_;  // per block offset: (dx, dy, dz) voxel_m
   std::vector<Voxel> voxels_;  // slots; dead slots are reused through free_slots_
   std::vector<Slot> free_slots_;
   absl::flat_hash_map<std::uint64_t, Slot, VoxelKeyHash> slot_of_;

@@ -124,6 +124,7 @@ const VoxelHashMap& LidarOdometry::Impl::CoarseMap() {
     VoxelMapConfig coarse = config.map;
     coarse.voxel_m *= kCoarseScale;
     coarse.min_plane_sigma_m *= kCoarseScale;
+    coarse.neighbour_weight = 1.0;  // the whole block: a coarse plane is there to reach far surfaces
     coarse_map = std::make_unique<VoxelHashMap>(map.Coarsened(kCoarseScale, coarse));
     coarse_map_revision = map.revision();
   }

@@ -139,7 +139,7 @@ inline estimator::LidarOdometryConfig NonDefaultOdometry() {
   c.marginalize = false;
   c.drop_weak_directions = true;
   c.motion = {3.5, 1.25, 0.6};
-  c.map = {0.25, 7, 80, 0.2, 6, 0.02, 2};
+  c.map = {0.25, 7, 80, 0.2, 6, 0.02, 0.5, 2};
   c.imu_max_gap_s = 0.1;
   c.imu_max_wait_s = 0.75;
   c.imu_deskew = true;

@@ -196,6 +196,7 @@ inline void ExpectSameLo(const estimator::LidarOdometryConfig& a, const estimato
   EXPECT_FIELD(map.plane_eigen_ratio);
   EXPECT_FIELD(map.min_plane_points);
   EXPECT_FIELD(map.min_plane_sigma_m);
+  EXPECT_FIELD(map.neighbour_weight);
   EXPECT_FIELD(map.min_plane_rings);
 }
 

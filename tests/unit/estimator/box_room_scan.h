@@ -11,17 +11,18 @@
 namespace uf::estimator {
 
 // A box room 20 x 12 x 4 m (with a pillar block so that no direction is degenerate; `other_room`: a room
-// 12 x 20 x 4 m with the same pillar, another place) scanned by a lidar turned by `yaw` (rad, about z) whose
-// origin moves as origin + velocity * (t - stamp) during the 0.1 s sweep: each azimuth column is cast from
-// the origin at its own time; points are in the lidar frame at that time.
+// 14 x 7 x 3 m with the same pillar, another place that no turn of the first room fits) scanned by a lidar
+// turned by `yaw` (rad, about z) whose origin moves as origin + velocity * (t - stamp) during the 0.1 s
+// sweep: each azimuth column is cast from the origin at its own time; points are in the lidar frame at that
+// time.
 inline LidarScan BoxRoomScan(Stamp stamp, const Eigen::Vector3d& origin,
                              const Eigen::Vector3d& velocity = Eigen::Vector3d::Zero(), double yaw = 0,
                              bool other_room = false) {
   LidarScan scan;
   scan.stamp = stamp;
   scan.end = stamp + 100'000'000;
-  const Eigen::Vector3d lo = other_room ? Eigen::Vector3d(-6, -10, -1.5) : Eigen::Vector3d(-10, -6, -1.5);
-  const Eigen::Vector3d hi = other_room ? Eigen::Vector3d(6, 10, 2.5) : Eigen::Vector3d(10, 6, 2.5);
+  const Eigen::Vector3d lo = other_room ? Eigen::Vector3d(-5, -3.5, -1.2) : Eigen::Vector3d(-10, -6, -1.5);
+  const Eigen::Vector3d hi = other_room ? Eigen::Vector3d(9, 3.5, 1.8) : Eigen::Vector3d(10, 6, 2.5);
   for (int i = 0; i < 360; ++i) {
     for (int k = -8; k <= 8; ++k) {
       const double az = i * M_PI / 180, el = k * 0.08;

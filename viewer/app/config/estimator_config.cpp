@@ -67,6 +67,9 @@ Schema<LidarOdometryConfig> MakeLoSchema() {
   map.Key("min_plane_points", &VoxelMapConfig::min_plane_points, "points",
           "points needed in the 3x3x3 block for a plane");
   map.Key("min_plane_sigma_m", &VoxelMapConfig::min_plane_sigma_m, "m", "floor of a plane's sigma");
+  map.Key("neighbour_weight", &VoxelMapConfig::neighbour_weight, "",
+          "where a voxel's plane passes: the centroid of its 3x3x3 block with a neighbour's points weighted "
+          "per axis of offset (face w, edge w^2, corner w^3; 1: the block's plain centroid)");
   map.Key(
       "min_plane_rings", &VoxelMapConfig::min_plane_rings, "rings",
       "distinct LiDAR rings needed in the 3x3x3 block for a plane (1: off; 0: auto, 2 for a LiDAR of "
