@@ -120,6 +120,7 @@ void LidarOdometry::Impl::StartMap(ScanState scan) {
   window.push_back(std::move(scan));
   InsertIntoMap(window.back());
   last_registered = RegisteredPose{window.back().end, NodePose(window.back().end_node)};
+  last_move_m = 0;
 }
 
 // Recovery after max_rejected_scans consecutive rejections (the map no longer matches what the LiDAR sees):

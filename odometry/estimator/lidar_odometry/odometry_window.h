@@ -149,6 +149,7 @@ struct LidarOdometry::Impl {
     SE3 pose;         // its end node's pose when it was registered
   };
   std::optional<RegisteredPose> last_registered;  // the last scan accepted (or the first of a map)
+  double last_move_m = 0;  // how far it moved from the one registered before it (0 for the first of a map)
   std::deque<double> recent_match_fractions;      // of the last registered scans
   std::deque<double> recent_guess_turns;  // rad: MoveFromGuess's angle, last registered scans kept apart
   int consecutive_rejections = 0;
@@ -251,6 +252,7 @@ struct LidarOdometry::Impl {
   bool AgreesWithGuess(const ScanState& current, const SavedStates& guess);
   SE3 MoveFromGuess(const ScanState& current, const SavedStates& guess) const;
   bool GuessesTurnFar() const;
+  bool MovesOffFromRest(const ScanState& current) const;
   bool SharesBeginNode(const ScanState& current) const;
   bool HoldsSweepRigid(const ScanState& current) const;
   bool FarGuess(ScanState& current);

@@ -229,6 +229,7 @@ void LidarOdometry::Impl::Reset() {
   gravity_reference.reset();
   SetWorldGravity();
   last_registered.reset();
+  last_move_m = 0;
   recent_match_fractions.clear();
   recent_guess_turns.clear();
   consecutive_rejections = 0;

@@ -190,6 +190,18 @@ bool LidarOdometry::Impl::FarGuess(ScanState& current) {
   return reference == 0 || current.MatchFraction() < kFarGuessRatio * reference;
 }
 
+// Whether the registered scan is the first to move (kMovedTranslation) after one that had not: its first
+// guess, the constant-velocity extrapolation, came from the rest and may be a whole step behind, where the
+// fine rounds settle in a wrong minimum that matches as many points as the recent scans (simulated hand-held
+// wild at 2 Hz, the first scan of the walk: 0.25 m behind, registered 0.36 m off at 1.03 of the recent match
+// fraction, where the first guess coarse to fine matches 1.56 times as many points on planes and lands
+// right). Also the second scan of a map, whose first has a single node and no motion.
+bool LidarOdometry::Impl::MovesOffFromRest(const ScanState& current) const {
+  if (!last_registered || last_move_m >= kMovedTranslation) return false;
+  return (last_registered->pose.inverse() * NodePose(current.end_node)).translation().norm() >=
+         kMovedTranslation;
+}
+
 // Whether the coarse rounds hold the scan's sweep rigid (Rounds::rigid): in LO, for a sweep with a begin and
 // an end node of its own (scans kept apart, such as keyframes). Its two free nodes give the registration 12
 // dof, and from a far guess the coarse rounds bend the sweep into a wrong minimum: simulated hand-held wild
@@ -203,9 +215,10 @@ bool LidarOdometry::Impl::HoldsSweepRigid(const ScanState& current) const {
 // Registration of the newest scan (the window's last): ICP rounds from the first guess. When the acceptance
 // test rejects them, or their match fraction is below kRetryRatio of the recent scans' (a registration that
 // slid into a wrong minimum may still pass the test, with fewer points on planes than usual), or in LO the
-// guesses of scans kept apart lie beyond the rounds' reliable basin (MoveFromGuess, GuessesTurnFar), the same
-// from each fallback guess (and from the turned guesses in the last case), keeping the accepted result with
-// the highest match fraction; then one solve of the whole window. When nothing is accepted the guess is
+// guesses of scans kept apart lie beyond the rounds' reliable basin (MoveFromGuess, GuessesTurnFar) or the
+// scan is the first to move after a rest (MovesOffFromRest), the same from each fallback guess (and from the
+// turned guesses where the guesses turn far), keeping the accepted result with the highest match fraction;
+// then one solve of the whole window. When nothing is accepted the guess is
 // restored, the scan's factors dropped, and the scan stays out of the map.
 bool LidarOdometry::Impl::RegisterNewScan(ScanState& current) {
   constexpr double kRetryRatio = 0.85, kPoorRatio = 0.75, kClearlyMore = 1.05;
@@ -217,7 +230,8 @@ bool LidarOdometry::Impl::RegisterNewScan(ScanState& current) {
   const double ratio = current.MatchFraction() / std::max(ReferenceMatchFraction(), 1e-9);
   const bool beyond_basin = HoldsSweepRigid(current) &&
                             (GuessesTurnFar() || MoveFromGuess(current, saved).so3().angle() > kSearchTurn);
-  if (why || ratio < kRetryRatio || beyond_basin) {
+  const bool off_from_rest = !why && HoldsSweepRigid(current) && MovesOffFromRest(current);
+  if (why || ratio < kRetryRatio || beyond_basin || off_from_rest) {
     std::optional<SavedStates> best;
     double best_fraction = -1;
     std::string best_guess;
@@ -274,6 +288,7 @@ bool LidarOdometry::Impl::RegisterNewScan(ScanState& current) {
     // A scan taken where the last one was matches the map it just made almost fully: at a standstill the
     // match fraction says nothing of what a moving scan reaches, so only scans that moved count.
     const SE3 moved = last_registered ? last_registered->pose.inverse() * NodePose(current.end_node) : SE3();
+    last_move_m = moved.translation().norm();
     if (moved.translation().norm() >= kMovedTranslation || moved.so3().angle() >= kMovedRotation) {
       recent_match_fractions.push_back(current.MatchFraction());
       if (recent_match_fractions.size() > kMatchHistory) recent_match_fractions.pop_front();
