@@ -230,7 +230,7 @@ bool LidarOdometry::Impl::RegisterNewScan(ScanState& current) {
   const double ratio = current.MatchFraction() / std::max(ReferenceMatchFraction(), 1e-9);
   const bool beyond_basin = HoldsSweepRigid(current) &&
                             (GuessesTurnFar() || MoveFromGuess(current, saved).so3().angle() > kSearchTurn);
-  const bool off_from_rest = !why && HoldsSweepRigid(current) && MovesOffFromRest(current);
+  const bool off_from_rest = HoldsSweepRigid(current) && MovesOffFromRest(current);
   if (why || ratio < kRetryRatio || beyond_basin || off_from_rest) {
     std::optional<SavedStates> best;
     double best_fraction = -1;
@@ -289,7 +289,7 @@ bool LidarOdometry::Impl::RegisterNewScan(ScanState& current) {
     // match fraction says nothing of what a moving scan reaches, so only scans that moved count.
     const SE3 moved = last_registered ? last_registered->pose.inverse() * NodePose(current.end_node) : SE3();
     last_move_m = moved.translation().norm();
-    if (moved.translation().norm() >= kMovedTranslation || moved.so3().angle() >= kMovedRotation) {
+    if (last_move_m >= kMovedTranslation || moved.so3().angle() >= kMovedRotation) {
       recent_match_fractions.push_back(current.MatchFraction());
       if (recent_match_fractions.size() > kMatchHistory) recent_match_fractions.pop_front();
     }
