@@ -76,6 +76,9 @@ struct Keyframe {
   Eigen::Vector3d bias_acc = Eigen::Vector3d::Zero();   // accelerometer bias, imu frame, m/s^2
   Eigen::Vector3d bias_gyro = Eigen::Vector3d::Zero();  // gyroscope bias, imu frame, rad/s
   bool inertial = false;  // velocity and biases are an inertial window's estimates (else not estimated)
+  // The LiDAR extrinsic's translation (T_body_lidar's, m) as the window estimated it when the keyframe left
+  // (lio.estimate_lidar_translation); none where it is held.
+  std::optional<Eigen::Vector3d> lidar_translation;
   std::vector<Eigen::Vector3f> scan_world;              // deskewed scan, world frame, m
   std::vector<float> scan_intensity;  // one per point of scan_world, as the sensor reports it
   std::vector<CameraFrame> images;    // frames taken near stamp, any cameras of the rig

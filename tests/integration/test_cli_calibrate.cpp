@@ -138,6 +138,63 @@ TEST(CliCalibrate, OnlineWithoutAHoldOnARunTooShortToLockKeepsTheGivenCalibratio
   EXPECT_FALSE(fs::exists(dir.File("never")));
 }
 
+// run with lio.estimate_lidar_translation on a hand-held walk whose given translation is 10 cm off: the
+// estimate lands in calibration_estimated.yaml (nearer the truth than the given one), in imu_states.csv and
+// its plot, and in the report; the settings it conflicts with are refused.
+TEST(CliCalibrate, RunEstimatesTheLidarTranslation) {
+  TempDir dir;
+  const std::string seq = dir.File("seq");
+  const auto sim = Ultrafusion(
+      "sim --scene warehouse --motion handheld --lidar spinning16 --duration 8 --no-camera --no-gnss "
+      "--no-wheel --lidar-translation-error 0.1 --out " +
+      seq);
+  ASSERT_EQ(sim.code, 0) << sim.output;
+  std::string config = testing::ReadText(std::string(UF_SOURCE_DIR) + "/configs/run-sim.yaml");
+  const auto set = [&config](const std::string& from, const std::string& to) {
+    const std::size_t at = config.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    config.replace(at, from.size(), to);
+  };
+  set("  estimate_lidar_translation: false", "  estimate_lidar_translation: true");
+  const std::string without_deskew = dir.File("without_deskew.yaml"), estimate = dir.File("estimate.yaml");
+  std::ofstream(without_deskew) << config;
+  set("  imu_deskew: false", "  imu_deskew: true");
+  std::ofstream(estimate) << config;
+
+  const auto run =
+      Ultrafusion("run " + seq + " --mode lio --no-map --config " + estimate + " --out " + dir.File("run"));
+  ASSERT_EQ(run.code, 0) << run.output;
+  Expected<Calibration> given = ReadCalibrationFile(seq + "/calibration.yaml");
+  Expected<Calibration> truth = ReadCalibrationFile(seq + "/calibration_true.yaml");
+  Expected<Calibration> estimated = ReadCalibrationFile(dir.File("run/calibration_estimated.yaml"));
+  ASSERT_TRUE(given && truth && estimated);
+  const Eigen::Vector3d t_true = Lidar(*truth).T_body_sensor.translation();
+  const double given_off = (Lidar(*given).T_body_sensor.translation() - t_true).norm();
+  const double estimated_off = (Lidar(*estimated).T_body_sensor.translation() - t_true).norm();
+  EXPECT_NEAR(given_off, 0.1, 1e-6);
+  EXPECT_LT(estimated_off, 0.5 * given_off) << "estimated " << Lidar(*estimated).T_body_sensor.translation();
+  EXPECT_LT((Lidar(*estimated).T_body_sensor.so3().inverse() * Lidar(*given).T_body_sensor.so3()).angle(),
+            1e-9);
+  const std::string states = testing::ReadText(dir.File("run/imu_states.csv"));
+  EXPECT_NE(states.find(",lidar_tx_m,lidar_ty_m,lidar_tz_m\n"), std::string::npos) << states.substr(0, 300);
+  EXPECT_TRUE(fs::exists(dir.File("run/plots/lidar_translation.png")));
+  const std::string report = testing::ReadText(dir.File("run/report.md"));
+  EXPECT_NE(report.find("LiDAR extrinsic translation estimated: ("), std::string::npos) << report;
+
+  const auto no_deskew = Ultrafusion("run " + seq + " --mode lio --no-map --config " + without_deskew +
+                                     " --out " + dir.File("never"));
+  EXPECT_EQ(no_deskew.code, 2) << no_deskew.output;
+  EXPECT_NE(no_deskew.output.find("lio.estimate_lidar_translation: needs lio.imu_deskew"), std::string::npos)
+      << no_deskew.output;
+  const auto online = Ultrafusion("run " + seq + " --mode lio --no-map --calibrate-online --config " +
+                                  estimate + " --out " + dir.File("never"));
+  EXPECT_EQ(online.code, 2) << online.output;
+  EXPECT_NE(online.output.find("--calibrate-online: not with lio.estimate_lidar_translation"),
+            std::string::npos)
+      << online.output;
+  EXPECT_FALSE(fs::exists(dir.File("never")));
+}
+
 TEST(CliCalibrate, BadInputIsAClearError) {
   TempDir dir;
   const std::string seq = dir.File("no_lidar");

@@ -65,6 +65,14 @@ Status LidarOdometryConfig::Validate() const {
                          "), got " + std::to_string(init.min_scans));
   if (!Positive(imu_max_gap_s)) return Bad("imu_max_gap_s", "> 0", imu_max_gap_s, "lio");
   if (!Positive(imu_max_wait_s)) return Bad("imu_max_wait_s", "> 0", imu_max_wait_s, "lio");
+  if (estimate_lidar_translation && !imu_deskew)
+    return Status::Error(
+        "lio.estimate_lidar_translation: needs lio.imu_deskew (without it the sweeps' unmodelled motion "
+        "pulls the translation 0.3-0.4 m away), got imu_deskew false");
+  if (!Positive(lidar_translation_sigma_m))
+    return Bad("lidar_translation_sigma_m", "> 0", lidar_translation_sigma_m, "lio");
+  if (!Positive(lidar_translation_min_turn_deg))
+    return Bad("lidar_translation_min_turn_deg", "> 0", lidar_translation_min_turn_deg, "lio");
   return {};
 }
 

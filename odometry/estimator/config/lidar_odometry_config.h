@@ -67,6 +67,15 @@ struct LidarOdometryConfig {
   // by default: it tips the 16-beam corridor's LWIO, already stuck far behind the truth, into shutting its
   // wheel gate (docs/METHOD.md "LiDAR point-to-plane factor").
   bool imu_deskew = false;
+  // Initialized LIO: the translation t_BL of T_body_lidar estimated in the window (docs/METHOD.md "Online
+  // spatiotemporal calibration"; needs imu_deskew): every point-to-plane factor takes it from one shared
+  // block (PointToPlaneLeverFactor), under a prior of lidar_translation_sigma_m about the given one. The
+  // block moves in a window solve only while the window's orientations spread by at least
+  // lidar_translation_min_turn_deg about every axis (LeverExcited): turning about one axis leaves the
+  // lever arm along it unseen.
+  bool estimate_lidar_translation = false;
+  double lidar_translation_sigma_m = 0.05;
+  double lidar_translation_min_turn_deg = 1.0;
 
   // Wheel odometry factors between consecutive nodes (LWIO; providers/wheel_provider.h). A scan then also
   // waits (at most imu_max_wait_s of stream time) for the wheel samples to cover its end.

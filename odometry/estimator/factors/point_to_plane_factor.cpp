@@ -36,6 +36,22 @@ const PoseInterpolationTerms& SweepTermsAt(const double* pose_b, const double* p
   return sweep.terms;
 }
 
+// Ceres' Evaluate from EvaluateTangent for a one-row factor whose first `poses` of `blocks` blocks are poses
+// (7 ambient, 6 tangent; lifted with TangentToAmbientJacobian) and whose others are Euclidean (the tangent is
+// the ambient block).
+bool EvaluateLiftingPoses(const TangentJacobianCost& cost, int poses, int blocks,
+                          double const* const* parameters, double* residuals, double** jacobians) {
+  if (jacobians == nullptr) return cost.EvaluateTangent(parameters, residuals, nullptr);
+  std::array<std::array<double, 6>, 2> tangent{};
+  std::array<double*, 3> J{};
+  for (int i = 0; i < blocks; ++i)
+    J[i] = i >= poses ? jacobians[i] : jacobians[i] != nullptr ? tangent[i].data() : nullptr;
+  if (!cost.EvaluateTangent(parameters, residuals, J.data())) return false;
+  for (int i = 0; i < poses; ++i)
+    if (jacobians[i] != nullptr) TangentToAmbientJacobian(parameters[i], tangent[i].data(), 1, jacobians[i]);
+  return true;
+}
+
 }  // namespace
 
 PointToPlaneFactor::PointToPlaneFactor(const Eigen::Vector3d& point_lidar, double alpha, const Plane& plane,
@@ -51,13 +67,7 @@ PointToPlaneFactor::PointToPlaneFactor(const Eigen::Vector3d& point_lidar, doubl
 
 bool PointToPlaneFactor::Evaluate(double const* const* parameters, double* residuals,
                                   double** jacobians) const {
-  if (jacobians == nullptr) return EvaluateTangent(parameters, residuals, nullptr);
-  double J_b[6], J_e[6];
-  double* tangent[2] = {jacobians[0] != nullptr ? J_b : nullptr, jacobians[1] != nullptr ? J_e : nullptr};
-  EvaluateTangent(parameters, residuals, tangent);
-  if (jacobians[0] != nullptr) TangentToAmbientJacobian(parameters[0], J_b, 1, jacobians[0]);
-  if (jacobians[1] != nullptr) TangentToAmbientJacobian(parameters[1], J_e, 1, jacobians[1]);
-  return true;
+  return EvaluateLiftingPoses(*this, 2, 2, parameters, residuals, jacobians);
 }
 
 bool PointToPlaneFactor::EvaluateTangent(double const* const* parameters, double* residuals,
@@ -83,12 +93,7 @@ PointToPlaneFactorSinglePose::PointToPlaneFactorSinglePose(const Eigen::Vector3d
 
 bool PointToPlaneFactorSinglePose::Evaluate(double const* const* parameters, double* residuals,
                                             double** jacobians) const {
-  if (jacobians == nullptr || jacobians[0] == nullptr) return EvaluateTangent(parameters, residuals, nullptr);
-  double J[6];
-  double* tangent[1] = {J};
-  EvaluateTangent(parameters, residuals, tangent);
-  TangentToAmbientJacobian(parameters[0], J, 1, jacobians[0]);
-  return true;
+  return EvaluateLiftingPoses(*this, 1, 1, parameters, residuals, jacobians);
 }
 
 bool PointToPlaneFactorSinglePose::EvaluateTangent(double const* const* parameters, double* residuals,
@@ -101,6 +106,73 @@ bool PointToPlaneFactorSinglePose::EvaluateTangent(double const* const* paramete
   Eigen::Map<RowVector6d> J(jacobians[0]);
   J << sqrt_information_ * normal_.transpose(),
       -sqrt_information_ * (normal_.transpose() * R) * Hat(point_body_);
+  return true;
+}
+
+PointToPlaneLeverFactor::PointToPlaneLeverFactor(const Eigen::Vector3d& point_lidar, double alpha,
+                                                 const Plane& plane, const Eigen::Matrix3d& R_body_lidar)
+    : point_rotated_(R_body_lidar * point_lidar),
+      alpha_(alpha),
+      normal_(plane.normal),
+      plane_point_(plane.point),
+      sqrt_information_(1.0 / plane.sigma) {
+  assert(alpha >= 0 && alpha <= 1);
+  assert(plane.sigma > 0);
+}
+
+bool PointToPlaneLeverFactor::Evaluate(double const* const* parameters, double* residuals,
+                                       double** jacobians) const {
+  return EvaluateLiftingPoses(*this, 2, 3, parameters, residuals, jacobians);
+}
+
+bool PointToPlaneLeverFactor::EvaluateTangent(double const* const* parameters, double* residuals,
+                                              double** jacobians) const {
+  const double* pose_b = parameters[0];
+  const double* pose_e = parameters[1];
+  const Eigen::Vector3d point_body = point_rotated_ + Eigen::Map<const Eigen::Vector3d>(parameters[2]);
+  const InterpolatedPoint point(SweepTermsAt(pose_b, pose_e), pose_b, pose_e, alpha_, point_body);
+  residuals[0] = sqrt_information_ * normal_.dot(point.world() - plane_point_);
+  if (jacobians == nullptr) return true;
+  point.PullBack(sqrt_information_ * normal_.transpose(), jacobians[0], jacobians[1]);
+  if (jacobians[2] != nullptr) {  // dp_w/dt_BL = R(a)
+    Eigen::Map<Eigen::RowVector3d> J_t(jacobians[2]);
+    J_t = sqrt_information_ * normal_.transpose() * point.rotation();
+  }
+  return true;
+}
+
+PointToPlaneLeverFactorSinglePose::PointToPlaneLeverFactorSinglePose(const Eigen::Vector3d& point_lidar,
+                                                                     const Plane& plane,
+                                                                     const Eigen::Matrix3d& R_body_lidar)
+    : point_rotated_(R_body_lidar * point_lidar),
+      normal_(plane.normal),
+      plane_point_(plane.point),
+      sqrt_information_(1.0 / plane.sigma) {
+  assert(plane.sigma > 0);
+}
+
+bool PointToPlaneLeverFactorSinglePose::Evaluate(double const* const* parameters, double* residuals,
+                                                 double** jacobians) const {
+  return EvaluateLiftingPoses(*this, 1, 2, parameters, residuals, jacobians);
+}
+
+bool PointToPlaneLeverFactorSinglePose::EvaluateTangent(double const* const* parameters, double* residuals,
+                                                        double** jacobians) const {
+  const double* pose = parameters[0];
+  const Eigen::Map<const Eigen::Vector3d> t(pose);
+  const Eigen::Matrix3d R = RotationOfPoseBlock(pose);
+  const Eigen::Vector3d point_body = point_rotated_ + Eigen::Map<const Eigen::Vector3d>(parameters[1]);
+  residuals[0] = sqrt_information_ * normal_.dot(R * point_body + t - plane_point_);
+  if (jacobians == nullptr) return true;
+  const Eigen::RowVector3d n_R = sqrt_information_ * normal_.transpose() * R;
+  if (jacobians[0] != nullptr) {
+    Eigen::Map<RowVector6d> J(jacobians[0]);
+    J << sqrt_information_ * normal_.transpose(), -n_R * Hat(point_body);
+  }
+  if (jacobians[1] != nullptr) {
+    Eigen::Map<Eigen::RowVector3d> J_t(jacobians[1]);
+    J_t = n_R;
+  }
   return true;
 }
 

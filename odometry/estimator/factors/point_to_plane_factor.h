@@ -21,6 +21,11 @@
 // at that pose (or a scan without point times): r = n^T (R p_B + t - q) / sigma,
 //   dr/dt = n^T / sigma,   dr/dtheta = -n^T R [p_B]x / sigma.
 //
+// The lever-arm variants (LIO with lio.estimate_lidar_translation) take the translation t_BL of T_body_lidar
+// from a third (Euclidean, 3) block instead of holding it: p_B = R_BL p_L + t_BL, and
+//   dr/dt_BL = n^T R(a) / sigma        (single pose: n^T R / sigma)
+// the other Jacobians as above at that p_B.
+//
 // No robust loss inside: the window wraps these in its Huber loss.
 #pragma once
 
@@ -62,6 +67,41 @@ class PointToPlaneFactorSinglePose : public ceres::SizedCostFunction<1, 7>, publ
 
  private:
   const Eigen::Vector3d point_body_;
+  const Eigen::Vector3d normal_;
+  const Eigen::Vector3d plane_point_;
+  const double sqrt_information_;
+};
+
+// Blocks: pose_b, pose_e, t_BL (3).
+class PointToPlaneLeverFactor : public ceres::SizedCostFunction<1, 7, 7, 3>, public TangentJacobianCost {
+ public:
+  // As PointToPlaneFactor, with the extrinsic's rotation R_body_lidar held.
+  PointToPlaneLeverFactor(const Eigen::Vector3d& point_lidar, double alpha, const Plane& plane,
+                          const Eigen::Matrix3d& R_body_lidar);
+  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override;
+  bool EvaluateTangent(double const* const* parameters, double* residuals,
+                       double** tangent_jacobians) const override;
+
+ private:
+  const Eigen::Vector3d point_rotated_;  // R_BL p_L
+  const double alpha_;
+  const Eigen::Vector3d normal_;
+  const Eigen::Vector3d plane_point_;
+  const double sqrt_information_;
+};
+
+// Blocks: pose, t_BL (3); the point at the pose's time, in the LiDAR frame.
+class PointToPlaneLeverFactorSinglePose : public ceres::SizedCostFunction<1, 7, 3>,
+                                          public TangentJacobianCost {
+ public:
+  PointToPlaneLeverFactorSinglePose(const Eigen::Vector3d& point_lidar, const Plane& plane,
+                                    const Eigen::Matrix3d& R_body_lidar);
+  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override;
+  bool EvaluateTangent(double const* const* parameters, double* residuals,
+                       double** tangent_jacobians) const override;
+
+ private:
+  const Eigen::Vector3d point_rotated_;  // R_BL p_L
   const Eigen::Vector3d normal_;
   const Eigen::Vector3d plane_point_;
   const double sqrt_information_;

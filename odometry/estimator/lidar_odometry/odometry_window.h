@@ -8,6 +8,7 @@
 // window_solve.cpp (solve, marginalize) and window_visual.cpp (the camera's landmarks, LVIO).
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <deque>
@@ -115,6 +116,8 @@ struct LidarOdometry::Impl {
       : config(c), map(c.map), imu(c.imu, c.imu_max_gap_s), visual(std::move(camera)) {
     if (config.use_wheel) wheel = std::make_unique<WheelProvider>(config.wheel, config.T_body_wheel);
     if (config.use_gnss) gnss = std::make_unique<GnssProvider>(config.gnss, config.T_body_gnss.translation());
+    given_lidar_translation = config.T_body_lidar.translation();
+    std::copy(given_lidar_translation.data(), given_lidar_translation.data() + 3, lidar_translation.begin());
     if (visual)
       visual->SetMapDepth([this](const SE3& T_world_camera, const Eigen::Vector2d& xy) {
         return MapDepth(T_world_camera, xy);
@@ -172,6 +175,11 @@ struct LidarOdometry::Impl {
   std::unique_ptr<GnssProvider> gnss;
   std::unique_ptr<VisualProvider> visual;    // LVIO
   std::vector<TrackedFrame> tracked_frames;  // the front end's, per frame since the last take
+  // The LiDAR extrinsic's translation t_BL, a block of the graph (lio.estimate_lidar_translation;
+  // window_extrinsic.cpp): config.T_body_lidar takes it after every window solve.
+  std::array<double, 3> lidar_translation{};
+  Eigen::Vector3d given_lidar_translation = Eigen::Vector3d::Zero();  // the prior's centre
+  int lever_free_solves = 0, lever_solves = 0;
 
   // Nodes (window_nodes.cpp).
   Node& NodeAt(long id) { return nodes[static_cast<std::size_t>(id - first_node_id)]; }
@@ -201,6 +209,11 @@ struct LidarOdometry::Impl {
   // A new LiDAR extrinsic (window_extrinsic.cpp).
   void SetLidarExtrinsic(const SE3& T_body_lidar);
   void SetWorldGravity();
+  // The estimated translation (window_extrinsic.cpp): whether the point-to-plane factors take it from
+  // lidar_translation; its block and prior in the graph; whether the window's turns show it.
+  bool LeverFactors() const { return config.use_imu && config.estimate_lidar_translation && inertial; }
+  void AttachLidarTranslation();
+  bool LeverExcited() const;
 
   // Scans (window_scans.cpp).
   SweepPoses Sweep(const ScanState& scan);

@@ -1,8 +1,59 @@
-// A new LiDAR extrinsic applied to a running window (see lidar_odometry.h, SetLidarExtrinsic; docs/METHOD.md
-// "Online spatiotemporal calibration").
+// A new LiDAR extrinsic applied to a running window (see lidar_odometry.h, SetLidarExtrinsic), and its
+// translation estimated in the window (lio.estimate_lidar_translation); docs/METHOD.md "Online
+// spatiotemporal calibration".
+#include <ceres/normal_prior.h>
+
+#include <Eigen/Eigenvalues>
+#include <cmath>
+#include <numbers>
+
 #include "odometry/estimator/lidar_odometry/odometry_window.h"
 
 namespace uf::estimator {
+namespace {
+
+constexpr long kLidarTranslationPriorTag = -1;
+
+}  // namespace
+
+// The block, and its prior r = (t_BL - t_given) / sigma (again after the graph was cleared: the block keeps
+// its value).
+void LidarOdometry::Impl::AttachLidarTranslation() {
+  if (!config.use_imu || !config.estimate_lidar_translation) return;
+  graph.AddEuclideanBlock(lidar_translation.data(), 3);
+  const ceres::Matrix A = ceres::Matrix::Identity(3, 3) / config.lidar_translation_sigma_m;
+  const ceres::Vector b = given_lidar_translation;
+  graph.Add(FactorKind::kStatePrior, kLidarTranslationPriorTag, std::make_unique<ceres::NormalPrior>(A, b),
+            nullptr, {lidar_translation.data()});
+}
+
+// Whether the window's orientations show every direction of the lever arm. Between nodes j and k the LiDAR
+// moves by R_k t_BL - R_j t_BL besides the IMU's motion; with R_k = R_0 Exp(theta_k) and small turns that
+// is R_0 [theta_j - theta_k]x t_BL: a lever arm along the turns' axis is unseen. Over the window, with
+// theta_k centred on their mean,
+//   S = 1/n sum_k ( |theta_k|^2 I - theta_k theta_k^T )   (= 1/n sum_k [theta_k]x^T [theta_k]x)
+// is the information the turns give t_BL (up to the LiDAR's noise); its smallest eigenvalue must reach
+// lidar_translation_min_turn_deg^2: turning 1 deg RMS about two axes gives 1 deg^2 along the third. All or
+// nothing: a car's yaw shows x and y, but freeing them alone moved the estimate at every corner, and the
+// body's poses with it against a map built with the old value (docs/METHOD.md).
+bool LidarOdometry::Impl::LeverExcited() const {
+  const long n = LastNodeId() - first_node_id + 1;
+  if (n < 3) return false;
+  const SO3 R0 = NodePose(first_node_id).so3();
+  std::vector<Eigen::Vector3d> theta;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (long id = first_node_id; id <= LastNodeId(); ++id) {
+    theta.push_back((R0.inverse() * NodePose(id).so3()).Log());
+    mean += theta.back() / static_cast<double>(n);
+  }
+  Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
+  for (const Eigen::Vector3d& t : theta) {
+    const Eigen::Vector3d c = t - mean;
+    S += (c.squaredNorm() * Eigen::Matrix3d::Identity() - c * c.transpose()) / static_cast<double>(n);
+  }
+  const double min_turn = config.lidar_translation_min_turn_deg * std::numbers::pi / 180;
+  return Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(S).eigenvalues()(0) >= min_turn * min_turn;
+}
 
 // The LiDAR poses are what the map measured, so they stay: every body pose moves to
 // T_WB_new = T_WB_old * T_BL_old * T_BL_new^-1, which gives T_WB_new * T_BL_new = T_WB_old * T_BL_old.
@@ -15,6 +66,8 @@ namespace uf::estimator {
 void LidarOdometry::Impl::SetLidarExtrinsic(const SE3& T_body_lidar) {
   const SE3 delta = config.T_body_lidar * T_body_lidar.inverse();
   config.T_body_lidar = T_body_lidar;
+  const Eigen::Vector3d t_BL = T_body_lidar.translation();  // the estimated one restarts from it
+  std::copy(t_BL.data(), t_BL.data() + 3, lidar_translation.begin());
   for (long id = first_node_id; id <= LastNodeId(); ++id) NodeAt(id).pose = PoseBlock(NodePose(id) * delta);
   if (last_registered) last_registered->pose = last_registered->pose * delta;
   restart_pose = restart_pose * delta;

@@ -45,10 +45,15 @@ void LidarOdometry::Impl::Associate(ScanState& scan, Rounds rounds) {
   const std::size_t n = points.size(), cap = static_cast<std::size_t>(config.max_residuals_per_scan);
   const std::size_t step = std::max<std::size_t>(1, n / cap);
   const bool single = scan.begin_node == scan.end_node;
+  // With the translation estimated (LeverFactors), the factors take it from its block; not through a
+  // projector (ProjectedFactor takes pose blocks only) nor for a rigid sweep (only its end node moves).
+  const bool lever = LeverFactors() && !rigid && !scan.projector;
+  const Eigen::Matrix3d R_body_lidar = config.T_body_lidar.so3().matrix();
   const SweepPoses sweep = Sweep(scan);
   const SE3 T_end_world = NodePose(scan.end_node).inverse();  // for a rigid sweep
   std::vector<double*> blocks = {NodeAt(rigid ? scan.end_node : scan.begin_node).pose.data()};
   if (!single && !rigid) blocks.push_back(NodeAt(scan.end_node).pose.data());
+  if (lever) blocks.push_back(lidar_translation.data());
   if (scan.plane_cache.size() != n || scan.plane_cache_revision != map.revision() ||
       scan.plane_cache_coarse != coarse) {
     scan.plane_cache.assign(n, {});
@@ -101,6 +106,10 @@ void LidarOdometry::Impl::Associate(ScanState& scan, Rounds rounds) {
       if (rigid) {
         cost = std::make_unique<PointToPlaneFactorSinglePose>(
             T_end_world * (sweep.At(p.alpha) * p.point_lidar), plane);
+      } else if (lever && single) {
+        cost = std::make_unique<PointToPlaneLeverFactorSinglePose>(p.point_lidar, plane, R_body_lidar);
+      } else if (lever) {
+        cost = std::make_unique<PointToPlaneLeverFactor>(p.point_lidar, p.alpha, plane, R_body_lidar);
       } else if (single) {
         cost = std::make_unique<PointToPlaneFactorSinglePose>(config.T_body_lidar * p.point_lidar, plane);
       } else {
@@ -160,6 +169,7 @@ void LidarOdometry::Impl::Release(ScanState& scan) {
     keyframe.bias_acc = b.accel_bias;
     keyframe.bias_gyro = b.gyro_bias;
     keyframe.inertial = true;
+    if (LeverFactors()) keyframe.lidar_translation = config.T_body_lidar.translation();
   } else if (scan.end > scan.stamp) {
     keyframe.velocity = (end.translation() - begin.translation()) / ToSeconds(scan.end - scan.stamp);
   }
@@ -226,9 +236,12 @@ Matrix6d LidarOdometry::Impl::ScanInformation(const ScanState& scan) {
     if (factor.tag != scan.id) continue;
     const auto* cost = dynamic_cast<const TangentJacobianCost*>(factor.cost.get());
     if (cost == nullptr) continue;
-    const double* parameters[2] = {factor.blocks[0], factor.blocks.size() > 1 ? factor.blocks[1] : nullptr};
+    // Blocks: one or two poses, then the lever arm's (PointToPlaneLeverFactor), which is left out here.
+    const double* parameters[3] = {};
     Eigen::Matrix<double, 1, 6> J_b, J_e = Eigen::Matrix<double, 1, 6>::Zero();
-    double* jacobians[2] = {J_b.data(), factor.blocks.size() > 1 ? J_e.data() : nullptr};
+    double* jacobians[3] = {J_b.data(), nullptr, nullptr};
+    for (std::size_t i = 0; i < factor.blocks.size() && i < 3; ++i) parameters[i] = factor.blocks[i];
+    if (factor.blocks.size() > 1 && graph.IsPoseBlock(factor.blocks[1])) jacobians[1] = J_e.data();
     double r = 0;
     if (!cost->EvaluateTangent(parameters, &r, jacobians)) continue;
     double rho[3] = {r * r, 1.0, 0.0};
@@ -263,6 +276,10 @@ void LidarOdometry::Impl::LeaveWeakTranslationsToWheel(ScanState& scan) {
 bool LidarOdometry::Impl::Project(ScanState& scan, const Matrix6d& P) {
   if (P.isIdentity(0.0)) return false;
   scan.projector = P;
+  if (LeverFactors()) {  // a projected factor takes pose blocks only: made again without the lever's block
+    Associate(scan);
+    return true;
+  }
   for (Factor& factor : graph.Entries(FactorKind::kLidar))
     if (factor.tag == scan.id) factor.cost = std::make_unique<ProjectedFactor>(std::move(factor.cost), P);
   return true;

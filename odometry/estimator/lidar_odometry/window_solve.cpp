@@ -41,6 +41,9 @@ bool LidarOdometry::Impl::Solve(int* iterations, bool new_scan_only, bool rigid_
   if (gnss && !new_scan_only)
     for (double* block : gnss->StateBlocks()) request.free.push_back(block);
   if (visual && !new_scan_only) visual->AppendFreeBlocks(request.free);
+  const bool lever_free = LeverFactors() && !new_scan_only && LeverExcited();  // window_extrinsic.cpp
+  if (lever_free) request.free.push_back(lidar_translation.data());
+  const std::array<double, 3> lever_before = lidar_translation;
   if (new_scan_only) {  // the registration: the new scan's planes, and the motion factors at its nodes
     const long scan = window.back().id;
     request.use = [scan, rigid_sweep](const Factor& f) {
@@ -53,6 +56,13 @@ bool LidarOdometry::Impl::Solve(int* iterations, bool new_scan_only, bool rigid_
   request.max_time_s = camera_budget ? config.visual.max_solver_time_s : config.max_solver_time_s;
   const WindowSolveResult result = graph.Solve(request);
   *iterations += result.iterations;
+  if (LeverFactors() && !new_scan_only) {
+    ++lever_solves;
+    lever_free_solves += lever_free ? 1 : 0;
+    const Eigen::Map<const Eigen::Vector3d> t_BL(lidar_translation.data());
+    if (!result.usable || !t_BL.allFinite()) lidar_translation = lever_before;
+    config.T_body_lidar = SE3(config.T_body_lidar.so3(), t_BL);  // what the sweeps and the map use
+  }
   return result.usable;
 }
 

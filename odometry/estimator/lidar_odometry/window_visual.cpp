@@ -9,6 +9,7 @@ namespace uf::estimator {
 void LidarOdometry::Impl::AttachProviders() {
   if (wheel) wheel->Attach(graph);
   if (visual) visual->Attach(graph);
+  AttachLidarTranslation();
 }
 
 // Before the window's solve, once the window is initialized (the IMU carries the poses the landmarks are

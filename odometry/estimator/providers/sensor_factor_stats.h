@@ -44,6 +44,10 @@ struct SensorFactorStats {
   int lidar_plane_rings = 0;
   // LWIO: scans whose weak translations were left to the wheel (lio.wheel_carries_weak_translations).
   int lidar_translations_to_wheel = 0;
+  // LIO with lio.estimate_lidar_translation: T_body_lidar at the end (its translation estimated), and the
+  // window solves that moved the translation (of all the window solves since the initialization).
+  std::optional<SE3> lidar_extrinsic;
+  int lidar_translation_free_solves = 0, lidar_translation_solves = 0;
 };
 
 }  // namespace uf::estimator

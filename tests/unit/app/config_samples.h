@@ -143,6 +143,9 @@ inline estimator::LidarOdometryConfig NonDefaultOdometry() {
   c.imu_max_gap_s = 0.1;
   c.imu_max_wait_s = 0.75;
   c.imu_deskew = true;
+  c.estimate_lidar_translation = true;
+  c.lidar_translation_sigma_m = 0.03;
+  c.lidar_translation_min_turn_deg = 1.5;
   c.wheel_carries_weak_translations = false;
   c.imu = {0.03, 0.002, 0.004, 2.5e-5, 9.81, 0.2, 0.02, 34.9, 156.9};
   c.init = {4, 2, 25, 0.15, 0.03, 0.4, 0.06, 0.5, 0.15, 0.3, 0.004, 0.03, 2.5};

@@ -303,6 +303,9 @@ inline void ExpectSameInertialParts(const Config& a, const Config& b) {
 
 inline void ExpectSameLio(const estimator::LidarOdometryConfig& a, const estimator::LidarOdometryConfig& b) {
   EXPECT_FIELD(imu_deskew);
+  EXPECT_FIELD(estimate_lidar_translation);
+  EXPECT_FIELD(lidar_translation_sigma_m);
+  EXPECT_FIELD(lidar_translation_min_turn_deg);
   EXPECT_FIELD(wheel_carries_weak_translations);
   EXPECT_FIELD(imu_max_gap_s);
   EXPECT_FIELD(imu_max_wait_s);

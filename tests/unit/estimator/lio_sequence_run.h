@@ -21,6 +21,26 @@
 
 namespace uf::estimator::testing {
 
+// The rig of these sequences: `scene` for `duration_s` with a 16-beam LiDAR (0.4 deg) and the IMU; no
+// camera, GNSS or wheel.
+inline sim::SimulationConfig SimulatedRig(const std::string& scene, double duration_s) {
+  sim::SimulationConfig config;
+  config.scene = scene;
+  config.duration_s = duration_s;
+  config.lidar.model.model = "spinning16";
+  config.lidar.model.horizontal_resolution_deg = 0.4;
+  config.camera.enabled = config.gnss.enabled = config.wheel.enabled = false;
+  return config;
+}
+
+// The sequence of `config` in dir/sequence.
+inline std::filesystem::path Generate(const uf::testing::TempDir& dir, const sim::SimulationConfig& config) {
+  const std::filesystem::path out = dir.path() / "sequence";
+  auto summary = sim::GenerateSequence(config, out);
+  EXPECT_TRUE(summary.ok()) << summary.error();
+  return out;
+}
+
 // A short sequence of `scene` with LiDAR (16 beams, 0.4 deg) and IMU, and with `wheel` the wheel odometry
 // (its radius off by `wheel_radius_error`, relative); `trajectory` (TUM) or the scene's default motion (1 s
 // at rest, then driving off); the accelerometer clipped at `accel_saturation` (0: not).
@@ -28,20 +48,37 @@ inline std::filesystem::path Simulate(const uf::testing::TempDir& dir, double du
                                       const std::string& trajectory = "", bool wheel = false,
                                       const std::string& scene = "urban", double wheel_radius_error = 0,
                                       double accel_saturation = 0) {
-  sim::SimulationConfig config;
-  config.scene = scene;
+  sim::SimulationConfig config = SimulatedRig(scene, duration_s);
   config.imu.noise.accel_saturation = accel_saturation;
-  config.duration_s = duration_s;
   config.wheel.model.radius_error = wheel_radius_error;
-  config.lidar.model.model = "spinning16";
-  config.lidar.model.horizontal_resolution_deg = 0.4;
-  config.camera.enabled = config.gnss.enabled = false;
   config.wheel.enabled = wheel;
   config.trajectory.file = trajectory;
-  const std::filesystem::path out = dir.path() / "sequence";
-  auto summary = sim::GenerateSequence(config, out);
-  EXPECT_TRUE(summary.ok()) << summary.error();
-  return out;
+  return Generate(dir, config);
+}
+
+// `duration_s` of the device carried by hand through `scene` (the same LiDAR and IMU).
+inline std::filesystem::path SimulateHandheld(const uf::testing::TempDir& dir, double duration_s,
+                                              const std::string& scene) {
+  sim::SimulationConfig config = SimulatedRig(scene, duration_s);
+  config.trajectory.motion = sim::Motion::kHandheld;
+  config.trajectory.knot_spacing_s = sim::kHandheldKnotSpacingS;
+  config.body_height_m = sim::kHandheldBodyHeightM;
+  return Generate(dir, config);
+}
+
+// SE3-aligned ATE of the poses from `from` on against the simulator's ground truth.
+inline double AteFrom(const std::filesystem::path& folder, const Trajectory& estimate, Stamp from) {
+  Trajectory late;
+  for (std::size_t i = 0; i < estimate.size(); ++i) {
+    if (estimate.stamps[i] < from) continue;
+    late.stamps.push_back(estimate.stamps[i]);
+    late.poses.push_back(estimate.poses[i]);
+  }
+  auto truth = ReadTrajectory((folder / "groundtruth.tum").string());
+  EXPECT_TRUE(truth.ok());
+  auto result = Evaluate(*truth, late, EvalOptions{});
+  EXPECT_TRUE(result.ok()) << result.error();
+  return result.ok() ? result->ape.rmse : std::numeric_limits<double>::infinity();
 }
 
 struct LioRun {

@@ -12,6 +12,7 @@
 #include "odometry/io/trajectory_file.h"
 #include "odometry/sim/sequence/sequence_generator.h"
 #include "tests/support/temp_dir.h"
+#include "tests/unit/estimator/lio_sequence_run.h"
 #include "tests/unit/estimator/lio_test_support.h"
 
 namespace uf::estimator {
@@ -19,21 +20,6 @@ namespace {
 
 const SE3 kTrueImuFromLidar = testing::kSimImuFromLidar;
 constexpr double kDeg = std::numbers::pi / 180;
-
-// `duration_s` of urban driving (1 s at rest, then driving off) with a 16-beam LiDAR and the IMU.
-std::filesystem::path Simulate(const uf::testing::TempDir& dir, double duration_s,
-                               const std::string& scene = "urban") {
-  sim::SimulationConfig config;
-  config.scene = scene;
-  config.duration_s = duration_s;
-  config.lidar.model.model = "spinning16";
-  config.lidar.model.horizontal_resolution_deg = 0.4;
-  config.camera.enabled = config.gnss.enabled = config.wheel.enabled = false;
-  const std::filesystem::path out = dir.path() / "sequence";
-  auto summary = sim::GenerateSequence(config, out);
-  EXPECT_TRUE(summary.ok()) << summary.error();
-  return out;
-}
 
 // LIO over the folder with T_imu_lidar = `given`; `at_scan` is called before each scan is fed (with the
 // odometry and the scan's stamp). Returns the keyframes' poses.
@@ -49,21 +35,6 @@ Trajectory RunLio(const std::filesystem::path& folder, const SE3& given,
     out.poses.push_back(k.T_world_body);
   }
   return out;
-}
-
-// SE3-aligned ATE of the poses from `from` on against the simulator's ground truth.
-double AteFrom(const std::filesystem::path& folder, const Trajectory& estimate, Stamp from) {
-  Trajectory late;
-  for (std::size_t i = 0; i < estimate.size(); ++i) {
-    if (estimate.stamps[i] < from) continue;
-    late.stamps.push_back(estimate.stamps[i]);
-    late.poses.push_back(estimate.poses[i]);
-  }
-  auto truth = ReadTrajectory((folder / "groundtruth.tum").string());
-  EXPECT_TRUE(truth.ok());
-  auto result = Evaluate(*truth, late, EvalOptions{});
-  EXPECT_TRUE(result.ok()) << result.error();
-  return result.ok() ? result->ape.rmse : std::numeric_limits<double>::infinity();
 }
 
 // How far the body's orientation errors D(t) = R_est(t) R_true(t)^T spread over the poses from `from` on,
@@ -87,7 +58,7 @@ double OrientationSpreadDeg(const std::filesystem::path& folder, const Trajector
 
 TEST(LidarExtrinsicUpdate, KeepsTheWorldLidarPosesOfTheWindow) {
   uf::testing::TempDir dir;
-  const std::filesystem::path folder = Simulate(dir, 4.0);
+  const std::filesystem::path folder = testing::Simulate(dir, 4.0);
   const SE3 T_new(SO3::Exp(Eigen::Vector3d(1, -2, 3).normalized() * 3 * kDeg) * kTrueImuFromLidar.so3(),
                   Eigen::Vector3d(0.02, -0.01, 0.27));
   bool applied = false;
@@ -126,7 +97,7 @@ TEST(LidarExtrinsicUpdate, RefusedInLoAndForANonFiniteExtrinsic) {
 
 TEST(LidarExtrinsicUpdate, TheTrueRotationAppliedMidRunRestoresTheAccuracy) {
   uf::testing::TempDir dir;
-  const std::filesystem::path folder = Simulate(dir, 12.0, "wild");
+  const std::filesystem::path folder = testing::Simulate(dir, 12.0, "", false, "wild");
   const SE3 given(SO3::Exp(Eigen::Vector3d(2, 1, -1).normalized() * 5 * kDeg) * kTrueImuFromLidar.so3(),
                   kTrueImuFromLidar.translation());
   const Stamp start = FromSeconds(1.7e9), apply_at = start + FromSeconds(4.0),
@@ -144,8 +115,9 @@ TEST(LidarExtrinsicUpdate, TheTrueRotationAppliedMidRunRestoresTheAccuracy) {
   const double spread_true = OrientationSpreadDeg(folder, with_true, from),
                spread_given = OrientationSpreadDeg(folder, with_given, from),
                spread_corrected = OrientationSpreadDeg(folder, corrected, from);
-  const double ate_true = AteFrom(folder, with_true, from), ate_given = AteFrom(folder, with_given, from),
-               ate_corrected = AteFrom(folder, corrected, from);
+  const double ate_true = testing::AteFrom(folder, with_true, from),
+               ate_given = testing::AteFrom(folder, with_given, from),
+               ate_corrected = testing::AteFrom(folder, corrected, from);
   std::printf(
       "from 8 s: orientation error spread | ATE: true extrinsic %.3f deg | %.4f m, 5 deg off %.3f deg "
       "| %.4f m, corrected at 4 s %.3f deg | %.4f m\n",

@@ -17,6 +17,7 @@
 #include "odometry/sim/sequence/sequence_generator.h"
 #include "tests/support/temp_dir.h"
 #include "tests/unit/estimator/box_room_scan.h"
+#include "tests/unit/estimator/lio_sequence_run.h"
 
 namespace uf::estimator {
 namespace {
@@ -123,17 +124,7 @@ TEST(LidarOdometryRecovery, ConstantVelocityGuessIsBoundedInTime) {
 // (SE3-aligned over the whole run), no scan is rejected, no pose is non-finite.
 TEST(LidarOdometryRecovery, ResumesAfterABlackoutWithA40DegreeTurn) {
   const uf::testing::TempDir dir;
-  sim::SimulationConfig sim;
-  sim.scene = "warehouse";
-  sim.duration_s = 8;
-  sim.trajectory.motion = sim::Motion::kHandheld;
-  sim.trajectory.knot_spacing_s = sim::kHandheldKnotSpacingS;
-  sim.body_height_m = sim::kHandheldBodyHeightM;
-  sim.lidar.model.model = "spinning16";
-  sim.lidar.model.horizontal_resolution_deg = 0.4;
-  sim.camera.enabled = sim.gnss.enabled = sim.wheel.enabled = false;
-  const std::filesystem::path folder = dir.path() / "sequence";
-  ASSERT_TRUE(sim::GenerateSequence(sim, folder).ok());
+  const std::filesystem::path folder = testing::SimulateHandheld(dir, 8, "warehouse");
   auto truth = ReadTrajectory((folder / "groundtruth.tum").string());
   ASSERT_TRUE(truth.ok());
 

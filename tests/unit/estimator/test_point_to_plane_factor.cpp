@@ -1,5 +1,6 @@
 // The point-to-plane factors against independent truth: hand-computed signed distances (a = 0, 1/2, 1; also
-// with blocks changed in place between evaluations),
+// with blocks changed in place between evaluations), the lever-arm variants against the fixed ones and
+// numeric derivatives in t_BL,
 // analytic Jacobians against central numeric derivatives taken in the pose tangent through
 // PoseManifold::Plus (also for R_b = R_e), and a Ceres solve that registers a synthetic scan with motion
 // during the sweep: with deskew it recovers both poses, without it (all points at a = 0) it cannot.
@@ -149,6 +150,82 @@ TEST(PointToPlaneFactor, JacobiansMatchNumericDerivativesInTheTangent) {
     EXPECT_LT(RelativeError(AnalyticTangentJacobian(single, {poses[0]}, 0),
                             NumericTangentJacobian(single, {poses[0]}, 0)),
               1e-6);
+  }
+}
+
+// The lever-arm variants take t_BL from a block: at the same T_body_lidar they give the fixed factors'
+// residuals and pose Jacobians, and their Jacobian in t_BL matches central differences (a residual linear in
+// t_BL, so the match is to rounding).
+TEST(PointToPlaneFactor, LeverVariantsMatchTheFixedFactorsAndNumericDerivatives) {
+  std::mt19937_64 random(29);
+  std::normal_distribution<double> normal;
+  auto vector = [&](double scale) -> Eigen::Vector3d {
+    return Eigen::Vector3d(normal(random), normal(random), normal(random)) * scale;
+  };
+  for (int trial = 0; trial < 10; ++trial) {
+    const SE3 T_body_lidar(SO3::Exp(vector(0.5)), vector(0.3));
+    const SE3 T_b(SO3::Exp(vector(1.0)), vector(10));
+    const SE3 T_e(T_b.so3() * SO3::Exp(vector(0.3)), T_b.translation() + vector(1));
+    const Plane plane{vector(1).normalized(), vector(10), 0.05 + std::abs(normal(random))};
+    const Eigen::Vector3d p_L = vector(20);
+    const double alpha = trial / 9.0;
+    const Eigen::Matrix3d R_BL = T_body_lidar.so3().matrix();
+    std::array<double, 3> t_BL;
+    Eigen::Map<Eigen::Vector3d>(t_BL.data()) = T_body_lidar.translation();
+    const auto b = PoseBlock(T_b), e = PoseBlock(T_e);
+
+    const PointToPlaneFactor fixed(p_L, alpha, plane, T_body_lidar);
+    const PointToPlaneLeverFactor lever(p_L, alpha, plane, R_BL);
+    const PointToPlaneFactorSinglePose fixed_single(T_body_lidar * p_L, plane);
+    const PointToPlaneLeverFactorSinglePose lever_single(p_L, plane, R_BL);
+    double r_fixed = 0, r_lever = 0, r_fixed_single = 0, r_lever_single = 0;
+    RowVector6d J_fixed[2], J_lever[2], J_fixed_single, J_lever_single;
+    Eigen::RowVector3d J_t, J_t_single;
+    {
+      const double* blocks[2] = {b.data(), e.data()};
+      double* jacobians[2] = {J_fixed[0].data(), J_fixed[1].data()};
+      fixed.EvaluateTangent(blocks, &r_fixed, jacobians);
+      const double* lever_blocks[3] = {b.data(), e.data(), t_BL.data()};
+      double* lever_jacobians[3] = {J_lever[0].data(), J_lever[1].data(), J_t.data()};
+      lever.EvaluateTangent(lever_blocks, &r_lever, lever_jacobians);
+      const double* single_blocks[1] = {e.data()};
+      double* single_jacobians[1] = {J_fixed_single.data()};
+      fixed_single.EvaluateTangent(single_blocks, &r_fixed_single, single_jacobians);
+      const double* lever_single_blocks[2] = {e.data(), t_BL.data()};
+      double* lever_single_jacobians[2] = {J_lever_single.data(), J_t_single.data()};
+      lever_single.EvaluateTangent(lever_single_blocks, &r_lever_single, lever_single_jacobians);
+    }
+    EXPECT_NEAR(r_lever, r_fixed, 1e-9 * std::max(1.0, std::abs(r_fixed)));
+    EXPECT_NEAR(r_lever_single, r_fixed_single, 1e-9 * std::max(1.0, std::abs(r_fixed_single)));
+    for (int k = 0; k < 2; ++k) EXPECT_LT((J_lever[k] - J_fixed[k]).norm(), 1e-9 * (1 + J_fixed[k].norm()));
+    EXPECT_LT((J_lever_single - J_fixed_single).norm(), 1e-9 * (1 + J_fixed_single.norm()));
+    // d r / d t_BL by central differences.
+    const double h = 1e-6;
+    for (int i = 0; i < 3; ++i) {
+      std::array<double, 3> plus = t_BL, minus = t_BL;
+      plus[i] += h;
+      minus[i] -= h;
+      const double numeric = (Residual(lever, {b.data(), e.data(), plus.data()}) -
+                              Residual(lever, {b.data(), e.data(), minus.data()})) /
+                             (2 * h);
+      const double numeric_single = (Residual(lever_single, {e.data(), plus.data()}) -
+                                     Residual(lever_single, {e.data(), minus.data()})) /
+                                    (2 * h);
+      EXPECT_NEAR(J_t(i), numeric, 1e-6 * (1 + std::abs(numeric))) << "trial " << trial << " axis " << i;
+      EXPECT_NEAR(J_t_single(i), numeric_single, 1e-6 * (1 + std::abs(numeric_single)))
+          << "trial " << trial << " axis " << i;
+    }
+    // The ambient Jacobians (Ceres' interface) agree in the Euclidean block with the tangent ones.
+    Eigen::Matrix<double, 1, 7, Eigen::RowMajor> A_b, A_e;
+    Eigen::RowVector3d A_t;
+    const double* blocks[3] = {b.data(), e.data(), t_BL.data()};
+    double* jacobians[3] = {A_b.data(), A_e.data(), A_t.data()};
+    double r = 0;
+    lever.Evaluate(blocks, &r, jacobians);
+    EXPECT_LT((A_t - J_t).norm(), 1e-12);
+    Matrix76 plus_b;
+    PoseManifold().PlusJacobian(b.data(), plus_b.data());
+    EXPECT_LT((A_b * plus_b - J_lever[0]).norm(), 1e-9 * (1 + J_lever[0].norm()));
   }
 }
 

@@ -84,6 +84,12 @@ Schema<LidarOdometryConfig> MakeLioSchema() {
   Schema<C> s("lio");
   s.Key("imu_deskew", &C::imu_deskew, "",
         "correct each sweep's points by the IMU's motion within the sweep beyond constant velocity");
+  s.Key("estimate_lidar_translation", &C::estimate_lidar_translation, "",
+        "estimate the LiDAR extrinsic's translation in the window (off: held as given)");
+  s.Key("lidar_translation_sigma_m", &C::lidar_translation_sigma_m, "m",
+        "prior of the estimated translation about the given one");
+  s.Key("lidar_translation_min_turn_deg", &C::lidar_translation_min_turn_deg, "deg",
+        "the translation moves only while the window's orientations spread this much about every axis");
   s.Key("imu_max_gap_s", &C::imu_max_gap_s, "s",
         "a longer step between IMU samples is a gap, bridged by the constant-velocity prior");
   s.Key("imu_max_wait_s", &C::imu_max_wait_s, "s (stream time)",

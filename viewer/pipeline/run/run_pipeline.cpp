@@ -208,6 +208,10 @@ Status PlanOnlineCalibration(RunPlan& plan) {
   if (plan.frames.mode != OdometryMode::kLio || r.from != RunFrom::kStart)
     return Status::Error("--calibrate-online: needs a LIO run from the start (mode " + ModeName(plan.mode) +
                          (r.from != RunFrom::kStart ? ", --from" : "") + ")");
+  if (plan.lo_config.estimate_lidar_translation)  // both would write calibration_estimated.yaml's LiDAR
+    return Status::Error(
+        "--calibrate-online: not with lio.estimate_lidar_translation (the workers and the window would each "
+        "write the LiDAR's calibration); run one, then the other with dataset.calibration_file");
   Expected<std::unique_ptr<CalibrationBranch>> branch =
       CalibrationBranch::Create(r.lo_config, *plan.stream, plan.sensors, r.calibration_hold_s);
   if (!branch) return branch.status();

@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "odometry/types/printf_text.h"
+#include "viewer/pipeline/run/run_calibration_estimate.h"
 #include "viewer/pipeline/run/run_cameras.h"
 #include "viewer/pipeline/run/run_pipeline.h"
 #include "viewer/pipeline/run/run_record.h"
@@ -95,6 +96,17 @@ std::string VisualNote(const RunPlan& plan, const estimator::SensorFactorStats& 
   return note;
 }
 
+// The report's line on the LiDAR extrinsic's translation estimated in the window.
+std::string LidarTranslationNote(const RunPlan& plan, const estimator::SensorFactorStats& factors) {
+  const Eigen::Vector3d t = factors.lidar_extrinsic->translation();
+  const Eigen::Vector3d moved = t - plan.lo_config.T_body_lidar.translation();
+  return PrintfText("LiDAR extrinsic translation estimated: (%.4f, %.4f, %.4f) m, %.4f m from the given one",
+                    t.x(), t.y(), t.z(), moved.norm()) +
+         PrintfText("; it moved in %.0f of %.0f window solves", factors.lidar_translation_free_solves,
+                    factors.lidar_translation_solves) +
+         " (in the others the window's orientations did not spread enough about every axis to show it)";
+}
+
 // The LiDAR map's ring gate as the run used it (docs/METHOD.md "Voxel-hash map and PCA planes").
 std::string RingGateNote(const RunPlan& plan, int rings) {
   const bool automatic = plan.lo_config.map.min_plane_rings == 0;
@@ -177,7 +189,7 @@ std::vector<Stage> RunStageList(RunPlan& plan, const fs::path& out, StageOutputs
       std::cerr << "ultrafusion: point times of " << plan.summary.point_times->stream << ": "
                 << recheck->Line() << "\n";
     if (Status s = WriteRunTracks(plan, *o.odometry, out, c); !s.ok()) return s;
-    if (Status s = WriteCameraCalibrationEstimate(plan, *o.odometry, out, c); !s.ok()) return s;
+    if (Status s = WriteWindowCalibrationEstimate(plan, *o.odometry, out, c); !s.ok()) return s;
     const std::optional<OnlineCalibrationSummary>& calibration = o.odometry->summary.online_calibration;
     if (!o.odometry->georef && !(calibration && calibration->rotation_applied_at)) return Status();
     // trajectory.tum is in ENU: run.json gets the map's new T_M_W, which the splat stage reads; or the
@@ -272,6 +284,7 @@ void Summarize(const RunPlan& plan, StageOutputs& o, RunSummary& summary) {
                               " scans left a weakly held translation to the wheel (reliability scheduling)");
     }
     if (plan.mode.camera) summary.notes.push_back(VisualNote(plan, factors));
+    if (factors.lidar_extrinsic) summary.notes.push_back(LidarTranslationNote(plan, factors));
     if (plan.mode.gnss)
       summary.notes.push_back("GNSS factors: " + std::to_string(factors.gnss.added) + " added (" +
                               std::to_string(factors.gnss_horizontal_only) +

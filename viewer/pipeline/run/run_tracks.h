@@ -1,6 +1,6 @@
 // The camera's files of a run with the camera in the estimator (V modes): tracks.csv, the track plots and
 // the overlays (plots/tracks_<stamp ns>.png), as `ultrafusion track` writes them (track/track_job.h), from
-// the frames the estimator tracked; and the camera time offset it estimated.
+// the frames the estimator tracked.
 #pragma once
 
 #include <filesystem>
@@ -14,12 +14,5 @@ namespace uf::pipeline {
 // Nothing without tracked frames; errors: a file that cannot be written.
 Status WriteRunTracks(const RunPlan& plan, const OdometryStageOutput& odometry,
                       const std::filesystem::path& out, StageContext& context);
-
-// With visual.estimate_time_offset or visual.estimate_extrinsic (wio. or lio.): calibration_estimated.yaml
-// (the calibration file format, which dataset.calibration_file reads) with the IMU and the tracked camera:
-// its time offset the one the run read with plus the t_d the window ended with, its extrinsic the estimated
-// one (else the given one). Nothing otherwise.
-Status WriteCameraCalibrationEstimate(const RunPlan& plan, const OdometryStageOutput& odometry,
-                                      const std::filesystem::path& out, StageContext& context);
 
 }  // namespace uf::pipeline

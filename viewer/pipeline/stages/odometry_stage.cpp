@@ -45,7 +45,8 @@ Status CollectFinished(const OdometryStageInput& in, OdometryStageOutput& out, C
       continue;  // keep stamps increasing
     collected.pose_stamps.push_back(k.stamp);
     collected.poses.push_back(k.T_world_body);
-    if (k.inertial) collected.imu_states.push_back({k.stamp, k.velocity, k.bias_acc, k.bias_gyro});
+    if (k.inertial)
+      collected.imu_states.push_back({k.stamp, k.velocity, k.bias_acc, k.bias_gyro, k.lidar_translation});
     if (k.lidar_degeneracy || k.wheel_consistency || !k.gnss_checks.empty() || k.imu_reliability ||
         !k.camera_checks.empty())
       collected.scored.push_back({k.stamp, k.lidar_degeneracy, k.wheel_consistency, k.gnss_checks,
