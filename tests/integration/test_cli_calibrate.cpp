@@ -180,6 +180,7 @@ TEST(CliCalibrate, RunEstimatesTheLidarTranslation) {
   EXPECT_TRUE(fs::exists(dir.File("run/plots/lidar_translation.png")));
   const std::string report = testing::ReadText(dir.File("run/report.md"));
   EXPECT_NE(report.find("LiDAR extrinsic translation estimated: ("), std::string::npos) << report;
+  EXPECT_NE(report.find("(plots/lidar_translation.png)"), std::string::npos) << report;
 
   const auto no_deskew = Ultrafusion("run " + seq + " --mode lio --no-map --config " + without_deskew +
                                      " --out " + dir.File("never"));

@@ -210,14 +210,20 @@ std::string FormatImuReliability(const pipeline::OdometrySummary& o) {
   return md + PlotLink("IMU reliability", o.imu_reliability_plot);
 }
 
-// With an IMU: the inertial window's velocities and biases (imu_states.csv) and the bias plots.
+// With an IMU: the inertial window's velocities and biases (imu_states.csv) and the bias plots; the LiDAR
+// translation's plot where the window estimated it.
 std::string FormatImuStates(const pipeline::OdometrySummary& o) {
   std::string md = "\n## Inertial states\n\n";
   md += "The velocity and the IMU biases of the " + std::to_string(o.imu_states) +
         " keyframes the inertial window estimated, in `imu_states.csv` (the velocity in the estimator's "
         "world, the biases in the IMU frame).\n";
-  return md + PlotLink("Accelerometer bias", o.imu_accel_bias_plot) +
-         PlotLink("Gyroscope bias", o.imu_gyro_bias_plot);
+  md += PlotLink("Accelerometer bias", o.imu_accel_bias_plot) +
+        PlotLink("Gyroscope bias", o.imu_gyro_bias_plot);
+  if (o.lidar_translation_plot.empty()) return md;
+  return md +
+         "\nThe LiDAR extrinsic's translation as the window estimated it (`lio.estimate_lidar_translation`; "
+         "its columns in `imu_states.csv`):\n" +
+         PlotLink("LiDAR extrinsic translation", o.lidar_translation_plot);
 }
 
 // With the camera: where its frames were left out.

@@ -237,6 +237,7 @@ Status WriteOdometryFiles(const OdometryStageInput& in, const OdometryStageOutpu
   summary.imu_states = static_cast<std::int64_t>(states.size());
   summary.imu_accel_bias_plot = state_files->accel_bias_plot;
   summary.imu_gyro_bias_plot = state_files->gyro_bias_plot;
+  summary.lidar_translation_plot = state_files->lidar_translation_plot;
   const std::string plot = "plots/timing_per_" + summary.step + ".png";
   if (Status s = WriteTimingPlot(in.out / plot, std::move(collected.stamps).TakeVector(),
                                  std::move(collected.ms).TakeVector(), summary.step);

@@ -100,6 +100,7 @@ struct OdometrySummary {
   // The keyframes with inertial estimates (imu_states.csv) and their bias plots (none without).
   std::int64_t imu_states = 0;
   std::string imu_accel_bias_plot, imu_gyro_bias_plot;
+  std::string lidar_translation_plot;  // with lio.estimate_lidar_translation
 };
 
 // The stream whose messages pace the odometry, for the progress line: the LiDAR's, or the IMU's in WIO.
