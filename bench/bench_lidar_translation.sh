@@ -6,8 +6,8 @@
 # and vehicle drives through --vehicle-scenes (a car turns about the vertical only: the estimate should stay
 # put). Per case: the estimate's distance from the truth and its x, y, z (the true mount is (0, 0, 0.25) m),
 # the window solves that moved it, and the ATE (SE3-aligned) with the given translation held, estimated,
-# and the true one held, over the whole run and from 5 s on (the poses before the estimate settles, and
-# the map they built, carry the given error). configs/run-sim.yaml with lio.imu_deskew on (the estimate needs it) and the solve
+# and the true one held, over the whole run and from 5 s on (the start, before the estimate settles, left
+# out: the keyframes of that time are held and moved to the settled estimate; the map built then is not). configs/run-sim.yaml with lio.imu_deskew on (the estimate needs it) and the solve
 # budget lifted (lo.max_solver_time_s: 10) so that the figures repeat.
 #   usage: bench/bench_lidar_translation.sh [--duration S] [--error M] [--seeds "1 2 3"]
 #                                           [--vehicle-scenes "urban"] [--keep DIR] [SCENE ...]

@@ -77,7 +77,8 @@ struct Keyframe {
   Eigen::Vector3d bias_gyro = Eigen::Vector3d::Zero();  // gyroscope bias, imu frame, rad/s
   bool inertial = false;  // velocity and biases are an inertial window's estimates (else not estimated)
   // The LiDAR extrinsic's translation (T_body_lidar's, m) as the window estimated it when the keyframe left
-  // (lio.estimate_lidar_translation); none where it is held.
+  // (lio.estimate_lidar_translation; its body pose is moved to the settled estimate, docs/METHOD.md "Online
+  // spatiotemporal calibration"); none where the translation is held as given.
   std::optional<Eigen::Vector3d> lidar_translation;
   std::vector<Eigen::Vector3f> scan_world;              // deskewed scan, world frame, m
   std::vector<float> scan_intensity;  // one per point of scan_world, as the sensor reports it

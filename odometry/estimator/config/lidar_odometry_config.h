@@ -72,7 +72,7 @@ struct LidarOdometryConfig {
   // block (PointToPlaneLeverFactor), under a prior of lidar_translation_sigma_m about the given one. The
   // block moves in a window solve only while the window's orientations spread by at least
   // lidar_translation_min_turn_deg about every axis (LeverExcited): turning about one axis leaves the
-  // lever arm along it unseen.
+  // lever arm along it unseen. Keyframes that leave the window before it settles wait for it (at most 50).
   bool estimate_lidar_translation = false;
   double lidar_translation_sigma_m = 0.05;
   double lidar_translation_min_turn_deg = 1.0;

@@ -248,6 +248,7 @@ void LidarOdometry::Finish() {
   w.config.marginalize = false;  // nothing is solved after this: no prior needed
   while (!w.window.empty()) w.PopOldest();
   w.ReleaseHeld(SE3());  // never initialized: they stay in the LO frame
+  w.ReleaseLeverHeld(/*all=*/true);
 }
 
 const std::vector<std::string>& LidarOdometry::warnings() const { return impl_->warnings; }

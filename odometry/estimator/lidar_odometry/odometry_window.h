@@ -180,6 +180,17 @@ struct LidarOdometry::Impl {
   std::array<double, 3> lidar_translation{};
   Eigen::Vector3d given_lidar_translation = Eigen::Vector3d::Zero();  // the prior's centre
   int lever_free_solves = 0, lever_solves = 0;
+  // With it estimated: the keyframes that left before it settled, each with the translation its body pose
+  // was computed with (window_extrinsic.cpp, Emit).
+  struct LeverHeldKeyframe {
+    Keyframe keyframe;
+    Eigen::Vector3d lidar_translation;
+  };
+  std::deque<LeverHeldKeyframe> held_for_lever;
+  std::deque<Eigen::Vector3d> recent_lever;              // after the last kLeverSettleSolves free solves
+  static constexpr std::size_t kLeverSettleSolves = 20;  // free window solves over which it must settle
+  static constexpr double kLeverSettledM = 0.005;        // how little it may move over them
+  static constexpr std::size_t kMaxLeverHeld = 50;       // keyframes held at most (5 s at 10 Hz)
 
   // Nodes (window_nodes.cpp).
   Node& NodeAt(long id) { return nodes[static_cast<std::size_t>(id - first_node_id)]; }
@@ -225,6 +236,12 @@ struct LidarOdometry::Impl {
   void CorrectSweepByImu(ScanState& scan);
   void Release(ScanState& scan);
   void ReleaseHeld(const SE3& T_world_lo);
+  // A keyframe out to `finished`, or held until the estimated LiDAR translation settles
+  // (window_extrinsic.cpp); ReleaseLeverHeld lets out the held ones (all of them, or the oldest beyond
+  // kMaxLeverHeld).
+  void Emit(Keyframe keyframe);
+  void ReleaseLeverHeld(bool all);
+  bool LeverSettled() const;
   void PopOldest();
   Matrix6d ScanInformation(const ScanState& scan);
   void DropWeakDirections(ScanState& scan);

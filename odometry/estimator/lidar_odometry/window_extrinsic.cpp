@@ -55,6 +55,41 @@ bool LidarOdometry::Impl::LeverExcited() const {
   return Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(S).eigenvalues()(0) >= min_turn * min_turn;
 }
 
+// With the translation estimated, a keyframe whose body pose was computed with a translation that may still
+// move waits: until the estimate has settled (LeverSettled), at most kMaxLeverHeld keyframes (then the
+// oldest leave), or the end of the run. Its LiDAR pose is what the map measured, so on release the body
+// moves as in SetLidarExtrinsic: T_WB' = T_WB T_BL_then T_BL_now^-1 = T_WB (I, u - t) for the translations
+// u then and t now (the rotation is the same). Its points (world) and velocity stay (the velocity's
+// lever-arm share, omega x R (u - t), is left out). Keyframe::lidar_translation keeps the value it left the
+// window with.
+void LidarOdometry::Impl::Emit(Keyframe keyframe) {
+  if (!config.use_imu || !config.estimate_lidar_translation) {
+    finished.push_back(std::move(keyframe));
+    return;
+  }
+  held_for_lever.push_back({std::move(keyframe), config.T_body_lidar.translation()});
+  ReleaseLeverHeld(LeverSettled());
+}
+
+// Settled: over its last kLeverSettleSolves free window solves it stayed within kLeverSettledM of where it
+// is now (a hand-held 32-beam LiDAR gets there 2-3 s after the first free solve, a 16-beam one later).
+bool LidarOdometry::Impl::LeverSettled() const {
+  if (recent_lever.size() < kLeverSettleSolves) return false;
+  const Eigen::Vector3d t = config.T_body_lidar.translation();
+  return std::all_of(recent_lever.begin(), recent_lever.end(),
+                     [&t](const Eigen::Vector3d& r) { return (r - t).norm() <= kLeverSettledM; });
+}
+
+void LidarOdometry::Impl::ReleaseLeverHeld(bool all) {
+  const Eigen::Vector3d t = config.T_body_lidar.translation();
+  while (!held_for_lever.empty() && (all || held_for_lever.size() > kMaxLeverHeld)) {
+    LeverHeldKeyframe& held = held_for_lever.front();
+    held.keyframe.T_world_body = held.keyframe.T_world_body * SE3(SO3(), held.lidar_translation - t);
+    finished.push_back(std::move(held.keyframe));
+    held_for_lever.pop_front();
+  }
+}
+
 // The LiDAR poses are what the map measured, so they stay: every body pose moves to
 // T_WB_new = T_WB_old * T_BL_old * T_BL_new^-1, which gives T_WB_new * T_BL_new = T_WB_old * T_BL_old.
 // The map (built from LiDAR poses) is unchanged; the point-to-plane factors, which carry T_BL in their

@@ -193,7 +193,7 @@ void LidarOdometry::Impl::Release(ScanState& scan) {
   if (gnss) keyframe.gnss_checks = gnss->TakeChecks(NodeAt(scan.end_node).stamp);
   if (visual) keyframe.camera_checks = visual->TakeChecks(NodeAt(scan.end_node).stamp);
   if (!config.use_imu || inertial) {
-    finished.push_back(std::move(keyframe));
+    Emit(std::move(keyframe));
     return;
   }
   // LIO not yet initialized: the pose is in the LO frame (the first IMU pose's), which the alignment will
@@ -209,7 +209,7 @@ void LidarOdometry::Impl::Release(ScanState& scan) {
                          StampText(held_for_alignment.front().stamp) +
                          " on (the trajectory tilts where the initialization comes)");
     released_unaligned = true;
-    finished.push_back(std::move(held_for_alignment.front()));
+    Emit(std::move(held_for_alignment.front()));
     held_for_alignment.pop_front();
   }
 }
@@ -222,7 +222,7 @@ void LidarOdometry::Impl::ReleaseHeld(const SE3& T_world_lo) {
     keyframe.T_world_body = T_world_lo * keyframe.T_world_body;
     keyframe.velocity = T_world_lo.so3() * keyframe.velocity;
     for (Eigen::Vector3f& p : keyframe.scan_world) p = R * p + t;
-    finished.push_back(std::move(keyframe));
+    Emit(std::move(keyframe));
   }
   held_for_alignment.clear();
 }

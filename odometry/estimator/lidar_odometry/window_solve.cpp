@@ -62,6 +62,10 @@ bool LidarOdometry::Impl::Solve(int* iterations, bool new_scan_only, bool rigid_
     const Eigen::Map<const Eigen::Vector3d> t_BL(lidar_translation.data());
     if (!result.usable || !t_BL.allFinite()) lidar_translation = lever_before;
     config.T_body_lidar = SE3(config.T_body_lidar.so3(), t_BL);  // what the sweeps and the map use
+    if (lever_free) {
+      recent_lever.push_back(t_BL);
+      if (recent_lever.size() > kLeverSettleSolves) recent_lever.pop_front();
+    }
   }
   return result.usable;
 }
