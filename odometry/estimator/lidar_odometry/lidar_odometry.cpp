@@ -264,7 +264,7 @@ SensorFactorStats LidarOdometry::sensor_factors() const {
   if (impl_->visual) impl_->visual->Report(stats);
   stats.lidar_plane_rings = impl_->map.min_plane_rings_in_use();
   stats.lidar_translations_to_wheel = impl_->scans_leaving_translations_to_wheel;
-  if (impl_->config.use_imu && impl_->config.estimate_lidar_translation) {
+  if (impl_->EstimatesLidarTranslation()) {
     stats.lidar_extrinsic = impl_->config.T_body_lidar;
     stats.lidar_translation_free_solves = impl_->lever_free_solves;
     stats.lidar_translation_solves = impl_->lever_solves;

@@ -220,9 +220,11 @@ struct LidarOdometry::Impl {
   // A new LiDAR extrinsic (window_extrinsic.cpp).
   void SetLidarExtrinsic(const SE3& T_body_lidar);
   void SetWorldGravity();
-  // The estimated translation (window_extrinsic.cpp): whether the point-to-plane factors take it from
-  // lidar_translation; its block and prior in the graph; whether the window's turns show it.
-  bool LeverFactors() const { return config.use_imu && config.estimate_lidar_translation && inertial; }
+  // The estimated translation (window_extrinsic.cpp): whether the run estimates it (LIO with the option);
+  // whether the point-to-plane factors take it from lidar_translation (once initialized); its block and
+  // prior in the graph; whether the window's turns show it.
+  bool EstimatesLidarTranslation() const { return config.use_imu && config.estimate_lidar_translation; }
+  bool LeverFactors() const { return EstimatesLidarTranslation() && inertial; }
   void AttachLidarTranslation();
   bool LeverExcited() const;
 

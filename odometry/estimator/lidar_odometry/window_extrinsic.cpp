@@ -19,7 +19,7 @@ constexpr long kLidarTranslationPriorTag = -1;
 // The block, and its prior r = (t_BL - t_given) / sigma (again after the graph was cleared: the block keeps
 // its value).
 void LidarOdometry::Impl::AttachLidarTranslation() {
-  if (!config.use_imu || !config.estimate_lidar_translation) return;
+  if (!EstimatesLidarTranslation()) return;
   graph.AddEuclideanBlock(lidar_translation.data(), 3);
   const ceres::Matrix A = ceres::Matrix::Identity(3, 3) / config.lidar_translation_sigma_m;
   const ceres::Vector b = given_lidar_translation;
@@ -63,7 +63,7 @@ bool LidarOdometry::Impl::LeverExcited() const {
 // lever-arm share, omega x R (u - t), is left out). Keyframe::lidar_translation keeps the value it left the
 // window with.
 void LidarOdometry::Impl::Emit(Keyframe keyframe) {
-  if (!config.use_imu || !config.estimate_lidar_translation) {
+  if (!EstimatesLidarTranslation()) {
     finished.push_back(std::move(keyframe));
     return;
   }
