@@ -26,7 +26,7 @@ struct LidarOdometryConfig {
   int max_iterations = 8;             // LM iterations per solve (paper 8 / 40 ms)
   double max_solver_time_s = 0.04;    // per solve, s
   int max_residuals_per_scan = 1500;  // point-to-plane residuals of one scan (paper 1200-2000)
-  double huber_m = 0.5;               // robust loss scale, m of point-to-plane distance (paper 0.5-1.0)
+  double huber_m = 0.1;               // robust loss scale, m of point-to-plane distance (paper 0.5-1.0)
   double min_range_m = 1.0, max_range_m = 100.0;  // points kept for registration and the map, m
   SE3 T_body_lidar;                               // identity in LO mode (body = lidar); T_imu_lidar in LIO
   // Beyond the list (defaults tuned on KITTI 00 keyframes and the simulator):
