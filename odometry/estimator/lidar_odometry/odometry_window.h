@@ -90,10 +90,11 @@ struct ScanState {
 // map (CoarseMap) with a correspondence gate kCoarseScale times wider, for a far guess. rigid (a sweep with a
 // begin and an end node of its own): the sweep moves as one body, its motion within the sweep as the guess
 // has it (only its end node is solved for, the begin node follows; the motion factors stay out): 6 dof,
-// where its two nodes give 12.
+// where its two nodes give 12. wide_kernel: the robust kernel's scale lo.huber_m kCoarseScale times wider.
 struct Rounds {
   bool coarse = false;
   bool rigid = false;
+  bool wide_kernel = false;
 };
 
 // Adds the wall time of its scope to a millisecond counter (the per-stage figures of OdometryStats).
@@ -272,14 +273,15 @@ struct LidarOdometry::Impl {
   // Registration (window_registration.cpp).
   bool RegisterNewScan(ScanState& current);
   bool RegisterRounds(ScanState& current, Rounds rounds = {});
-  bool RegisterCoarseToFine(ScanState& current);
+  bool RegisterCoarseToFine(ScanState& current, bool both_kernels = false);
   double ReferenceMatchFraction() const;
   std::optional<std::string> RejectionReason(const ScanState& current, bool solved);
   struct Guess {
     std::string name;
-    SE3 begin, end;  // the scan's begin and end poses
+    SE3 begin, end;             // the scan's begin and end poses
+    bool both_kernels = false;  // the coarse rounds tried with both robust kernels (RegisterCoarseToFine)
   };
-  std::vector<Guess> FallbackGuesses(const ScanState& current, bool poor);
+  std::vector<Guess> FallbackGuesses(const ScanState& current, bool poor, bool first_done);
   std::vector<Guess> TurnedGuesses();
   bool AgreesWithGuess(const ScanState& current, const SavedStates& guess);
   SE3 MoveFromGuess(const ScanState& current, const SavedStates& guess) const;

@@ -54,9 +54,30 @@ bool LidarOdometry::Impl::RegisterRounds(ScanState& current, Rounds rounds) {
 // ICP rounds from a guess that may be far off: against the coarse map first (planes from blocks kCoarseScale
 // times wider, a gate as much wider), which reaches surfaces that far from where the guess puts the points,
 // then against the map. A sweep with nodes of its own is held rigid in the coarse rounds (HoldsSweepRigid).
-bool LidarOdometry::Impl::RegisterCoarseToFine(ScanState& current) {
-  return RegisterRounds(current, {.coarse = true, .rigid = HoldsSweepRigid(current)}) &&
-         RegisterRounds(current);
+// The coarse rounds take the fine rounds' robust kernel (lo.huber_m); with both_kernels (the first guess)
+// the scan is registered twice from the guess, the second time with a kernel kCoarseScale times wider in the
+// coarse rounds, scaled like their gate (Rounds::wide_kernel), and the result with the higher match fraction
+// is kept. Each kernel alone settles in wrong minima where the other lands right (simulated hand-held wild,
+// the first scans of a walk: docs/METHOD.md "Far first guesses"). Returns false when every attempt's solve
+// failed.
+bool LidarOdometry::Impl::RegisterCoarseToFine(ScanState& current, bool both_kernels) {
+  const SavedStates guess = Save(nodes);
+  std::optional<SavedStates> best;
+  double best_fraction = -1;
+  for (const bool wide_kernel : {false, true}) {
+    if (wide_kernel && !both_kernels) break;
+    Restore(guess, nodes);
+    if (!RegisterRounds(current,
+                        {.coarse = true, .rigid = HoldsSweepRigid(current), .wide_kernel = wide_kernel}) ||
+        !RegisterRounds(current) || current.MatchFraction() <= best_fraction)
+      continue;
+    best = Save(nodes);
+    best_fraction = current.MatchFraction();
+  }
+  if (!best) return false;
+  Restore(*best, nodes);
+  Associate(current);  // the factors of the kept result (the graph holds the last attempt's)
+  return true;
 }
 
 // The match fraction the recent registered scans that moved reached (their median), the yardstick of the
@@ -122,15 +143,19 @@ bool LidarOdometry::Impl::AgreesWithGuess(const ScanState& current, const SavedS
 
 // The guesses tried (each with coarse rounds first) when the first one (the IMU prediction in LIO, the
 // constant-velocity extrapolation over the last node pair in LO) fails or matches poorly, from the nodes as
-// they were before its rounds: the first guess itself, and when the first result was poor (rejected, or
+// they were before its rounds: the first guess itself with both kernels (RegisterCoarseToFine; unless
+// first_done: a far first guess was registered so already), and when the first result was poor (rejected, or
 // below kPoorRatio of the recent match fraction) also constant velocity over the last scan interval (at least
 // kLongTwistBaseline: steadier than one sweep's twist, which rests on the deskew alone) and no motion since
 // the last registered scan.
 std::vector<LidarOdometry::Impl::Guess> LidarOdometry::Impl::FallbackGuesses(const ScanState& current,
-                                                                             bool poor) {
+                                                                             bool poor, bool first_done) {
   constexpr Stamp kLongTwistBaseline = 150'000'000;  // 0.15 s
-  std::vector<Guess> guesses = {
-      {"first guess (coarse to fine)", NodePose(current.begin_node), NodePose(current.end_node)}};
+  std::vector<Guess> guesses;
+  if (!first_done)
+    guesses.push_back({"first guess (coarse to fine)", NodePose(current.begin_node),
+                       NodePose(current.end_node),
+                       /*both_kernels=*/true});
   if (!poor) return guesses;
   const long last_old = SharesBeginNode(current) ? current.begin_node : current.begin_node - 1;
   if (last_old > first_node_id)
@@ -224,7 +249,7 @@ bool LidarOdometry::Impl::RegisterNewScan(ScanState& current) {
   constexpr double kRetryRatio = 0.85, kPoorRatio = 0.75, kClearlyMore = 1.05;
   const SavedStates saved = Save(nodes);
   const bool far = HoldsSweepRigid(current) && FarGuess(current);
-  bool solved = far ? RegisterCoarseToFine(current) : RegisterRounds(current);
+  bool solved = far ? RegisterCoarseToFine(current, /*both_kernels=*/true) : RegisterRounds(current);
   std::optional<std::string> why = RejectionReason(current, solved);
   if (why && inertial && solved && AgreesWithGuess(current, saved)) why.reset();
   const double ratio = current.MatchFraction() / std::max(ReferenceMatchFraction(), 1e-9);
@@ -246,7 +271,7 @@ bool LidarOdometry::Impl::RegisterNewScan(ScanState& current) {
         Restore(saved, nodes);
         if (!SharesBeginNode(current)) NodeAt(current.begin_node).pose = PoseBlock(guess.begin);
         NodeAt(current.end_node).pose = PoseBlock(guess.end);
-        const bool ok = RegisterCoarseToFine(current);  // a fallback guess may be far off
+        const bool ok = RegisterCoarseToFine(current, guess.both_kernels);  // a fallback guess may be far off
         if (RejectionReason(current, ok) || current.MatchFraction() <= best_fraction) continue;
         best = Save(nodes);
         best_fraction = current.MatchFraction();
@@ -255,7 +280,7 @@ bool LidarOdometry::Impl::RegisterNewScan(ScanState& current) {
     };
     Restore(saved, nodes);  // the guesses start from the nodes as they were before the rounds
     const bool poor = why || ratio < kPoorRatio || beyond_basin;
-    try_guesses(FallbackGuesses(current, poor));
+    try_guesses(FallbackGuesses(current, poor, /*first_done=*/far));
     if ((!best && poor) || beyond_basin) try_guesses(TurnedGuesses());
     if (best) {
       Restore(*best, nodes);

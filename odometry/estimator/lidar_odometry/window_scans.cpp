@@ -31,14 +31,16 @@ SweepPoses LidarOdometry::Impl::Sweep(const ScanState& scan) {
 // queries are const), then the batch is taken in visiting order until the cap: the same residuals as a
 // serial pass.
 //
-// rounds: against the coarse map, or with the sweep rigid (Rounds): then each point's factor is on the end
-// node alone, the point taken into the end node's body frame along the sweep as it is now, T_end^-1
-// T_world_lidar(alpha) p; moving the end node by G moves every pose of the sweep by G.
+// rounds: against the coarse map, with the wider robust kernel, or with the sweep rigid (Rounds). Rigid,
+// each point's factor is on the end node alone, the point taken into the end node's body frame along the
+// sweep as it is now, T_end^-1 T_world_lidar(alpha) p; moving the end node by G moves every pose of the sweep
+// by G.
 void LidarOdometry::Impl::Associate(ScanState& scan, Rounds rounds) {
   const StageTimer timer(stats.associate_ms);
   const bool coarse = rounds.coarse, rigid = rounds.rigid;
   const VoxelHashMap& map = coarse ? CoarseMap() : this->map;
   const double max_plane_distance_m = config.max_plane_distance_m * (coarse ? kCoarseScale : 1.0);
+  const double huber_m = config.huber_m * (rounds.wide_kernel ? kCoarseScale : 1.0);
   graph.Remove(FactorKind::kLidar, scan.id);
   scan.residuals = scan.visited = scan.on_plane = 0;
   const auto& points = scan.registration_points;
@@ -117,7 +119,7 @@ void LidarOdometry::Impl::Associate(ScanState& scan, Rounds rounds) {
       }
       if (scan.projector) cost = std::make_unique<ProjectedFactor>(std::move(cost), *scan.projector);
       graph.Add(FactorKind::kLidar, scan.id, std::move(cost),
-                std::make_unique<ceres::HuberLoss>(config.huber_m / plane.sigma), blocks, /*anchors=*/true);
+                std::make_unique<ceres::HuberLoss>(huber_m / plane.sigma), blocks, /*anchors=*/true);
       ++scan.residuals;
     }
   }
