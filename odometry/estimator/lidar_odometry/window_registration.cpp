@@ -64,19 +64,24 @@ bool LidarOdometry::Impl::RegisterCoarseToFine(ScanState& current, bool both_ker
   const SavedStates guess = Save(nodes);
   std::optional<SavedStates> best;
   double best_fraction = -1;
+  bool last_is_best = false;
   for (const bool wide_kernel : {false, true}) {
     if (wide_kernel && !both_kernels) break;
     Restore(guess, nodes);
+    last_is_best = false;
     if (!RegisterRounds(current,
                         {.coarse = true, .rigid = HoldsSweepRigid(current), .wide_kernel = wide_kernel}) ||
         !RegisterRounds(current) || current.MatchFraction() <= best_fraction)
       continue;
     best = Save(nodes);
     best_fraction = current.MatchFraction();
+    last_is_best = true;
   }
   if (!best) return false;
-  Restore(*best, nodes);
-  Associate(current);  // the factors of the kept result (the graph holds the last attempt's)
+  if (!last_is_best) {
+    Restore(*best, nodes);
+    Associate(current);  // the factors of the kept result (the graph holds the last attempt's)
+  }
   return true;
 }
 
