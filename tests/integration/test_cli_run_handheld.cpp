@@ -2,7 +2,6 @@
 // configs/run-sim.yaml: the first scans of a walk from a standing start.
 #include <gtest/gtest.h>
 
-#include <fstream>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -37,15 +36,11 @@ double ApeMax(const std::string& eval_output) {
 // on the machine's load.
 TEST(CliRunHandheld, TheFirstScansOfAWalkLandWhereTheDeviceWent) {
   TempDir dir;
-  std::ifstream given(std::string(UF_SOURCE_DIR) + "/configs/run-sim.yaml");
-  std::stringstream config;
-  config << given.rdbuf();
-  std::string text = config.str();
-  const std::size_t lo = text.find("\nlo:\n");
+  std::string config = testing::ReadText(std::string(UF_SOURCE_DIR) + "/configs/run-sim.yaml");
+  const std::size_t lo = config.find("\nlo:\n");
   ASSERT_NE(lo, std::string::npos);
-  text.insert(lo + 5, "  max_solver_time_s: 100\n");
-  const std::string run_config = dir.File("run.yaml");
-  std::ofstream(run_config) << text;
+  config.insert(lo + 5, "  max_solver_time_s: 100\n");
+  const std::string run_config = dir.Write("run.yaml", config);
 
   for (const auto& [seed, duration_s] : {std::pair<int, int>{15, 4}, {9, 3}}) {
     SCOPED_TRACE("seed " + std::to_string(seed));
