@@ -58,6 +58,10 @@ struct VisualFactorConfig {
   // After each solve a landmark with an observation reprojecting worse than this, or a depth that left
   // [min_depth_m, max_depth_m], is dropped with its factors (a moving object, a bad track).
   double max_reprojection_px = 3.0;
+  // LVIO: a landmark whose depth came from the LiDAR map stays on the map's plane where its anchor ray met
+  // it (factors/landmark_plane_factor.h), under the Huber loss of huber_sigmas in the plane's sigmas; not
+  // with estimate_extrinsic (the rays that met the planes turn as the extrinsic converges).
+  bool hold_map_depth = true;
   // The camera time offset t_d (camera stamp + t_d = IMU time): the value to start from, and whether the
   // window estimates it (free, with a prior of time_offset_sigma_s about the start value).
   double time_offset_s = 0;

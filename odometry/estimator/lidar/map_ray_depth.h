@@ -17,4 +17,12 @@ namespace uf::estimator {
 std::optional<double> MapRayDistance(const VoxelHashMap& map, const Eigen::Vector3d& origin,
                                      const Eigen::Vector3d& direction, double min_m, double max_m);
 
+// The same, with the plane the ray met (LVIO's landmarks stay on it: factors/landmark_plane_factor.h).
+struct MapRayHit {
+  double distance = 0;
+  Plane plane;
+};
+std::optional<MapRayHit> MapRaySurface(const VoxelHashMap& map, const Eigen::Vector3d& origin,
+                                       const Eigen::Vector3d& direction, double min_m, double max_m);
+
 }  // namespace uf::estimator

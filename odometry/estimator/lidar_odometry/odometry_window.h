@@ -260,7 +260,7 @@ struct LidarOdometry::Impl {
 
   // The camera's landmarks (window_visual.cpp).
   void LinkVisual();
-  std::optional<double> MapDepth(const SE3& T_world_camera, const Eigen::Vector2d& xy) const;
+  std::optional<MapSurface> MapDepth(const SE3& T_world_camera, const Eigen::Vector2d& xy) const;
   std::vector<double*> AnchoredBlocks(long keep_from) const;
   void ForgetVisualBefore(long keep_from);
 

@@ -23,16 +23,17 @@ void LidarOdometry::Impl::LinkVisual() {
   visual->Link(graph, [this](long id) { return NodeAt(id).pose.data(); });
 }
 
-// The depth along the camera's z where the ray through xy meets the map (lidar/map_ray_depth.h).
-std::optional<double> LidarOdometry::Impl::MapDepth(const SE3& T_world_camera,
-                                                    const Eigen::Vector2d& xy) const {
+// The depth along the camera's z where the ray through xy meets the map, and the map's plane there
+// (lidar/map_ray_depth.h).
+std::optional<MapSurface> LidarOdometry::Impl::MapDepth(const SE3& T_world_camera,
+                                                        const Eigen::Vector2d& xy) const {
   const Eigen::Vector3d ray = xy.homogeneous();
   const double norm = ray.norm();
-  const std::optional<double> distance =
-      MapRayDistance(map, T_world_camera.translation(), T_world_camera.so3() * (ray / norm),
-                     config.visual.min_depth_m, config.visual.max_depth_m);
-  if (!distance) return std::nullopt;
-  return *distance / norm;
+  const std::optional<MapRayHit> hit =
+      MapRaySurface(map, T_world_camera.translation(), T_world_camera.so3() * (ray / norm),
+                    config.visual.min_depth_m, config.visual.max_depth_m);
+  if (!hit) return std::nullopt;
+  return MapSurface{hit->distance / norm, hit->plane};
 }
 
 // The inverse depths of the landmarks anchored in the nodes before keep_from: they leave with them.

@@ -35,6 +35,7 @@ struct SensorFactorStats {
   FactorCount visual;
   double camera_time_offset_s = 0;
   int visual_map_depths = 0;            // LVIO: landmarks whose depth came from the LiDAR map
+  int visual_map_planes = 0;            // LVIO: of those, held on the map's plane (visual.hold_map_depth)
   // Stereo: frame pairs matched, landmarks whose depth came from their anchor's pair, and the right
   // camera's factors (of visual.added).
   int stereo_pairs = 0, stereo_depths = 0, stereo_factors = 0;

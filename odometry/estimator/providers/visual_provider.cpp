@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "odometry/estimator/factors/landmark_plane_factor.h"
 #include "odometry/estimator/factors/pose_prior_factor.h"
 #include "odometry/estimator/factors/stereo_anchor_factor.h"
 #include "odometry/estimator/factors/wheel_factor.h"
@@ -213,9 +214,14 @@ void VisualProvider::AddFactors(FactorGraph& graph, long id, Landmark& landmark,
 }
 
 std::optional<double> VisualProvider::MapInverseDepth(const Landmark& landmark,
-                                                      const std::vector<SE3>& cameras) const {
-  return CheckedInverseDepth(landmark, cameras,
-                             map_depth_(cameras.front(), AtNodeTime(landmark.observations.front())));
+                                                      const std::vector<SE3>& cameras,
+                                                      std::optional<Plane>& plane) const {
+  const std::optional<MapSurface> surface =
+      map_depth_(cameras.front(), AtNodeTime(landmark.observations.front()));
+  if (!surface) return std::nullopt;
+  const std::optional<double> inverse_depth = CheckedInverseDepth(landmark, cameras, surface->depth);
+  if (inverse_depth) plane = surface->plane;
+  return inverse_depth;
 }
 
 std::optional<double> VisualProvider::CheckedInverseDepth(const Landmark& landmark,
@@ -236,14 +242,16 @@ std::optional<double> VisualProvider::CheckedInverseDepth(const Landmark& landma
 
 // Takes the map's depth or the stereo pair's (see the top of the header), else triangulates the landmark
 // from the current camera poses of its nodes; in range, it joins the graph (Link adds its factors).
-bool VisualProvider::StartLandmark(FactorGraph& graph, Landmark& landmark, const PoseBlockOf& pose_of) {
+bool VisualProvider::StartLandmark(FactorGraph& graph, long id, Landmark& landmark,
+                                   const PoseBlockOf& pose_of) {
   std::vector<SE3> cameras;
   std::vector<Eigen::Vector2d> rays;
   for (const Observation& o : landmark.observations) {
     cameras.push_back(CameraPose(pose_of(o.node)));
     rays.push_back(AtNodeTime(o));
   }
-  std::optional<double> inverse_depth = map_depth_ ? MapInverseDepth(landmark, cameras) : std::nullopt;
+  std::optional<Plane> plane;
+  std::optional<double> inverse_depth = map_depth_ ? MapInverseDepth(landmark, cameras, plane) : std::nullopt;
   if (inverse_depth) {
     ++map_depths_;
   } else if ((inverse_depth = StereoInverseDepth(landmark, cameras))) {
@@ -258,6 +266,16 @@ bool VisualProvider::StartLandmark(FactorGraph& graph, Landmark& landmark, const
   }
   landmark.inverse_depth = *inverse_depth;
   graph.AddEuclideanBlock(&landmark.inverse_depth, 1);
+  // The map's plane keeps the depth, where the ray that found it can be trusted: with the extrinsic
+  // estimated, the rays turn as it converges, and the planes they met are not where the features lie.
+  if (plane && config_.hold_map_depth && !config_.estimate_extrinsic && plane->sigma > 0) {
+    const Observation& anchor = landmark.observations.front();
+    graph.Add(FactorKind::kVisual, id,
+              std::make_unique<LandmarkPlaneFactor>(anchor.feature, anchor.td0, *plane),
+              std::make_unique<ceres::HuberLoss>(config_.huber_sigmas),
+              {pose_of(anchor.node), extrinsic_.data(), &landmark.inverse_depth, &time_offset_});
+    ++map_planes_;
+  }
   landmark.in_graph = true;
   landmark.linked = 0;
   return true;
@@ -272,7 +290,7 @@ void VisualProvider::Link(FactorGraph& graph, const PoseBlockOf& pose_of) {
     if (landmark.rejected) continue;
     if (!landmark.in_graph) {
       if (landmark.observations.size() < needed) continue;
-      landmark.untriangulated = !StartLandmark(graph, landmark, pose_of);
+      landmark.untriangulated = !StartLandmark(graph, id, landmark, pose_of);
       if (landmark.untriangulated) continue;
     }
     for (std::size_t k = static_cast<std::size_t>(landmark.linked); k < landmark.observations.size(); ++k)
@@ -286,7 +304,7 @@ int VisualProvider::DropOutliers(FactorGraph& graph) {
   double sum_px = 0;
   int count = 0;
   for (const Factor& f : graph.Entries(FactorKind::kVisual)) {
-    if (f.tag < 0) continue;  // the priors
+    if (f.tag < 0 || f.cost->num_residuals() != 2) continue;  // the priors, the map planes
     double r[2];
     if (!f.cost->Evaluate(f.blocks.data(), r, nullptr)) r[0] = r[1] = INFINITY;
     const double px = std::hypot(r[0], r[1]) * config_.pixel_sigma_px;
@@ -373,6 +391,7 @@ void VisualProvider::Report(SensorFactorStats& stats) const {
   stats.visual = {added_, untriangulated_, rejected_};
   stats.camera_time_offset_s = time_offset_;
   stats.visual_map_depths = map_depths_;
+  stats.visual_map_planes = map_planes_;
   stats.stereo_pairs = stereo_pairs_;
   stats.stereo_depths = stereo_depths_;
   stats.stereo_factors = stereo_factors_;

@@ -46,6 +46,7 @@
 #include "odometry/estimator/config/visual_factor_config.h"
 #include "odometry/estimator/factors/reprojection_factor.h"
 #include "odometry/estimator/init/visual_inertial_poses.h"
+#include "odometry/estimator/lidar/plane_fit.h"
 #include "odometry/estimator/providers/sensor_factor_stats.h"
 #include "odometry/estimator/schedule/activation_gate.h"
 #include "odometry/estimator/state/window_node.h"
@@ -60,9 +61,14 @@ namespace uf::estimator {
 
 // The pose block (T_world_body) of the window's node `id`.
 using PoseBlockOf = std::function<double*(long id)>;
-// The depth (along the camera's z) at which the ray of normalized coordinates (x, y) from the camera at
-// T_world_camera meets the scene, or nullopt.
-using MapDepthOf = std::function<std::optional<double>(const SE3& T_world_camera, const Eigen::Vector2d& xy)>;
+// Where the ray of normalized coordinates (x, y) from the camera at T_world_camera meets the scene: the
+// depth along the camera's z and, when the source knows it, the surface's plane there (world); or nullopt.
+struct MapSurface {
+  double depth = 0;
+  std::optional<Plane> plane;
+};
+using MapDepthOf =
+    std::function<std::optional<MapSurface>(const SE3& T_world_camera, const Eigen::Vector2d& xy)>;
 // A node of the window: its id and stamp.
 struct NodeStamp {
   long id = 0;
@@ -220,10 +226,13 @@ class VisualProvider {
   // Scores the pending frame against the predicted motion, updates the gate; returns whether it is active.
   bool CheckFrame(const PendingFrame& frame, const PoseBlockOf& pose_of);
   void ApplyFrame(const PendingFrame& frame);
-  bool StartLandmark(FactorGraph& graph, Landmark& landmark, const PoseBlockOf& pose_of);
+  bool StartLandmark(FactorGraph& graph, long id, Landmark& landmark, const PoseBlockOf& pose_of);
   // The map's inverse depth for the landmark, or the stereo pair's, if it reprojects within
   // max_reprojection_px everywhere.
-  std::optional<double> MapInverseDepth(const Landmark& landmark, const std::vector<SE3>& cameras) const;
+  // The map's surface for the landmark's anchor ray, with its inverse depth if that passes
+  // CheckedInverseDepth.
+  std::optional<double> MapInverseDepth(const Landmark& landmark, const std::vector<SE3>& cameras,
+                                        std::optional<Plane>& plane) const;
   std::optional<double> StereoInverseDepth(const Landmark& landmark, const std::vector<SE3>& cameras) const;
   std::optional<double> CheckedInverseDepth(const Landmark& landmark, const std::vector<SE3>& cameras,
                                             std::optional<double> depth) const;
@@ -253,7 +262,7 @@ class VisualProvider {
   std::vector<CameraCheck> checks_;
   std::optional<Stereo> stereo_;
   std::vector<std::string> stereo_warnings_;  // for the next call that takes warnings
-  int added_ = 0, untriangulated_ = 0, rejected_ = 0, map_depths_ = 0;
+  int added_ = 0, untriangulated_ = 0, rejected_ = 0, map_depths_ = 0, map_planes_ = 0;
   int stereo_pairs_ = 0, stereo_depths_ = 0, stereo_factors_ = 0;
   double mean_reprojection_px_ = 0;
 };

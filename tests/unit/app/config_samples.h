@@ -195,6 +195,7 @@ inline estimator::LidarOdometryConfig NonDefaultOdometry() {
   c.visual.min_depth_m = 1;
   c.visual.max_depth_m = 80;
   c.visual.max_reprojection_px = 4;
+  c.visual.hold_map_depth = false;
   c.visual.time_offset_s = -0.01;
   c.visual.estimate_time_offset = true;
   c.visual.time_offset_sigma_s = 0.02;

@@ -268,6 +268,7 @@ inline void ExpectSameInertialParts(const Config& a, const Config& b) {
   EXPECT_FIELD(visual.min_depth_m);
   EXPECT_FIELD(visual.max_depth_m);
   EXPECT_FIELD(visual.max_reprojection_px);
+  EXPECT_FIELD(visual.hold_map_depth);
   EXPECT_FIELD(visual.time_offset_s);
   EXPECT_FIELD(visual.estimate_time_offset);
   EXPECT_FIELD(visual.time_offset_sigma_s);

@@ -142,6 +142,26 @@ TEST(LidarVisualInertialOdometry, DarkFramesLeaveTheLidarAndImuToCarryTheWindow)
   EXPECT_LT(lvio.ate_m, 1.2 * lio.ate_m) << "LIO " << lio.ate_m;
 }
 
+TEST(LidarVisualInertialOdometry, TheMapsPlanesLetTheCameraMeasureACorridorsAxis) {
+  // 12 s of the corridor (1 s at rest, then off at 1.2 m/s) with the 16-beam LiDAR: its scans hold the
+  // corridor's axis loosely, and LIO falls metres behind while the car pulls away (docs/METHOD.md "In the LIO
+  // window: the corridor"). A landmark whose depth is only a start leaves the camera's motion up to scale;
+  // held on the map's plane (the side walls: their distance is what the LiDAR does measure) its bearings
+  // give the motion along the axis in metres (docs/METHOD.md "LiDAR-visual-inertial odometry").
+  uf::testing::TempDir dir;
+  const std::filesystem::path folder = Simulate(dir, 12.0, "corridor");
+  const WindowRun lio = RunWindow(folder, false);
+  const WindowRun held = RunWindow(folder, true);
+  const WindowRun free =
+      RunWindow(folder, true, [](LidarOdometryConfig& c) { c.visual.hold_map_depth = false; });
+  EXPECT_EQ(held.factors.visual_map_planes, held.factors.visual_map_depths);
+  EXPECT_GT(held.factors.visual_map_planes, 500);
+  EXPECT_EQ(free.factors.visual_map_planes, 0);
+  // Measured: ATE 0.418 m held, 3.11 m with the depths free, LIO 2.71 m (1294 landmarks held). Bounds: 2x.
+  EXPECT_LT(held.ate_m, 0.3 * lio.ate_m) << "held " << held.ate_m << ", LIO " << lio.ate_m;
+  EXPECT_LT(held.ate_m, 0.3 * free.ate_m) << "held " << held.ate_m << ", free " << free.ate_m;
+}
+
 TEST(LidarVisualInertialOdometry, ACameraExtrinsicTwoDegreesOffIsEstimated) {
   // The dataset gives the camera's mount rotated by 2 deg from the truth (the simulator's calibration.yaml);
   // the window estimates T_imu_cam from it, with its prior of 2 deg and 1 cm.

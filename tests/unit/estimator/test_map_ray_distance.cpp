@@ -1,5 +1,6 @@
 // MapRayDistance (lidar/map_ray_depth.h) against hand-computed intersections: a ray meets a wall of points at
-// the distance the geometry gives (within the plane's thickness), a nearer wall hides a farther one, a ray
+// the distance the geometry gives (within the plane's thickness), on the wall's plane (MapRaySurface), a
+// nearer wall hides a farther one, a ray
 // grazing a floor or into empty space meets nothing, and the range bounds hold.
 #include <gtest/gtest.h>
 
@@ -36,6 +37,13 @@ TEST(MapRayDistance, MeetsAWallWhereTheGeometrySays) {
     const std::optional<double> distance = MapRayDistance(map, origin, direction, 0.5, 150);
     ASSERT_TRUE(distance) << target.transpose();
     EXPECT_NEAR(*distance, (target - origin).norm(), 0.01) << target.transpose();
+    // MapRaySurface meets the same point, on the wall's plane (x = 20.13, normal +-x).
+    const std::optional<MapRayHit> hit = MapRaySurface(map, origin, direction, 0.5, 150);
+    ASSERT_TRUE(hit) << target.transpose();
+    EXPECT_EQ(hit->distance, *distance);
+    EXPECT_GT(std::abs(hit->plane.normal.x()), 0.999) << hit->plane.normal.transpose();
+    EXPECT_NEAR(hit->plane.point.x(), 20.13, 0.01);
+    EXPECT_GT(hit->plane.sigma, 0);
   }
 }
 

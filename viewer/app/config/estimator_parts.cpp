@@ -258,6 +258,8 @@ Schema<estimator::VisualFactorConfig> VisualSchema() {
   s.Key("max_depth_m", &V::max_depth_m, "m", "and at most this far from its anchor camera");
   s.Key("max_reprojection_px", &V::max_reprojection_px, "px",
         "after a solve, a landmark reprojecting worse than this anywhere is dropped");
+  s.Key("hold_map_depth", &V::hold_map_depth, "",
+        "lvio: a landmark that took its depth from the LiDAR map stays on the map's plane there");
   s.Key("time_offset_s", &V::time_offset_s, "s",
         "camera time offset t_d to start from (camera stamp + t_d = IMU time)");
   s.Key("estimate_time_offset", &V::estimate_time_offset, "", "estimate t_d in the window");

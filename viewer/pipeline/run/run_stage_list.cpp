@@ -86,8 +86,9 @@ std::string VisualNote(const RunPlan& plan, const estimator::SensorFactorStats& 
                        moved.so3().angle() * 180 / std::numbers::pi, moved.translation().norm());
   }
   if (plan.frames.mode == OdometryMode::kLio)
-    note +=
-        "; " + std::to_string(factors.visual_map_depths) + " landmarks took their depth from the LiDAR map";
+    note += "; " + std::to_string(factors.visual_map_depths) +
+            " landmarks took their depth from the LiDAR map (" + std::to_string(factors.visual_map_planes) +
+            " held on its plane)";
   if (plan.stereo_stream() >= 0)
     note += PrintfText(
         "; stereo: %.0f frame pairs matched, %.0f landmarks took their depth from a pair, %.0f "

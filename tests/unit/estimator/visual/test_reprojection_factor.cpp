@@ -8,8 +8,7 @@
 #include <vector>
 
 #include "odometry/estimator/factors/reprojection_factor.h"
-#include "odometry/estimator/state/nav_state.h"
-#include "odometry/estimator/state/pose_manifold.h"
+#include "tests/unit/estimator/visual/factor_blocks.h"
 
 namespace uf::estimator {
 namespace {
@@ -18,43 +17,26 @@ using Matrix26 = Eigen::Matrix<double, 2, 6, Eigen::RowMajor>;
 using Matrix27 = Eigen::Matrix<double, 2, 7, Eigen::RowMajor>;
 using Matrix76 = Eigen::Matrix<double, 7, 6, Eigen::RowMajor>;
 
+using test::FactorBlocks;
+
 // The factor's five blocks: pose_i, pose_j, T_imu_cam, lambda, t_d.
-struct Blocks {
-  std::vector<std::vector<double>> values;
-  std::vector<const double*> Pointers() const {
-    std::vector<const double*> p;
-    for (const auto& v : values) p.push_back(v.data());
-    return p;
-  }
-};
-
-Blocks MakeBlocks(const SE3& pose_i, const SE3& pose_j, const SE3& T_imu_cam, double lambda, double td) {
-  Blocks b;
-  for (const SE3* T : {&pose_i, &pose_j, &T_imu_cam}) {
-    const auto block = PoseBlock(*T);
-    b.values.emplace_back(block.begin(), block.end());
-  }
-  b.values.push_back({lambda});
-  b.values.push_back({td});
-  return b;
+FactorBlocks MakeBlocks(const SE3& pose_i, const SE3& pose_j, const SE3& T_imu_cam, double lambda,
+                        double td) {
+  return FactorBlocks::Of({pose_i, pose_j, T_imu_cam}, {lambda, td});
 }
 
-Eigen::Vector2d Residual(const ReprojectionFactor& f, const Blocks& b) {
-  Eigen::Vector2d r;
-  f.Evaluate(b.Pointers().data(), r.data(), nullptr);
-  return r;
-}
+Eigen::Vector2d Residual(const ReprojectionFactor& f, const FactorBlocks& b) { return test::Residuals(f, b); }
 
 TEST(ReprojectionFactor, ResidualIsTheScaledNormalizedError) {
   // Anchor camera at the origin sees u_i = (0.1, -0.2) at depth 2: P = (0.2, -0.4, 2). Camera j is 0.5 m
   // along x: P_cj = (-0.3, -0.4, 2), pi = (-0.15, -0.2). Observed (-0.14, -0.2), s = 100: r = (-1, 0).
   const ReprojectionFactor f({{0.1, -0.2}, {0, 0}}, {{-0.14, -0.2}, {0, 0}}, 0, 0, 100);
-  const Blocks b = MakeBlocks(SE3(), SE3(SO3(), Eigen::Vector3d(0.5, 0, 0)), SE3(), 0.5, 0);
+  const FactorBlocks b = MakeBlocks(SE3(), SE3(SO3(), Eigen::Vector3d(0.5, 0, 0)), SE3(), 0.5, 0);
   EXPECT_LT((Residual(f, b) - Eigen::Vector2d(-1, 0)).norm(), 1e-12);
   // A time offset moves both observations back along their velocities: t_d = 0.01 s with the target
   // moving at (1, 0)/s gives u_j' = (-0.15, -0.2): r = 0.
   const ReprojectionFactor moving({{0.1, -0.2}, {0, 0}}, {{-0.14, -0.2}, {1, 0}}, 0, 0, 100);
-  const Blocks shifted = MakeBlocks(SE3(), SE3(SO3(), Eigen::Vector3d(0.5, 0, 0)), SE3(), 0.5, 0.01);
+  const FactorBlocks shifted = MakeBlocks(SE3(), SE3(SO3(), Eigen::Vector3d(0.5, 0, 0)), SE3(), 0.5, 0.01);
   EXPECT_LT(Residual(moving, shifted).norm(), 1e-12);
 }
 
@@ -89,7 +71,7 @@ TEST(ReprojectionFactor, JacobiansMatchNumericDerivatives) {
     const FeatureObservation target{P_cj.head<2>() / P_cj.z(),
                                     Eigen::Vector2d(normal(rng), normal(rng)) * 0.3};
     const ReprojectionFactor f(anchor, target, 0.002, -0.004, 300, T_target_cam);
-    const Blocks b = MakeBlocks(pose_i, pose_j, T_imu_cam, 1 / P_ci.z() * 1.1, 0.01);
+    const FactorBlocks b = MakeBlocks(pose_i, pose_j, T_imu_cam, 1 / P_ci.z() * 1.1, 0.01);
 
     std::vector<std::vector<double>> tangent = {std::vector<double>(12), std::vector<double>(12),
                                                 std::vector<double>(12), std::vector<double>(2),
@@ -98,27 +80,11 @@ TEST(ReprojectionFactor, JacobiansMatchNumericDerivatives) {
     for (auto& t : tangent) tangent_ptr.push_back(t.data());
     Eigen::Vector2d r;
     f.EvaluateTangent(b.Pointers().data(), r.data(), tangent_ptr.data());
-    const double h = 1e-7;
     for (int k = 0; k < 5; ++k) {
-      const int size = k < 3 ? 6 : 1;
-      Eigen::MatrixXd numeric(2, size);
-      for (int i = 0; i < size; ++i) {
-        Eigen::Vector2d rs[2];
-        for (int sign = 0; sign < 2; ++sign) {
-          Blocks moved = b;
-          std::vector<double> delta(size, 0.0);
-          delta[i] = sign == 0 ? h : -h;
-          if (k < 3)
-            PoseManifold().Plus(b.values[k].data(), delta.data(), moved.values[k].data());
-          else
-            moved.values[k][0] += delta[0];
-          rs[sign] = Residual(f, moved);
-        }
-        numeric.col(i) = (rs[0] - rs[1]) / (2 * h);
-      }
+      const Eigen::MatrixXd numeric = test::NumericTangentJacobian(f, b, k);
       const Eigen::MatrixXd analytic =
           Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
-              tangent[k].data(), 2, size);
+              tangent[k].data(), 2, b.TangentSize(k));
       EXPECT_LT((analytic - numeric).norm(), 1e-5 * std::max(1.0, numeric.norm()))
           << "trial " << trial << " block " << k;
     }

@@ -32,10 +32,10 @@ struct Window {
 
 // Eight frames 0.1 s apart while the car drives off (~7 m/s), each a node at its true pose; the landmarks
 // take their depth from `depth` when given.
-void Fill(Window& w, const MapDepthOf& depth = nullptr) {
+void Fill(Window& w, const MapDepthOf& depth = nullptr, const VisualFactorConfig& config = {}) {
   if (!w.camera) w.camera = test::SimulatedCamera::Create("urban", 8.0, 3);
   ASSERT_NE(w.camera, nullptr);
-  auto provider = VisualProvider::Create({}, w.camera->model(), SE3());
+  auto provider = VisualProvider::Create(config, w.camera->model(), SE3());
   ASSERT_TRUE(provider) << provider.error();
   w.provider = std::move(*provider);
   if (depth) w.provider->SetMapDepth(depth);
@@ -111,11 +111,14 @@ TEST(VisualProvider, TheOldestNodesLandmarksLeaveWithIt) {
 }
 
 // The scene's true depth along a camera ray: what the LiDAR map gives LVIO, without the map's error.
+// The scene's depth along the ray (times `scale`), and a plane through the point it hits facing the camera
+// (0.02 m sigma) as the LiDAR map's.
 MapDepthOf TrueDepth(const test::SimulatedCamera& camera, double scale = 1.0) {
-  return [&camera, scale](const SE3& T_world_camera, const Eigen::Vector2d& xy) -> std::optional<double> {
+  return [&camera, scale](const SE3& T_world_camera, const Eigen::Vector2d& xy) -> std::optional<MapSurface> {
     const std::optional<Eigen::Vector3d> point = camera.PointAlong(T_world_camera, xy.homogeneous());
     if (!point) return std::nullopt;
-    return scale * (T_world_camera.inverse() * *point).z();
+    const Eigen::Vector3d facing = (T_world_camera.translation() - *point).normalized();
+    return MapSurface{scale * (T_world_camera.inverse() * *point).z(), Plane{facing, *point, 0.02}};
   };
 }
 
@@ -153,6 +156,34 @@ TEST(VisualProvider, LandmarksTakeTheMapsDepthWhenItReprojects) {
   // map's depth, and their median error is the ray's, far below triangulation's few percent.
   EXPECT_GT(MapDepths(w), static_cast<int>(errors.size() * 3 / 4));
   EXPECT_LT(Median(errors), 0.005);
+}
+
+// A landmark that took the map's depth keeps a factor on the map's plane there (hold_map_depth), zero where
+// the landmark lies on it; none without hold_map_depth, and none for triangulated landmarks.
+TEST(VisualProvider, LandmarksWithTheMapsDepthStayOnItsPlane) {
+  Window w;
+  w.camera = test::SimulatedCamera::Create("urban", 8.0, 3);
+  ASSERT_NE(w.camera, nullptr);
+  Fill(w, TrueDepth(*w.camera));
+  std::size_t planes = 0;
+  for (const Factor& f : w.graph.Entries(FactorKind::kVisual)) {
+    if (f.cost->num_residuals() != 1) continue;
+    ++planes;
+    double r = 0;
+    ASSERT_TRUE(f.cost->Evaluate(f.blocks.data(), &r, nullptr));
+    EXPECT_LT(std::abs(r), 0.25) << "landmark " << f.tag;  // in sigmas: the ray's pixel error at the depth
+  }
+  EXPECT_EQ(planes, static_cast<std::size_t>(MapDepths(w)));
+  EXPECT_GT(planes, 30u);
+
+  Window unheld;
+  unheld.camera = test::SimulatedCamera::Create("urban", 8.0, 3);
+  ASSERT_NE(unheld.camera, nullptr);
+  VisualFactorConfig config;
+  config.hold_map_depth = false;
+  Fill(unheld, TrueDepth(*unheld.camera), config);
+  EXPECT_EQ(MapDepths(unheld), MapDepths(w));
+  for (const Factor& f : unheld.graph.Entries(FactorKind::kVisual)) EXPECT_EQ(f.cost->num_residuals(), 2);
 }
 
 TEST(VisualProvider, AMapDepthTheViewsContradictIsTriangulatedInstead) {
