@@ -19,12 +19,13 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// The run's settings, LiDAR-only: the LiDAR is the body, no IMU, wheel or GNSS factors; the solver stopped
-// by its iteration count only (deterministic).
+// The run's settings, LiDAR-only: the LiDAR is the body, no IMU, wheel, GNSS or camera factors; the solver
+// stopped by its iteration count only (deterministic).
 LidarOdometryConfig LidarOnly(LidarOdometryConfig config) {
   config.use_imu = false;
   config.use_wheel = false;
   config.use_gnss = false;
+  config.use_camera = false;
   config.T_body_lidar = SE3();
   config.max_solver_time_s = std::max(config.max_solver_time_s, 10.0);
   return config;

@@ -165,6 +165,13 @@ TEST(PointTimeCheck, OptionsAndCandidates) {
   EXPECT_EQ(first[1], Reversed(kClockwiseFromFirstPoint));
   EXPECT_EQ(CandidateConventions(kNoDeskew).front(), kNoDeskew);
   EXPECT_EQ(CandidateConventions(kNoDeskew).size(), 5u);
+  // The run's settings of any mode are taken LiDAR-only: an LVIO run's (IMU, wheel and camera on) too.
+  LidarOdometryConfig lvio;
+  lvio.use_imu = lvio.use_wheel = lvio.use_camera = true;
+  lvio.camera = std::make_shared<PinholeRadtan>(PinholeRadtanIntrinsics{{640, 480, 400, 400, 319.5, 239.5}});
+  ASSERT_TRUE(lvio.Validate().ok()) << lvio.Validate().message();
+  const auto from_lvio = PointTimeCheck::Create(lvio, kClockwiseFromBehind);
+  EXPECT_TRUE(from_lvio.ok()) << from_lvio.status().message();
   // Scans that carry their own times are not the check's business.
   auto check = PointTimeCheck::Create({}, kClockwiseFromBehind);
   ASSERT_TRUE(check.ok());
