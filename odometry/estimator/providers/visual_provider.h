@@ -17,7 +17,9 @@
 // LiDAR window has its nodes at the scans' boundaries and hands each frame to the node nearest its stamp +
 // t_d (ObserveNearest), the factor's t_d0 then absorbing the difference. With a depth source (the LiDAR
 // map, SetMapDepth) a new landmark takes its depth from where the anchor's ray meets the map, if that
-// depth reprojects within max_reprojection_px in every observing camera; else it is triangulated.
+// depth reprojects within max_reprojection_px in every observing camera; else it is triangulated. With
+// hold_map_depth (and the extrinsic not estimated) it then stays on the map's plane there
+// (factors/landmark_plane_factor.h).
 //
 // Reliability scheduling (visual.schedule, docs/METHOD.md "Factor-wise reliability scheduling"): a frame's
 // observations wait for Link, where its tracks are held against the motion the window predicts since each
@@ -227,10 +229,8 @@ class VisualProvider {
   bool CheckFrame(const PendingFrame& frame, const PoseBlockOf& pose_of);
   void ApplyFrame(const PendingFrame& frame);
   bool StartLandmark(FactorGraph& graph, long id, Landmark& landmark, const PoseBlockOf& pose_of);
-  // The map's inverse depth for the landmark, or the stereo pair's, if it reprojects within
-  // max_reprojection_px everywhere.
-  // The map's surface for the landmark's anchor ray, with its inverse depth if that passes
-  // CheckedInverseDepth.
+  // The map's inverse depth for the landmark (and in `plane` the map's plane there, if the source gives
+  // one), or the stereo pair's, if it reprojects within max_reprojection_px everywhere.
   std::optional<double> MapInverseDepth(const Landmark& landmark, const std::vector<SE3>& cameras,
                                         std::optional<Plane>& plane) const;
   std::optional<double> StereoInverseDepth(const Landmark& landmark, const std::vector<SE3>& cameras) const;

@@ -1,8 +1,8 @@
 // LiDAR-visual-inertial odometry (LVIO: the LiDAR window with the IMU and the camera) end to end on short
 // simulated drives, against the simulator's ground truth and against LIO on the same sequence: the camera's
 // landmarks take their depth from the LiDAR map, reproject within the tracks' error, and leave the accuracy
-// at least LIO's; dark frames leave the LiDAR and the IMU to carry the window; a bad configuration names the
-// field.
+// at least LIO's; held on the map's planes they carry a corridor's axis that the scans hold loosely; dark
+// frames leave the LiDAR and the IMU to carry the window; a bad configuration names the field.
 #include <gtest/gtest.h>
 
 #include <functional>
