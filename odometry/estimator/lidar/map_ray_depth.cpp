@@ -10,13 +10,6 @@ constexpr double kBlockHalfWidth = 1.5;  // voxels: a plane comes from the 3x3x3
 
 }  // namespace
 
-std::optional<double> MapRayDistance(const VoxelHashMap& map, const Eigen::Vector3d& origin,
-                                     const Eigen::Vector3d& direction, double min_m, double max_m) {
-  const std::optional<MapRayHit> hit = MapRaySurface(map, origin, direction, min_m, max_m);
-  if (!hit) return std::nullopt;
-  return hit->distance;
-}
-
 std::optional<MapRayHit> MapRaySurface(const VoxelHashMap& map, const Eigen::Vector3d& origin,
                                        const Eigen::Vector3d& direction, double min_m, double max_m) {
   if (!origin.allFinite() || !direction.allFinite() || !(min_m >= 0) || !(max_m > min_m)) return std::nullopt;

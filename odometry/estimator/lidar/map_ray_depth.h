@@ -11,13 +11,9 @@
 
 namespace uf::estimator {
 
-// The distance t to the first surface of `map` along origin + t direction (direction of unit length), t in
-// [min_m, max_m], or nullopt. A ray that grazes a plane (the cosine of its angle to the normal below 0.1)
-// passes it.
-std::optional<double> MapRayDistance(const VoxelHashMap& map, const Eigen::Vector3d& origin,
-                                     const Eigen::Vector3d& direction, double min_m, double max_m);
-
-// The same, with the plane the ray met (LVIO's landmarks stay on it: factors/landmark_plane_factor.h).
+// The first surface of `map` along origin + t direction (direction of unit length), t in [min_m, max_m]: its
+// distance t and the map's plane there (LVIO's landmarks stay on it: factors/landmark_plane_factor.h); or
+// nullopt. A ray that grazes a plane (the cosine of its angle to the normal below 0.1) passes it.
 struct MapRayHit {
   double distance = 0;
   Plane plane;
