@@ -17,11 +17,15 @@
 //
 // A factor with residual r(p_w) needs dr/dp_w * dp_w/d(blocks). PullBack forms it row vector first
 // (G R(a) [p_B]x, then the products with Phi), which costs far less than the 3 x 12 Jacobian for a
-// one-row residual. Everything here is inline and allocation-free: it is the LiDAR factor's hot path.
+// one-row residual. Everything here is inline and allocation-free: it is the LiDAR factor's hot path. Exp(u)
+// and Jr(u) share their coefficients and K = [u]x (so3.cpp's closed forms, evaluated once):
+//   Exp(u) = I + A K + B K^2,   Jr(u) = I - B K + C K^2,
+//   A = sin / theta,  B = (1 - cos) / theta^2,  C = (theta - sin) / theta^3,  theta = |u|.
 #pragma once
 
 #include <Eigen/Core>
 
+#include "odometry/types/lie_coefficients.h"
 #include "odometry/types/so3.h"
 
 namespace uf::estimator {
@@ -50,7 +54,11 @@ class InterpolatedPoint {
         alpha_(alpha),
         point_body_(point_body),
         u_(alpha * terms.d),
-        Exp_u_(SO3::Exp(u_).matrix()),
+        theta_(u_.norm()),
+        K_(Hat(u_)),
+        K2_(K_ * K_),
+        B_(lie::OneMinusCosOverTheta2(theta_)),
+        Exp_u_(Eigen::Matrix3d::Identity() + lie::SinOverTheta(theta_) * K_ + B_ * K2_),
         R_a_(terms.R_b * Exp_u_) {
     const Eigen::Map<const Eigen::Vector3d> t_b(pose_b), t_e(pose_e);
     t_a_ = (1.0 - alpha) * t_b + alpha * t_e;
@@ -73,7 +81,9 @@ class InterpolatedPoint {
     const RowsBy3 G = dr_dp;
     // dr/dphi for R(a) <- R(a) Exp(phi): w = -G R(a) [p_B]x; then w Phi_{b,e} (w Jr(u) is shared).
     const RowsBy3 w = -(G * R_a_) * Hat(point_body_);
-    const RowsBy3 w_Jr_u = w * RightJacobianSO3(u_);
+    const Eigen::Matrix3d Jr_u =
+        Eigen::Matrix3d::Identity() - B_ * K_ + lie::ThetaMinusSinOverTheta3(theta_) * K2_;
+    const RowsBy3 w_Jr_u = w * Jr_u;
     if (J_b != nullptr) {
       Eigen::Map<RowsBy6> J(J_b);
       J << (1.0 - alpha_) * G, w * Exp_u_.transpose() - alpha_ * w_Jr_u * terms_.Jl_inv_d;
@@ -98,6 +108,9 @@ class InterpolatedPoint {
   const double alpha_;
   const Eigen::Vector3d point_body_;  // p_B
   const Eigen::Vector3d u_;           // a d
+  const double theta_;                // |u|
+  const Eigen::Matrix3d K_, K2_;      // [u]x and its square
+  const double B_;                    // (1 - cos(theta)) / theta^2
   const Eigen::Matrix3d Exp_u_;       // Exp(a d)
   const Eigen::Matrix3d R_a_;         // R(a)
   Eigen::Vector3d t_a_, p_w_;

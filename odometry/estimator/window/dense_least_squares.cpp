@@ -16,6 +16,9 @@ namespace {
 using RowMajorMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
 constexpr double kMinDiagonal = 1e-6;          // floor of the LM scaling D (Ceres' min_lm_diagonal)
+// EvaluateChunk asks for the cost and loss objects of the residual block this many ahead (see there).
+constexpr int kPrefetchAhead = 4;
+constexpr int kPrefetchCostLines = 3;          // 64-byte lines: a point-to-plane factor spans 136 bytes
 constexpr double kMinRelativeDecrease = 1e-3;  // a step must achieve this share of the model's decrease
 
 // Whether two residual blocks act on the same free blocks in the same order: their parameters' free-block
@@ -121,6 +124,15 @@ void DenseLeastSquares::EvaluateChunk(int first, int last, bool jacobians, Accum
   }
   double plus_jacobian[7 * 6];
   for (int index = first; index < last; ++index) {
+    // Every residual block's cost and loss is a heap object of its own, and a window holds tens of
+    // thousands (one per LiDAR point): fetched only when used, each block waited on memory for them
+    // (perf: the first reads of the two took 60 % of this function's own time).
+    if (index + kPrefetchAhead < last) {
+      const ResidualBlock& ahead = residuals_[index + kPrefetchAhead];
+      for (int line = 0; line < kPrefetchCostLines; ++line)
+        __builtin_prefetch(reinterpret_cast<const char*>(ahead.cost) + 64 * line);
+      if (ahead.loss != nullptr) __builtin_prefetch(ahead.loss);
+    }
     const ResidualBlock& block = residuals_[index];
     const int m = block.cost->num_residuals();
     const int local_size = block.local_size;

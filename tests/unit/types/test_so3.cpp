@@ -68,12 +68,26 @@ TEST(SO3Test, SeriesAndClosedFormsAgreeAtEachSwitch) {
     const double above = coefficient(threshold * (1.0 + 1e-12));
     EXPECT_NEAR(below, above, 1e-12 * std::abs(above)) << "threshold " << threshold;
   };
-  expect_continuous(lie::SinOverTheta, 1e-4);
-  expect_continuous(lie::OneMinusCosOverTheta2, 2e-4);
-  expect_continuous(lie::ThetaMinusSinOverTheta3, 0.1);
+  expect_continuous(lie::SinOverTheta, lie::kSeriesBelow);
+  expect_continuous(lie::OneMinusCosOverTheta2, 2 * lie::kSeriesBelow);
+  expect_continuous(lie::ThetaMinusSinOverTheta3, lie::kSeriesBelow);
   expect_continuous(lie::JacobianInverseCoefficient, 0.1);
   expect_continuous(lie::CosCoefficientQ, 0.5);
   expect_continuous(lie::SinCoefficientQ, 0.5);
+}
+
+TEST(SO3Test, TheSeriesAreTheClosedFormsInLongDouble) {
+  // Below kSeriesBelow the sine coefficients are series; against the closed forms in long double (64-bit
+  // mantissa), within a few doubles' ulps. (theta - sin) / theta^3 cancels: from 0.05 on, long double
+  // keeps it to 3e-16.
+  for (double theta = 1e-3; theta < lie::kSeriesBelow; theta += 1e-3) {
+    const long double t = theta;
+    EXPECT_NEAR(lie::SinOverTheta(theta), static_cast<double>(std::sin(t) / t), 4e-16) << theta;
+    if (theta < 0.05) continue;
+    EXPECT_NEAR(lie::ThetaMinusSinOverTheta3(theta), static_cast<double>((t - std::sin(t)) / (t * t * t)),
+                1e-15 / 6)
+        << theta;
+  }
 }
 
 TEST(SO3Test, LogAtExactlyPiGivesAnglePiAndReproducesTheMatrix) {
