@@ -51,20 +51,31 @@ void DenseLeastSquares::AddEuclideanBlock(double* block, int size) {
 
 void DenseLeastSquares::AddResidualBlock(const ceres::CostFunction* cost, const ceres::LossFunction* loss,
                                          const std::vector<double*>& blocks) {
+  AddResidualBlock(cost, dynamic_cast<const TangentJacobianCost*>(cost), loss, blocks);
+}
+
+void DenseLeastSquares::AddResidualBlock(const ceres::CostFunction* cost, const TangentJacobianCost* tangent,
+                                         const ceres::LossFunction* loss,
+                                         const std::vector<double*>& blocks) {
   assert(cost != nullptr && blocks.size() == cost->parameter_block_sizes().size());
-  ResidualBlock block{cost,
-                      dynamic_cast<const TangentJacobianCost*>(cost),
-                      loss,
-                      static_cast<int>(params_.size()),
-                      static_cast<int>(blocks.size()),
-                      0,
-                      0};
-  for (double* data : blocks) {
-    params_.push_back(data);
-    const auto it = block_of_.find(data);
-    free_.push_back(it == block_of_.end() ? -1 : it->second);
-    local_offset_.push_back(it == block_of_.end() ? -1 : block.local_size);
-    if (it != block_of_.end()) block.local_size += blocks_[it->second].tangent_size;
+  assert(tangent == dynamic_cast<const TangentJacobianCost*>(cost));
+  ResidualBlock block{cost, tangent, loss, static_cast<int>(params_.size()), static_cast<int>(blocks.size()),
+                      0,    0};
+  // A scan's point factors come in a row on the same blocks: their lookups are the previous block's.
+  const ResidualBlock* previous = residuals_.empty() ? nullptr : &residuals_.back();
+  const bool as_previous = previous && previous->num_params == block.num_params &&
+                           std::equal(blocks.begin(), blocks.end(), params_.begin() + previous->first_param);
+  for (std::size_t p = 0; p < blocks.size(); ++p) {
+    params_.push_back(blocks[p]);
+    int index = -1;
+    if (as_previous) {
+      index = free_[previous->first_param + p];
+    } else if (const auto it = block_of_.find(blocks[p]); it != block_of_.end()) {
+      index = it->second;
+    }
+    free_.push_back(index);
+    local_offset_.push_back(index < 0 ? -1 : block.local_size);
+    if (index >= 0) block.local_size += blocks_[index].tangent_size;
   }
   // Same group as the previous block when both act on the same free blocks in the same order.
   if (!residuals_.empty()) {

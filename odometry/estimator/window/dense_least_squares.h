@@ -62,6 +62,10 @@ class DenseLeastSquares {
   // Cost (and loss, may be null) are not owned and must outlive Solve. Blocks not added above are constant.
   void AddResidualBlock(const ceres::CostFunction* cost, const ceres::LossFunction* loss,
                         const std::vector<double*>& blocks);
+  // The same with the cost's TangentJacobianCost given (`cost` itself, or null when it is not one), for
+  // callers that cast each cost once rather than at every solve (FactorGraph).
+  void AddResidualBlock(const ceres::CostFunction* cost, const TangentJacobianCost* tangent,
+                        const ceres::LossFunction* loss, const std::vector<double*>& blocks);
 
   int TangentSize() const { return tangent_size_; }
   int NumResidualBlocks() const { return static_cast<int>(residuals_.size()); }

@@ -65,12 +65,13 @@ void FactorGraph::RemoveBlocks(const std::vector<double*>& blocks) {
 void FactorGraph::Add(Factor factor) {
   assert(factor.cost && factor.blocks.size() == factor.cost->parameter_block_sizes().size());
   for ([[maybe_unused]] const double* block : factor.blocks) assert(blocks_.count(block));
+  factor.tangent = dynamic_cast<const TangentJacobianCost*>(factor.cost.get());
   entries_[static_cast<int>(factor.kind)].push_back(std::move(factor));
 }
 
 void FactorGraph::Add(FactorKind kind, long tag, std::unique_ptr<ceres::CostFunction> cost,
                       std::unique_ptr<ceres::LossFunction> loss, std::vector<double*> blocks, bool anchors) {
-  Add(Factor{kind, tag, std::move(cost), std::move(loss), std::move(blocks), anchors});
+  Add(Factor{kind, tag, std::move(cost), std::move(loss), std::move(blocks), anchors, nullptr});
 }
 
 void FactorGraph::Remove(FactorKind kind, long tag) {
@@ -92,15 +93,23 @@ void FactorGraph::Clear() {
 }
 
 // The entries a solve uses, in solve order: those passing request.use and touching a free block (`free`:
-// request.free as a set), then the prior (when asked for and present).
+// request.free as a set), then the prior (when asked for and present). A scan's point factors come in a row
+// on the same blocks, so the set is asked again only when the blocks change.
 template <typename Visit>
 void FactorGraph::ForEachUsed(const WindowSolveRequest& request,
                               const std::unordered_set<const double*>& free, Visit&& visit) {
+  const std::vector<double*>* last_blocks = nullptr;
+  bool last_touches = false;
   for (const std::vector<Factor>& kind : entries_)
-    for (const Factor& f : kind)
-      if ((!request.use || request.use(f)) && Touches(f.blocks, free))
-        visit(f.cost.get(), f.loss.get(), f.blocks);
-  if (request.use_prior && prior_) visit(prior_.get(), nullptr, prior_->prior().ParameterBlocks());
+    for (const Factor& f : kind) {
+      if (request.use && !request.use(f)) continue;
+      if (!last_blocks || *last_blocks != f.blocks) last_touches = Touches(f.blocks, free);
+      last_blocks = &f.blocks;
+      if (last_touches) visit(f.cost.get(), f.tangent, f.loss.get(), f.blocks);
+    }
+  if (request.use_prior && prior_)
+    visit(prior_.get(), dynamic_cast<const TangentJacobianCost*>(prior_.get()), nullptr,
+          prior_->prior().ParameterBlocks());
 }
 
 // Dense: the window's few hundred tangent dimensions fit one dense normal-equation system, built straight
@@ -119,8 +128,10 @@ WindowSolveResult FactorGraph::Solve(const WindowSolveRequest& request) {
       }
     }
     ForEachUsed(request, free,
-                [&](const ceres::CostFunction* cost, const ceres::LossFunction* loss,
-                    const std::vector<double*>& blocks) { problem.AddResidualBlock(cost, loss, blocks); });
+                [&](const ceres::CostFunction* cost, const TangentJacobianCost* tangent,
+                    const ceres::LossFunction* loss, const std::vector<double*>& blocks) {
+                  problem.AddResidualBlock(cost, tangent, loss, blocks);
+                });
     DenseSolverOptions options;
     options.max_iterations = request.max_iterations;
     options.max_time_s = request.max_time_s;
@@ -136,8 +147,8 @@ WindowSolveResult FactorGraph::Solve(const WindowSolveRequest& request) {
   problem_options.enable_fast_removal = false;
   ceres::Problem problem(problem_options);
   ForEachUsed(request, free,
-              [&](const ceres::CostFunction* cost, const ceres::LossFunction* loss,
-                  const std::vector<double*>& blocks) {
+              [&](const ceres::CostFunction* cost, const TangentJacobianCost*,
+                  const ceres::LossFunction* loss, const std::vector<double*>& blocks) {
                 for (double* block : blocks) {
                   if (problem.HasParameterBlock(block)) continue;
                   const BlockInfo& info = blocks_.at(block);

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "odometry/estimator/config/marginalization_config.h"
+#include "odometry/estimator/factors/tangent_jacobian.h"
 #include "odometry/estimator/state/pose_manifold.h"
 #include "odometry/estimator/window/marginalization_factor.h"
 #include "odometry/types/status.h"
@@ -43,6 +44,8 @@ struct Factor {
   // Ties the states to something outside the window's own motion (the map, the Earth). Motion factors (IMU,
   // wheel, constant velocity) do not: a prior made only of them would leave the window's gauge free.
   bool anchors = false;
+  // The cost as a TangentJacobianCost, or null when it is not one: cast once by Add, not at every solve.
+  const TangentJacobianCost* tangent = nullptr;
 };
 
 enum class WindowSolver { kDense, kCeres };
