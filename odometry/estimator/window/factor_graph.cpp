@@ -18,6 +18,27 @@ bool Touches(const std::vector<double*>& blocks, const std::unordered_set<const 
   return std::any_of(blocks.begin(), blocks.end(), [&](const double* b) { return set.count(b) > 0; });
 }
 
+// Touches for the entries in turn, asking the set again only when an entry's blocks differ from the last
+// ones asked about: a scan's point factors come in a row on the same blocks. It keeps a copy of them, so
+// the entries may move (remove_if).
+class TouchTest {
+ public:
+  explicit TouchTest(const std::unordered_set<const double*>& set) : set_(set) {}
+  bool operator()(const std::vector<double*>& blocks) {
+    if (!asked_ || blocks != last_) {
+      last_ = blocks;
+      touches_ = Touches(blocks, set_);
+      asked_ = true;
+    }
+    return touches_;
+  }
+
+ private:
+  const std::unordered_set<const double*>& set_;
+  std::vector<double*> last_;
+  bool asked_ = false, touches_ = false;
+};
+
 }  // namespace
 
 const char* FactorKindName(FactorKind kind) {
@@ -54,9 +75,10 @@ bool FactorGraph::IsPoseBlock(const double* block) const {
 
 void FactorGraph::RemoveBlocks(const std::vector<double*>& blocks) {
   const std::unordered_set<const double*> gone(blocks.begin(), blocks.end());
+  TouchTest touches_gone(gone);
   for (std::vector<Factor>& kind : entries_)
     kind.erase(
-        std::remove_if(kind.begin(), kind.end(), [&](const Factor& f) { return Touches(f.blocks, gone); }),
+        std::remove_if(kind.begin(), kind.end(), [&](const Factor& f) { return touches_gone(f.blocks); }),
         kind.end());
   if (prior_ && Touches(prior_->prior().ParameterBlocks(), gone)) prior_.reset();
   for (const double* block : blocks) blocks_.erase(block);
@@ -93,20 +115,15 @@ void FactorGraph::Clear() {
 }
 
 // The entries a solve uses, in solve order: those passing request.use and touching a free block (`free`:
-// request.free as a set), then the prior (when asked for and present). A scan's point factors come in a row
-// on the same blocks, so the set is asked again only when the blocks change.
+// request.free as a set), then the prior (when asked for and present).
 template <typename Visit>
 void FactorGraph::ForEachUsed(const WindowSolveRequest& request,
                               const std::unordered_set<const double*>& free, Visit&& visit) {
-  const std::vector<double*>* last_blocks = nullptr;
-  bool last_touches = false;
+  TouchTest touches_free(free);
   for (const std::vector<Factor>& kind : entries_)
-    for (const Factor& f : kind) {
-      if (request.use && !request.use(f)) continue;
-      if (!last_blocks || *last_blocks != f.blocks) last_touches = Touches(f.blocks, free);
-      last_blocks = &f.blocks;
-      if (last_touches) visit(f.cost.get(), f.tangent, f.loss.get(), f.blocks);
-    }
+    for (const Factor& f : kind)
+      if ((!request.use || request.use(f)) && touches_free(f.blocks))
+        visit(f.cost.get(), f.tangent, f.loss.get(), f.blocks);
   if (request.use_prior && prior_)
     visit(prior_.get(), dynamic_cast<const TangentJacobianCost*>(prior_.get()), nullptr,
           prior_->prior().ParameterBlocks());
@@ -178,9 +195,10 @@ Status FactorGraph::Marginalize(const std::vector<double*>& leaving, const Margi
   bool anchored = false, any = false;
   for (const auto& [block, info] : blocks_)
     if (info.pose) marginalizer.SetPoseBlock(const_cast<double*>(block));
+  TouchTest touches_gone(gone);
   for (const std::vector<Factor>& kind : entries_)
     for (const Factor& f : kind) {
-      if (!Touches(f.blocks, gone)) continue;
+      if (!touches_gone(f.blocks)) continue;
       marginalizer.AddResidualBlock(f.cost.get(), f.loss.get(), f.blocks);
       for (const double* b : f.blocks)
         if (gone.count(b)) touched.insert(b);
