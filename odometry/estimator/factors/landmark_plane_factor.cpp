@@ -3,7 +3,6 @@
 #include <cassert>
 
 #include "odometry/estimator/factors/interpolated_point.h"
-#include "odometry/estimator/state/pose_manifold.h"
 #include "odometry/types/so3.h"
 
 namespace uf::estimator {
@@ -17,14 +16,7 @@ LandmarkPlaneFactor::LandmarkPlaneFactor(const FeatureObservation& anchor, doubl
 
 bool LandmarkPlaneFactor::Evaluate(double const* const* parameters, double* residuals,
                                    double** jacobians) const {
-  if (jacobians == nullptr) return EvaluateTangent(parameters, residuals, nullptr);
-  double J_i[6], J_bc[6];
-  double* tangent[4] = {jacobians[0] != nullptr ? J_i : nullptr, jacobians[1] != nullptr ? J_bc : nullptr,
-                        jacobians[2], jacobians[3]};
-  EvaluateTangent(parameters, residuals, tangent);
-  for (int k = 0; k < 2; ++k)
-    if (jacobians[k] != nullptr) TangentToAmbientJacobian(parameters[k], tangent[k], 1, jacobians[k]);
-  return true;
+  return EvaluateLiftingPoses(*this, 1, 2, 4, parameters, residuals, jacobians);
 }
 
 bool LandmarkPlaneFactor::EvaluateTangent(double const* const* parameters, double* residuals,

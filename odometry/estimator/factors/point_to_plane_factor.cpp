@@ -7,7 +7,6 @@
 
 #include "odometry/estimator/factors/interpolated_point.h"
 #include "odometry/estimator/state/nav_state.h"
-#include "odometry/estimator/state/pose_manifold.h"
 #include "odometry/types/so3.h"
 
 namespace uf::estimator {
@@ -36,22 +35,6 @@ const PoseInterpolationTerms& SweepTermsAt(const double* pose_b, const double* p
   return sweep.terms;
 }
 
-// Ceres' Evaluate from EvaluateTangent for a one-row factor whose first `poses` of `blocks` blocks are poses
-// (7 ambient, 6 tangent; lifted with TangentToAmbientJacobian) and whose others are Euclidean (the tangent is
-// the ambient block).
-bool EvaluateLiftingPoses(const TangentJacobianCost& cost, int poses, int blocks,
-                          double const* const* parameters, double* residuals, double** jacobians) {
-  if (jacobians == nullptr) return cost.EvaluateTangent(parameters, residuals, nullptr);
-  std::array<std::array<double, 6>, 2> tangent{};
-  std::array<double*, 3> J{};
-  for (int i = 0; i < blocks; ++i)
-    J[i] = i >= poses ? jacobians[i] : jacobians[i] != nullptr ? tangent[i].data() : nullptr;
-  if (!cost.EvaluateTangent(parameters, residuals, J.data())) return false;
-  for (int i = 0; i < poses; ++i)
-    if (jacobians[i] != nullptr) TangentToAmbientJacobian(parameters[i], tangent[i].data(), 1, jacobians[i]);
-  return true;
-}
-
 }  // namespace
 
 PointToPlaneFactor::PointToPlaneFactor(const Eigen::Vector3d& point_lidar, double alpha, const Plane& plane,
@@ -67,7 +50,7 @@ PointToPlaneFactor::PointToPlaneFactor(const Eigen::Vector3d& point_lidar, doubl
 
 bool PointToPlaneFactor::Evaluate(double const* const* parameters, double* residuals,
                                   double** jacobians) const {
-  return EvaluateLiftingPoses(*this, 2, 2, parameters, residuals, jacobians);
+  return EvaluateLiftingPoses(*this, 1, 2, 2, parameters, residuals, jacobians);
 }
 
 bool PointToPlaneFactor::EvaluateTangent(double const* const* parameters, double* residuals,
@@ -93,7 +76,7 @@ PointToPlaneFactorSinglePose::PointToPlaneFactorSinglePose(const Eigen::Vector3d
 
 bool PointToPlaneFactorSinglePose::Evaluate(double const* const* parameters, double* residuals,
                                             double** jacobians) const {
-  return EvaluateLiftingPoses(*this, 1, 1, parameters, residuals, jacobians);
+  return EvaluateLiftingPoses(*this, 1, 1, 1, parameters, residuals, jacobians);
 }
 
 bool PointToPlaneFactorSinglePose::EvaluateTangent(double const* const* parameters, double* residuals,
@@ -122,7 +105,7 @@ PointToPlaneLeverFactor::PointToPlaneLeverFactor(const Eigen::Vector3d& point_li
 
 bool PointToPlaneLeverFactor::Evaluate(double const* const* parameters, double* residuals,
                                        double** jacobians) const {
-  return EvaluateLiftingPoses(*this, 2, 3, parameters, residuals, jacobians);
+  return EvaluateLiftingPoses(*this, 1, 2, 3, parameters, residuals, jacobians);
 }
 
 bool PointToPlaneLeverFactor::EvaluateTangent(double const* const* parameters, double* residuals,
@@ -153,7 +136,7 @@ PointToPlaneLeverFactorSinglePose::PointToPlaneLeverFactorSinglePose(const Eigen
 
 bool PointToPlaneLeverFactorSinglePose::Evaluate(double const* const* parameters, double* residuals,
                                                  double** jacobians) const {
-  return EvaluateLiftingPoses(*this, 1, 2, parameters, residuals, jacobians);
+  return EvaluateLiftingPoses(*this, 1, 1, 2, parameters, residuals, jacobians);
 }
 
 bool PointToPlaneLeverFactorSinglePose::EvaluateTangent(double const* const* parameters, double* residuals,

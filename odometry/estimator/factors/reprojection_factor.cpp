@@ -3,7 +3,6 @@
 #include <cassert>
 
 #include "odometry/estimator/factors/interpolated_point.h"
-#include "odometry/estimator/state/pose_manifold.h"
 #include "odometry/types/so3.h"
 
 namespace uf::estimator {
@@ -32,14 +31,7 @@ ReprojectionFactor::ReprojectionFactor(const FeatureObservation& anchor, const F
 
 bool ReprojectionFactor::Evaluate(double const* const* parameters, double* residuals,
                                   double** jacobians) const {
-  if (jacobians == nullptr) return EvaluateTangent(parameters, residuals, nullptr);
-  double J_i[12], J_j[12], J_bc[12];
-  double* tangent[5] = {jacobians[0] != nullptr ? J_i : nullptr, jacobians[1] != nullptr ? J_j : nullptr,
-                        jacobians[2] != nullptr ? J_bc : nullptr, jacobians[3], jacobians[4]};
-  EvaluateTangent(parameters, residuals, tangent);
-  for (int k = 0; k < 3; ++k)
-    if (jacobians[k] != nullptr) TangentToAmbientJacobian(parameters[k], tangent[k], 2, jacobians[k]);
-  return true;
+  return EvaluateLiftingPoses(*this, 2, 3, 5, parameters, residuals, jacobians);
 }
 
 bool ReprojectionFactor::EvaluateTangent(double const* const* parameters, double* residuals,

@@ -15,4 +15,12 @@ class TangentJacobianCost {
                                double** tangent_jacobians) const = 0;
 };
 
+// Ceres' Evaluate from EvaluateTangent for a factor of `rows` residuals (at most kMaxLiftedRows) whose first
+// `poses` (at most kMaxLiftedPoses) of `blocks` (at most kMaxLiftedBlocks) blocks are poses (7 ambient, 6
+// tangent; lifted with TangentToAmbientJacobian) and whose others are Euclidean (the tangent is the ambient
+// block).
+inline constexpr int kMaxLiftedRows = 2, kMaxLiftedPoses = 3, kMaxLiftedBlocks = 5;
+bool EvaluateLiftingPoses(const TangentJacobianCost& cost, int rows, int poses, int blocks,
+                          double const* const* parameters, double* residuals, double** jacobians);
+
 }  // namespace uf::estimator
