@@ -60,13 +60,15 @@ mkdir -p "$work"
 # budget lifted (only their iteration limits: the figures do not depend on the machine's load).
 on="$work/schedule-on.yaml"
 off="$work/schedule-off.yaml"
-camera_budget='  visual:\n    max_solver_time_s: 10'
-unscheduled="$camera_budget"'\n    schedule:\n      enabled: false\n  wheel:\n    schedule:\n      enabled: false\n  gnss:\n    integrity_gate: 1e9\n    step_max_hold_s: 0'
-sed -e 's/^lo:$/lo:\n  max_solver_time_s: 10/' -e "s/^lio:$/lio:\n$camera_budget/" "$root/configs/run-sim.yaml" >"$on"
-sed -e 's/^lo:$/lo:\n  max_solver_time_s: 10/' -e "s/^lio:$/lio:\n  wheel_carries_weak_translations: false\n$unscheduled/" \
-  "$root/configs/run-sim.yaml" >"$off"
-printf "\nwio:\n  max_solver_time_s: 10\n$camera_budget\n" >>"$on"
-printf "\nwio:\n  max_solver_time_s: 10\n$unscheduled\n" >>"$off"
+# run-sim.yaml has a visual: section in both lio: and wio: (the smoothing of the simulator's camera).
+camera_budget='    max_solver_time_s: 10'
+unscheduled_camera="$camera_budget"'\n    schedule:\n      enabled: false'
+unscheduled='  wheel:\n    schedule:\n      enabled: false\n  gnss:\n    integrity_gate: 1e9\n    step_max_hold_s: 0'
+sed -e 's/^lo:$/lo:\n  max_solver_time_s: 10/' -e 's/^wio:$/wio:\n  max_solver_time_s: 10/' \
+  -e "s/^  visual:$/  visual:\n$camera_budget/" "$root/configs/run-sim.yaml" >"$on"
+sed -e 's/^lo:$/lo:\n  max_solver_time_s: 10/' -e "s/^wio:$/wio:\n  max_solver_time_s: 10\n$unscheduled/" \
+  -e "s/^lio:$/lio:\n  wheel_carries_weak_translations: false\n$unscheduled/" \
+  -e "s/^  visual:$/  visual:\n$unscheduled_camera/" "$root/configs/run-sim.yaml" >"$off"
 # With the clipping gyro, scheduling on knows its full scale.
 on_clip="$work/schedule-on-clip.yaml"
 sed -e 's/^  imu:$/  imu:\n    gyro_range: 0.25/' -e 's/^wio:$/wio:\n  imu:\n    gyro_range: 0.25/' "$on" >"$on_clip"

@@ -33,7 +33,8 @@ work="${keep:-$(mktemp -d)}"
 mkdir -p "$work"
 run_config="$work/run.yaml"
 cp "$root/configs/run-sim.yaml" "$run_config"
-[[ -z "$delay" ]] || sed -i 's/^lio:$/lio:\n  visual:\n    estimate_time_offset: true/' "$run_config"
+# run-sim.yaml's lio: has a visual: section (before wio:'s): the key goes into the first.
+[[ -z "$delay" ]] || sed -i '0,/^  visual:$/s//  visual:\n    estimate_time_offset: true/' "$run_config"
 echo "bench_lvio: ${duration} s, scenes $scenes, seeds $seeds${delay:+, camera delay $delay s}, load average $(cut -d' ' -f1-3 /proc/loadavg)"
 printf '%-9s %4s %9s %9s %6s %11s %11s %12s %9s\n' scene seed LIO_ATE_m LVIO_ATE_m ratio LIO_ms/scan \
   LVIO_ms/scan front_ms/frame t_d_s

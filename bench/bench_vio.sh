@@ -5,11 +5,13 @@
 # real lens gives). Prints per seed the ATE and the KITTI-style drift against the simulator's ground truth,
 # the time per node, and the means, with the load average (2 shared cores).
 #   usage: bench/bench_vio.sh [--duration S] [--seeds "1 2 3"] [--supersampling "1 2"] [--delay S]
-#                             [--stereo B] [--config FILE] [--keep DIR]
+#                             [--stereo B] [--smoothing SIGMA] [--config FILE] [--keep DIR]
 # --delay S: the camera stamps run S late (sim --camera-stamp-delay) and the run estimates t_d
 # (wio.visual.estimate_time_offset); the table adds the estimate (the truth is -S).
 # --stereo B: a stereo rig, a second camera B m to the right of the first (sim --stereo-baseline; the run
 # uses it, wio.visual.stereo); the first camera's frames are the same as without it.
+# --smoothing SIGMA: the front end's smoothing of the frames, px (wio.visual.tracker.smoothing_sigma_px;
+# default 0.8, as configs/run-sim.yaml for the simulator's camera; 0: none). Not with --config.
 # --keep DIR keeps the sequences and runs there, and reuses the sequences found there on the next call.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -20,6 +22,7 @@ supersampling="1 2"
 delay=""
 stereo=""
 config=""
+smoothing=0.8
 keep=""
 while (($#)); do
   case "$1" in
@@ -28,6 +31,7 @@ while (($#)); do
     --supersampling) supersampling="$2"; shift 2 ;;
     --delay) delay="$2"; shift 2 ;;
     --stereo) stereo="$2"; shift 2 ;;
+    --smoothing) smoothing="$2"; shift 2 ;;
     --config) config="$2"; shift 2 ;;
     --keep) keep="$2"; shift 2 ;;
     *) echo "bench_vio: unknown argument $1" >&2; exit 2 ;;
@@ -37,12 +41,19 @@ work="${keep:-$(mktemp -d)}"
 [[ -n "$keep" ]] || trap 'rm -rf "$work"' EXIT
 mkdir -p "$work"
 run_config="$work/run.yaml"
-if [[ -n "$config" ]]; then cp "$config" "$run_config"; else : >"$run_config"; fi
-if [[ -n "$delay" ]]; then
-  grep -q '^wio:' "$run_config" && { echo "bench_vio: --delay with a config that has wio: is not supported" >&2; exit 2; }
-  printf 'wio:\n  visual:\n    estimate_time_offset: true\n' >>"$run_config"
+if [[ -n "$config" ]]; then
+  cp "$config" "$run_config"
+  if [[ -n "$delay" ]]; then
+    grep -q '^wio:' "$run_config" && { echo "bench_vio: --delay with a config that has wio: is not supported" >&2; exit 2; }
+    printf 'wio:\n  visual:\n    estimate_time_offset: true\n' >>"$run_config"
+  fi
+else
+  printf 'wio:\n  visual:\n    tracker:\n      smoothing_sigma_px: %s\n' "$smoothing" >"$run_config"
+  [[ -z "$delay" ]] || printf '    estimate_time_offset: true\n' >>"$run_config"
 fi
-echo "bench_vio: urban ${duration} s, seeds $seeds, supersampling $supersampling${delay:+, camera delay $delay s}${stereo:+, stereo baseline $stereo m}, load average $(cut -d' ' -f1-3 /proc/loadavg)"
+settings=", smoothing $smoothing px"
+[[ -z "$config" ]] || settings=", config $config"
+echo "bench_vio: urban ${duration} s, seeds $seeds, supersampling $supersampling$settings${delay:+, camera delay $delay s}${stereo:+, stereo baseline $stereo m}, load average $(cut -d' ' -f1-3 /proc/loadavg)"
 printf '%5s %5s %9s %9s %13s %9s %9s\n' ss seed ATE_m drift_% rot_deg/100m ms/node t_d_s
 for ss in $supersampling; do
   sum_ate=0 sum_drift=0 n=0

@@ -22,6 +22,12 @@ struct FeatureTrackerConfig {
   // Map every frame to the same mean and spread before tracking (a global gain and offset), so that tracks
   // survive exposure and illumination changes; the statistics stay those of the frame as recorded.
   bool normalize_exposure = true;
+  // Gaussian smoothing of every frame before corners and Lucas-Kanade, pixels (0: none). For a camera that
+  // aliases, one that samples the scene at points (the simulator's, one ray per pixel: configs/run-sim.yaml
+  // sets 0.8): its aliases move against the scene, and smoothing damps them more than the coarser texture
+  // the tracks should follow (docs/METHOD.md "Visual front end", step 0). Off for a camera whose optics
+  // blur within a pixel, as real ones mostly do.
+  double smoothing_sigma_px = 0;
 };
 
 // The first bad field, e.g. "max_features: must be at least 1, got 0"; ok otherwise.

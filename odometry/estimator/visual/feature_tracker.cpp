@@ -241,6 +241,7 @@ Expected<TrackedFrame> FeatureTracker::Track(Stamp stamp, const Image& image) {
   stats.intensity_std = std_dev[0];
   stats.warning = QualityWarning(mean[0], std_dev[0], s.config.min_contrast_dn);
   if (s.config.normalize_exposure) NormalizeExposure(gray, mean[0], std_dev[0], s.config.min_contrast_dn);
+  Smooth(gray, s.config.smoothing_sigma_px);
 
   std::vector<cv::Mat> pyramid;
   const cv::Size window(s.config.klt_window_px, s.config.klt_window_px);

@@ -22,6 +22,10 @@ void NormalizeExposure(cv::Mat& gray, double mean, double std_dev, double min_co
   gray.convertTo(gray, CV_8U, gain, kExposureMean - gain * mean);
 }
 
+void Smooth(cv::Mat& gray, double sigma_px) {
+  if (sigma_px > 0) cv::GaussianBlur(gray, gray, cv::Size(0, 0), sigma_px);
+}
+
 bool FitsCamera(const Image& image, const CameraModel& camera) {
   return image.width == camera.width() && image.height == camera.height() &&
          (image.channels == 1 || image.channels == 3) &&

@@ -20,6 +20,9 @@ cv::Mat GrayOf(const Image& image);
 // than min_contrast is left alone (its noise would be amplified).
 void NormalizeExposure(cv::Mat& gray, double mean, double std_dev, double min_contrast);
 
+// Gaussian smoothing of sigma_px (feature_tracker_config.h); none at 0.
+void Smooth(cv::Mat& gray, double sigma_px);
+
 // Whether the image is 8-bit gray or RGB of the camera's size, its pixel buffer complete.
 bool FitsCamera(const Image& image, const CameraModel& camera);
 

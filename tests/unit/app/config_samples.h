@@ -218,6 +218,7 @@ inline estimator::LidarOdometryConfig NonDefaultOdometry() {
   c.visual.tracker.grid_cells = 6;
   c.visual.tracker.min_contrast_dn = 4;
   c.visual.tracker.normalize_exposure = false;
+  c.visual.tracker.smoothing_sigma_px = 1.5;
   c.visual.schedule.enabled = true;
   c.visual.schedule.tolerance_px = 5;
   c.visual.schedule.min_tracks = 15;

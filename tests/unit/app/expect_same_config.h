@@ -291,6 +291,7 @@ inline void ExpectSameInertialParts(const Config& a, const Config& b) {
   EXPECT_FIELD(visual.tracker.grid_cells);
   EXPECT_FIELD(visual.tracker.min_contrast_dn);
   EXPECT_FIELD(visual.tracker.normalize_exposure);
+  EXPECT_FIELD(visual.tracker.smoothing_sigma_px);
   EXPECT_FIELD(visual.schedule.enabled);
   EXPECT_FIELD(visual.schedule.tolerance_px);
   EXPECT_FIELD(visual.schedule.min_tracks);

@@ -222,6 +222,8 @@ Schema<estimator::FeatureTrackerConfig> TrackerSchema() {
   s.Key("min_contrast_dn", &T::min_contrast_dn, "DN", "intensity spread below which a frame is textureless");
   s.Key("normalize_exposure", &T::normalize_exposure, "",
         "map every frame to one mean and spread before tracking");
+  s.Key("smoothing_sigma_px", &T::smoothing_sigma_px, "px",
+        "Gaussian smoothing of every frame before corners and tracking (0: none), [0, 5]");
   return s;
 }
 
