@@ -76,6 +76,25 @@ TEST_F(CliTrack, TracksTheSimulatedCameraAndWritesItsFiles) {
   EXPECT_TRUE(fs::exists(out + "/plots/tracks_" + rows[10][0] + ".png"));
 }
 
+// --smoothing reaches the front end (its effect on the tracks: test_feature_tracker.cpp), within [0, 5] px.
+TEST_F(CliTrack, SmoothingReachesTheFrontEndAndIsRangeChecked) {
+  const auto counts = [this](const std::string& smoothing) {
+    const std::string out = dir_->File("smoothing" + smoothing);
+    const auto result =
+        Ultrafusion("track " + Seq() + " --overlay-every 0 --smoothing " + smoothing + " --out " + out);
+    EXPECT_EQ(result.code, 0) << result.output;
+    std::vector<std::string> column;  // tracked, detected and the losses of every frame
+    for (const auto& row : CsvRows(out + "/tracks.csv"))
+      for (int i = 2; i <= 7; ++i) column.push_back(row.at(i));
+    return column;
+  };
+  EXPECT_EQ(counts("0"), counts("0.0"));
+  EXPECT_NE(counts("0"), counts("0.8"));
+  const auto result = Ultrafusion("track " + Seq() + " --smoothing 9");
+  EXPECT_EQ(result.code, 2) << result.output;
+  EXPECT_NE(result.output.find("--smoothing"), std::string::npos) << result.output;
+}
+
 TEST_F(CliTrack, AFrameThatDoesNotDecodeIsSkippedWithAWarning) {
   TempDir copy;
   fs::copy(Seq(), copy.File("seq"), fs::copy_options::recursive);

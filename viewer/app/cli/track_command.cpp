@@ -133,6 +133,13 @@ Subcommand AddTrackCommand(CLI::App& app) {
   command->add_option("--min-distance", a->tracker.min_distance_px, "Least distance between features, px")
       ->check(CLI::Range(0.0, 1000.0))
       ->capture_default_str();
+  command
+      ->add_option(
+          "--smoothing", a->tracker.smoothing_sigma_px,
+          "Gaussian smoothing of every frame before tracking, px (0: none; for a camera that aliases, "
+          "as the simulator's: 0.8)")
+      ->check(CLI::Range(0.0, 5.0))
+      ->capture_default_str();
   return {command, [a] { return RunTrackCommand(*a); }};
 }
 
