@@ -60,9 +60,9 @@ TEST(FeatureTracker, TracksFollowTheTrueProjectionsOfScenePoints) {
 }
 
 // A texture of known spectrum sampled at pixel centres and moved by a known sub-pixel shift per frame. Its
-// waves lie within the pixels' band (at most 0.5 cycles per pixel along each axis): coarse ones (0.02-0.1)
-// and fine ones (0.17-0.42). With `aliased` the fine waves are the aliases of finer waves of the scene, one
-// cycle per pixel further along x or y (0.58-0.66 cycles per pixel): the first frame is the same image, but
+// waves lie within the pixels' band (at most 0.5 cycles per pixel along each axis): coarse ones (0.05-0.12
+// cycles per pixel) and fine ones (0.36-0.47). With `aliased` the fine waves are the aliases of finer waves
+// of the scene, one cycle per pixel further along x or y (0.62-0.67): the first frame is the same image, but
 // as the scene moves they move against it.
 Image WaveTexture(int width, int height, const Eigen::Vector2d& shift, bool aliased) {
   struct Wave {
@@ -111,10 +111,10 @@ double MeanFlowError(double smoothing_sigma_px, bool aliased) {
 }
 
 // A sensor that samples the scene at points aliases its finest texture, and the aliases move against the
-// scene. Smoothing (the default 0.8 px) damps them (a Gaussian passes exp(-2 pi^2 sigma^2 f^2) of a wave of
-// f cycles per pixel: 0.06-0.19 of these) far more than the coarse waves (at least 0.84), so Lucas-Kanade
-// follows the scene. Measured: 0.34 px sharp, 0.026 px smoothed; the same first image with the fine waves
-// moving with the scene 0.066 and 0.047 px.
+// scene. Smoothing (0.8 px, as configs/run-sim.yaml sets for the simulator's camera) damps them (a Gaussian
+// passes exp(-2 pi^2 sigma^2 f^2) of a wave of f cycles per pixel: 0.06-0.19 of these) far more than the
+// coarse waves (at least 0.84), so Lucas-Kanade follows the scene. Measured: 0.34 px sharp, 0.026 px
+// smoothed; the same first image with the fine waves moving with the scene 0.066 and 0.047 px.
 TEST(FeatureTracker, SmoothingKeepsTracksOnAliasedTextureWithTheScene) {
   const double sharp = MeanFlowError(0, true), smoothed = MeanFlowError(0.8, true);
   const double sharp_clean = MeanFlowError(0, false), smoothed_clean = MeanFlowError(0.8, false);
