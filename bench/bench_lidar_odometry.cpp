@@ -3,7 +3,8 @@
 // and time per scan (mean / median / p95 / max; wall and process CPU time), with the machine's load average.
 // Nothing is asserted.
 //   usage: bench_lidar_odometry [KITTI_FOLDER] [--window N] [--input-voxel M] [--residuals N]
-//          [--iterations N] [--rounds N] [--acc A] [--ang W] [--sweep-acc S] [--huber M]
+//          [--iterations N] [--condensed-rounds N] [--rounds N] [--acc A] [--ang W] [--sweep-acc S] [--huber
+//          M]
 //          [--map-insert-voxel M] [--neighbour-weight W]
 //          [--no-deskew] [--out EST.tum]
 #include <time.h>
@@ -51,6 +52,8 @@ int main(int argc, char** argv) {
       config.max_residuals_per_scan = std::atoi(argv[++i]);
     else if (arg == "--iterations" && has_value)
       config.max_iterations = std::atoi(argv[++i]);
+    else if (arg == "--condensed-rounds" && has_value)
+      config.condensed_lidar_rounds = std::atoi(argv[++i]);
     else if (arg == "--rounds" && has_value)
       config.association_rounds = std::atoi(argv[++i]);
     else if (arg == "--acc" && has_value)

@@ -73,6 +73,16 @@ TEST_F(CliRun, LidarOdometryOnASimulatedSequenceWritesEveryOutput) {
     EXPECT_GT(timing["ms_per_scan"][key].get<double>(), 0);
   EXPECT_LE(timing["ms_per_scan"]["median"].get<double>(), timing["ms_per_scan"]["max"].get<double>());
   EXPECT_TRUE(timing.contains("warnings"));
+  // Where the scans' time went: each stage's mean, together at most the mean per scan (the rest is the
+  // scan's bookkeeping between the stages).
+  double stages = 0;
+  for (const char* key : {"prepare", "associate", "register", "window", "map", "marginalize"}) {
+    const double ms = timing["stage_ms_mean"][key].get<double>();
+    EXPECT_GE(ms, 0) << key;
+    stages += ms;
+  }
+  EXPECT_GT(timing["stage_ms_mean"]["associate"].get<double>(), 0);
+  EXPECT_LE(stages, timing["ms_per_scan"]["mean"].get<double>());
 
   // Ground truth is the body (IMU) frame, the estimate the LiDAR frame 0.25 m above it with the same
   // rotation: after SE3 alignment the offset only matters through rotation, so a working LO is at
@@ -83,6 +93,7 @@ TEST_F(CliRun, LidarOdometryOnASimulatedSequenceWritesEveryOutput) {
   EXPECT_LT(ate, 0.5) << report;
   EXPECT_NE(report.find("--no-map"), std::string::npos);
   EXPECT_NE(report.find("lo:"), std::string::npos);
+  EXPECT_NE(report.find("Mean per scan by stage [ms]: preparation "), std::string::npos);
 
   // The saved configuration is accepted as --config (here with an output folder that makes it stop early).
   const auto again =

@@ -32,13 +32,21 @@ Status WriteTrajectoryFiles(const std::filesystem::path& folder, const Trajector
 }
 
 Status WriteTimingJson(const std::filesystem::path& path, const TimingSummary& timing, std::int64_t skipped,
-                       std::int64_t warnings, const std::string& step) {
-  const nlohmann::json json = {
+                       std::int64_t warnings, const std::string& step,
+                       const std::optional<StageTimes>& stages) {
+  nlohmann::json json = {
       {step + "s", timing.steps},
       {"ms_per_" + step,
        {{"mean", timing.mean}, {"median", timing.median}, {"p95", timing.p95}, {"max", timing.max}}},
       {"skipped", skipped},
       {"warnings", warnings}};
+  if (stages)
+    json["stage_ms_mean"] = {{"prepare", stages->prepare},
+                             {"associate", stages->associate},
+                             {"register", stages->register_scan},
+                             {"window", stages->window},
+                             {"map", stages->map},
+                             {"marginalize", stages->marginalize}};
   return WriteTextFileAtomically(path, json.dump(2) + "\n");
 }
 

@@ -21,6 +21,13 @@ struct TimingSummary {
   double mean = 0, median = 0, p95 = 0, max = 0;
 };
 
+// Where a LiDAR window's scan went (the estimator's OdometryStats), ms: preparation (range filter,
+// downsampling), plane association, the new scan's registration solves, the window's solve, map insertion,
+// marginalization. Per scan, or their means over a run.
+struct StageTimes {
+  double prepare = 0, associate = 0, register_scan = 0, window = 0, map = 0, marginalize = 0;
+};
+
 // Mean, median, 95th percentile (nearest rank: the smallest value with >= 95 % of the values at or below
 // it) and maximum; all zero for no steps.
 TimingSummary SummarizeTimings(std::vector<double> milliseconds);
@@ -30,9 +37,11 @@ TimingSummary SummarizeTimings(std::vector<double> milliseconds);
 Status WriteTrajectoryFiles(const std::filesystem::path& folder, const Trajectory& trajectory);
 
 // {"scans": N, "ms_per_scan": {"mean", "median", "p95", "max"}, "skipped": S, "warnings": W}, with `step`
-// ("scan" or "node") in the first two keys.
+// ("scan" or "node") in the first two keys, and with `stages` "stage_ms_mean": {"prepare", "associate",
+// "register", "window", "map", "marginalize"}.
 Status WriteTimingJson(const std::filesystem::path& path, const TimingSummary& timing, std::int64_t skipped,
-                       std::int64_t warnings, const std::string& step);
+                       std::int64_t warnings, const std::string& step,
+                       const std::optional<StageTimes>& stages = std::nullopt);
 
 // plots/timing_per_<step>.png: milliseconds per step against its time from the first one, with the mean,
 // median and RMS as lines (the eval error plot, its "error" series being the time per step).

@@ -20,6 +20,7 @@ Status LidarOdometryConfig::Validate() const {
   if (Status s = map.Validate(); !s.ok()) return Status::Error("lo.map: " + s.message());
   if (window_size < 2) return Bad("window_size", ">= 2", window_size);
   if (max_iterations < 1) return Bad("max_iterations", ">= 1", max_iterations);
+  if (condensed_lidar_rounds < 0) return Bad("condensed_lidar_rounds", ">= 0", condensed_lidar_rounds);
   if (!Positive(max_solver_time_s)) return Bad("max_solver_time_s", "> 0", max_solver_time_s);
   if (max_residuals_per_scan < 6) return Bad("max_residuals_per_scan", ">= 6", max_residuals_per_scan);
   if (!Positive(huber_m)) return Bad("huber_m", "> 0", huber_m);

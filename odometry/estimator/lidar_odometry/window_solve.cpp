@@ -54,6 +54,11 @@ bool LidarOdometry::Impl::Solve(int* iterations, bool new_scan_only, bool rigid_
   const bool camera_budget = visual && !new_scan_only;
   request.max_iterations = camera_budget ? config.visual.max_iterations : config.max_iterations;
   request.max_time_s = camera_budget ? config.visual.max_solver_time_s : config.max_solver_time_s;
+  if (!new_scan_only && config.condensed_lidar_rounds > 0) {  // see window/condensed_factor.h
+    request.condense = [](const Factor& f) { return f.kind == FactorKind::kLidar; };
+    request.condensed_rounds = config.condensed_lidar_rounds;
+    request.condense_config = config.marginalization;
+  }
   const WindowSolveResult result = graph.Solve(request);
   *iterations += result.iterations;
   if (LeverFactors() && !new_scan_only) {

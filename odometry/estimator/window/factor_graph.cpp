@@ -5,9 +5,12 @@
 
 #include <algorithm>
 #include <cassert>
+#include <chrono>
+#include <cmath>
 #include <unordered_set>
 
 #include "odometry/estimator/state/nav_state.h"
+#include "odometry/estimator/window/condensed_factor.h"
 #include "odometry/estimator/window/dense_least_squares.h"
 #include "odometry/estimator/window/marginalization.h"
 
@@ -88,12 +91,13 @@ void FactorGraph::Add(Factor factor) {
   assert(factor.cost && factor.blocks.size() == factor.cost->parameter_block_sizes().size());
   for ([[maybe_unused]] const double* block : factor.blocks) assert(blocks_.count(block));
   factor.tangent = dynamic_cast<const TangentJacobianCost*>(factor.cost.get());
+  factor.serial = next_serial_++;
   entries_[static_cast<int>(factor.kind)].push_back(std::move(factor));
 }
 
 void FactorGraph::Add(FactorKind kind, long tag, std::unique_ptr<ceres::CostFunction> cost,
                       std::unique_ptr<ceres::LossFunction> loss, std::vector<double*> blocks, bool anchors) {
-  Add(Factor{kind, tag, std::move(cost), std::move(loss), std::move(blocks), anchors, nullptr});
+  Add(Factor{kind, tag, std::move(cost), std::move(loss), std::move(blocks), anchors, nullptr, 0});
 }
 
 void FactorGraph::Remove(FactorKind kind, long tag) {
@@ -112,10 +116,12 @@ void FactorGraph::Clear() {
   blocks_.clear();
   for (std::vector<Factor>& kind : entries_) kind.clear();
   prior_.reset();
+  condensed_.clear();
 }
 
 // The entries a solve uses, in solve order: those passing request.use and touching a free block (`free`:
-// request.free as a set), then the prior (when asked for and present).
+// request.free as a set), then the prior (when asked for and present). `visit` gets the entry last (null for
+// the prior).
 template <typename Visit>
 void FactorGraph::ForEachUsed(const WindowSolveRequest& request,
                               const std::unordered_set<const double*>& free, Visit&& visit) {
@@ -123,18 +129,95 @@ void FactorGraph::ForEachUsed(const WindowSolveRequest& request,
   for (const std::vector<Factor>& kind : entries_)
     for (const Factor& f : kind)
       if ((!request.use || request.use(f)) && touches_free(f.blocks))
-        visit(f.cost.get(), f.tangent, f.loss.get(), f.blocks);
+        visit(f.cost.get(), f.tangent, f.loss.get(), f.blocks, &f);
   if (request.use_prior && prior_)
     visit(prior_.get(), dynamic_cast<const TangentJacobianCost*>(prior_.get()), nullptr,
-          prior_->prior().ParameterBlocks());
+          prior_->prior().ParameterBlocks(), static_cast<const Factor*>(nullptr));
+}
+
+bool FactorGraph::ModelHolds(const MarginalizationPrior& model, const std::vector<double*>& blocks,
+                             const std::unordered_set<const double*>& free,
+                             const WindowSolveRequest& request) const {
+  std::size_t k = 0;  // the model's blocks are the run's free blocks, in order
+  for (double* block : blocks) {
+    if (!free.count(block)) continue;
+    if (k >= model.kept.size() || model.kept[k].address != block) return false;
+    const double* x0 = model.linearization_point[k].data();
+    if (model.kept[k].kind == BlockKind::kPose) {
+      const SE3 T0 = PoseFromBlock(x0), T = PoseFromBlock(block);
+      if ((T.translation() - T0.translation()).norm() > request.relinearize_translation_m ||
+          (T0.so3().inverse() * T.so3()).Log().norm() > request.relinearize_rotation_rad)
+        return false;
+    } else {
+      for (int i = 0; i < model.kept[k].ambient_size; ++i)
+        if (std::abs(block[i] - x0[i]) > request.relinearize_euclidean) return false;
+    }
+    ++k;
+  }
+  return k == model.kept.size();
+}
+
+int FactorGraph::AddCondensed(const WindowSolveRequest& request,
+                              const std::unordered_set<const double*>& free, DenseLeastSquares& problem) {
+  int condensed = 0;
+  std::vector<const Factor*> run;  // consecutive entries on the same blocks
+  const auto flush = [&] {
+    if (run.empty()) return;
+    const Factor& first = *run.front();
+    auto kept = std::find_if(condensed_.begin(), condensed_.end(), [&](const CondensedModel& m) {
+      return m.kind == first.kind && m.first == first.serial && m.last == run.back()->serial &&
+             m.count == run.size();
+    });
+    if (kept == condensed_.end() || !ModelHolds(kept->factor->prior(), first.blocks, free, request)) {
+      std::vector<BlockLayout> layout;
+      for (double* block : first.blocks) {
+        if (!free.count(block)) continue;
+        const BlockInfo& info = blocks_.at(block);
+        layout.push_back({block, info.size, info.pose ? kPoseTangentSize : info.size,
+                          info.pose ? BlockKind::kPose : BlockKind::kEuclidean});
+      }
+      std::vector<CondensedInput> inputs;
+      inputs.reserve(run.size());
+      for (const Factor* f : run) inputs.push_back({f->cost.get(), f->tangent, f->loss.get(), &f->blocks});
+      Expected<std::unique_ptr<MarginalizationFactor>> model =
+          CondenseResidualBlocks(inputs, layout, request.condense_config);
+      if (!model) {  // solved as they are
+        for (const Factor* f : run)
+          problem.AddResidualBlock(f->cost.get(), f->tangent, f->loss.get(), f->blocks);
+        run.clear();
+        return;
+      }
+      if (kept == condensed_.end()) kept = condensed_.insert(condensed_.end(), CondensedModel{});
+      *kept = {first.kind, first.serial, run.back()->serial, run.size(), std::move(*model), false};
+      ++condensed;
+    }
+    kept->used = true;
+    const MarginalizationFactor* factor = kept->factor.get();
+    problem.AddResidualBlock(factor, dynamic_cast<const TangentJacobianCost*>(factor), nullptr,
+                             factor->prior().ParameterBlocks());
+    run.clear();
+  };
+  TouchTest touches_free(free);
+  for (const std::vector<Factor>& kind : entries_)
+    for (const Factor& f : kind) {
+      if (!request.condense(f) || (request.use && !request.use(f)) || !touches_free(f.blocks)) continue;
+      if (!run.empty() && run.front()->blocks != f.blocks) flush();
+      run.push_back(&f);
+    }
+  flush();
+  return condensed;
 }
 
 // Dense: the window's few hundred tangent dimensions fit one dense normal-equation system, built straight
-// from the residual blocks (dense_least_squares.h). Ceres: sparse Cholesky, for windows far larger.
-WindowSolveResult FactorGraph::Solve(const WindowSolveRequest& request) {
+// from the residual blocks (dense_least_squares.h).
+WindowSolveResult FactorGraph::SolveDense(const WindowSolveRequest& request,
+                                          const std::unordered_set<const double*>& free) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
   WindowSolveResult result;
-  const std::unordered_set<const double*> free(request.free.begin(), request.free.end());
-  if (request.solver == WindowSolver::kDense) {
+  const int rounds = request.condense ? std::max(1, request.condensed_rounds) : 1;
+  for (CondensedModel& model : condensed_) model.used = false;
+  for (int round = 0; round < rounds; ++round) {
     DenseLeastSquares problem;
     for (double* block : request.free) {
       const BlockInfo& info = blocks_.at(block);
@@ -144,19 +227,35 @@ WindowSolveResult FactorGraph::Solve(const WindowSolveRequest& request) {
         problem.AddEuclideanBlock(block, info.size);
       }
     }
-    ForEachUsed(request, free,
-                [&](const ceres::CostFunction* cost, const TangentJacobianCost* tangent,
-                    const ceres::LossFunction* loss, const std::vector<double*>& blocks) {
-                  problem.AddResidualBlock(cost, tangent, loss, blocks);
-                });
+    ForEachUsed(
+        request, free,
+        [&](const ceres::CostFunction* cost, const TangentJacobianCost* tangent,
+            const ceres::LossFunction* loss, const std::vector<double*>& blocks, const Factor* entry) {
+          if (!entry || !request.condense || !request.condense(*entry))
+            problem.AddResidualBlock(cost, tangent, loss, blocks);
+        });
+    // After the first solve, another only where a model was condensed anew (its blocks had moved past
+    // the thresholds): else the last solve was on models that all still hold.
+    const int condensed = request.condense ? AddCondensed(request, free, problem) : 0;
+    if (round > 0 && condensed == 0) break;
     DenseSolverOptions options;
     options.max_iterations = request.max_iterations;
-    options.max_time_s = request.max_time_s;
+    options.max_time_s = request.max_time_s - std::chrono::duration<double>(Clock::now() - start).count();
+    if (round > 0 && options.max_time_s <= 0) break;
     const DenseSolverSummary summary = problem.Solve(options);
-    result.iterations = summary.iterations;
+    result.iterations += summary.iterations;
     result.usable = summary.usable;
-    return result;
+    if (!summary.usable) break;
   }
+  if (request.condense) std::erase_if(condensed_, [](const CondensedModel& m) { return !m.used; });
+  return result;
+}
+
+// Ceres: sparse Cholesky, for windows far larger than the dense solver's.
+WindowSolveResult FactorGraph::Solve(const WindowSolveRequest& request) {
+  WindowSolveResult result;
+  const std::unordered_set<const double*> free(request.free.begin(), request.free.end());
+  if (request.solver == WindowSolver::kDense) return SolveDense(request, free);
   ceres::Problem::Options problem_options;
   problem_options.cost_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
   problem_options.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
@@ -165,7 +264,7 @@ WindowSolveResult FactorGraph::Solve(const WindowSolveRequest& request) {
   ceres::Problem problem(problem_options);
   ForEachUsed(request, free,
               [&](const ceres::CostFunction* cost, const TangentJacobianCost*,
-                  const ceres::LossFunction* loss, const std::vector<double*>& blocks) {
+                  const ceres::LossFunction* loss, const std::vector<double*>& blocks, const Factor*) {
                 for (double* block : blocks) {
                   if (problem.HasParameterBlock(block)) continue;
                   const BlockInfo& info = blocks_.at(block);

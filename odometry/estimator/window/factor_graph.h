@@ -15,6 +15,7 @@
 #include <ceres/loss_function.h>
 
 #include <array>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <string>
@@ -29,6 +30,8 @@
 #include "odometry/types/status.h"
 
 namespace uf::estimator {
+
+class DenseLeastSquares;
 
 // Solve order. Adding a kind: one line here and its name in factor_graph.cpp.
 enum class FactorKind { kMotionPrior, kImu, kWheel, kGnss, kLidar, kVisual, kStatePrior };
@@ -46,6 +49,7 @@ struct Factor {
   bool anchors = false;
   // The cost as a TangentJacobianCost, or null when it is not one: cast once by Add, not at every solve.
   const TangentJacobianCost* tangent = nullptr;
+  std::uint64_t serial = 0;  // set by Add, never reused: names the entry for the condensed models' cache
 };
 
 enum class WindowSolver { kDense, kCeres };
@@ -58,6 +62,19 @@ struct WindowSolveRequest {
   WindowSolver solver = WindowSolver::kDense;
   int max_iterations = 8;
   double max_time_s = 0.04;
+  // Entries solved on their Gauss-Newton model (window/condensed_factor.h; dense solver only): each run of
+  // consecutive entries passing `condense` on the same blocks becomes one linear factor. A model is kept
+  // from solve to solve while its entries and free blocks stay the same and its blocks stay within the
+  // relinearization thresholds below of its linearization point; past them it is condensed again. After a
+  // solve the models that moved past them are condensed again and the window solved again, at most
+  // `condensed_rounds` solves in all (each with the iteration budget above, the time budget shared).
+  // Default: none, every entry solved as it is.
+  std::function<bool(const Factor&)> condense;
+  int condensed_rounds = 2;
+  double relinearize_translation_m = 0.005;  // a pose block's translation, m
+  double relinearize_rotation_rad = 5e-4;    // a pose block's rotation angle, rad
+  double relinearize_euclidean = 1e-3;       // any coordinate of a Euclidean block
+  MarginalizationConfig condense_config;     // where the models' eigenvalues count as zero
 };
 
 struct WindowSolveResult {
@@ -106,10 +123,30 @@ class FactorGraph {
   template <typename Visit>
   void ForEachUsed(const WindowSolveRequest& request, const std::unordered_set<const double*>& free,
                    Visit&& visit);
+  WindowSolveResult SolveDense(const WindowSolveRequest& request,
+                               const std::unordered_set<const double*>& free);
+  // A run of condensed entries (those from `first` to `last` by serial, `count` of them) and its model.
+  struct CondensedModel {
+    FactorKind kind = FactorKind::kLidar;
+    std::uint64_t first = 0, last = 0;
+    std::size_t count = 0;
+    std::unique_ptr<MarginalizationFactor> factor;
+    bool used = false;  // in the current solve
+  };
+  // Adds the used entries passing request.condense to `problem` as their models (kept ones, or condensed
+  // anew at the current values), or as themselves where a run could not be condensed. Returns how many
+  // models were condensed anew.
+  int AddCondensed(const WindowSolveRequest& request, const std::unordered_set<const double*>& free,
+                   DenseLeastSquares& problem);
+  // Whether a kept model still serves: the same free blocks, each within the request's thresholds.
+  bool ModelHolds(const MarginalizationPrior& model, const std::vector<double*>& blocks,
+                  const std::unordered_set<const double*>& free, const WindowSolveRequest& request) const;
 
   std::unordered_map<const double*, BlockInfo> blocks_;
   std::array<std::vector<Factor>, kFactorKinds> entries_;
   std::unique_ptr<MarginalizationFactor> prior_;
+  std::vector<CondensedModel> condensed_;  // the models of the last solve that condensed
+  std::uint64_t next_serial_ = 1;
   PoseManifold manifold_;
 };
 

@@ -20,6 +20,30 @@ double TruncationThreshold(const MarginalizationConfig& config, const Eigen::Vec
 
 }  // namespace
 
+// H = V L V^T into J = sqrt(L) V^T, r0 = -sqrt(L)^-1 V^T b over the eigenvalues kept.
+Status FactorInformation(const Eigen::MatrixXd& H, const Eigen::VectorXd& b,
+                         const MarginalizationConfig& config, MarginalizationPrior* prior) {
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(H);
+  const double threshold = TruncationThreshold(config, eigen.eigenvalues());
+  std::vector<int> directions;
+  for (int i = 0; i < H.rows(); ++i) {
+    if (eigen.eigenvalues()[i] > threshold) directions.push_back(i);
+  }
+  if (directions.empty()) return Status::Error("marginalization: the prior has no information left");
+  const int rank = static_cast<int>(directions.size());
+  prior->J.resize(rank, H.rows());
+  prior->r0.resize(rank);
+  for (int row = 0; row < rank; ++row) {
+    const double sqrt_lambda = std::sqrt(eigen.eigenvalues()[directions[row]]);
+    const Eigen::VectorXd v = eigen.eigenvectors().col(directions[row]);
+    prior->J.row(row) = sqrt_lambda * v.transpose();
+    prior->r0[row] = -v.dot(b) / sqrt_lambda;
+  }
+  if (!prior->J.allFinite() || !prior->r0.allFinite())
+    return Status::Error("marginalization: non-finite prior");
+  return Status();
+}
+
 Marginalizer::Marginalizer(MarginalizationConfig config) : config_(config) {}
 
 void Marginalizer::SetPoseBlock(double* block) { pose_blocks_.insert(block); }
@@ -137,27 +161,9 @@ Expected<std::shared_ptr<MarginalizationPrior>> Marginalizer::Compute() const {
   H_star = 0.5 * (H_star + H_star.transpose()).eval();
   const Eigen::VectorXd b_star = b.tail(k) - H_km * (H_mm_inverse * b.head(m));
 
-  // 4. Factor H* = V L V^T into J* = sqrt(L) V^T, r0 = -sqrt(L)^-1 V^T b* over the eigenvalues kept.
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> kk(H_star);
-  const double kk_threshold = TruncationThreshold(config_, kk.eigenvalues());
-  std::vector<int> directions;
-  for (int i = 0; i < k; ++i) {
-    if (kk.eigenvalues()[i] > kk_threshold) directions.push_back(i);
-  }
-  if (directions.empty()) return Status::Error("marginalization: the prior has no information left");
+  // 4. Factor H* into J* and r0.
   auto prior = std::make_shared<MarginalizationPrior>();
-  const int rank = static_cast<int>(directions.size());
-  prior->J.resize(rank, k);
-  prior->r0.resize(rank);
-  for (int row = 0; row < rank; ++row) {
-    const double sqrt_lambda = std::sqrt(kk.eigenvalues()[directions[row]]);
-    const Eigen::VectorXd v = kk.eigenvectors().col(directions[row]);
-    prior->J.row(row) = sqrt_lambda * v.transpose();
-    prior->r0[row] = -v.dot(b_star) / sqrt_lambda;
-  }
-  if (!prior->J.allFinite() || !prior->r0.allFinite()) {
-    return Status::Error("marginalization: non-finite prior");
-  }
+  if (Status status = FactorInformation(H_star, b_star, config_, prior.get()); !status.ok()) return status;
   for (size_t i = 0; i < layout.size(); ++i) {
     if (tangent_offset.at(layout[i].address) < m) continue;
     prior->kept.push_back(layout[i]);

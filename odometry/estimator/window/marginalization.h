@@ -32,6 +32,7 @@
 #include <ceres/cost_function.h>
 #include <ceres/loss_function.h>
 
+#include <Eigen/Core>
 #include <memory>
 #include <unordered_set>
 #include <vector>
@@ -41,6 +42,12 @@
 #include "odometry/types/status.h"
 
 namespace uf::estimator {
+
+// Step 4 below on its own: factors the information (H, b) of the prior's blocks (tangent order) into its J
+// and r0, so that J^T J = H and J^T r0 = -b over the eigen-directions above the config's threshold. Error
+// when none is, or when the result is not finite.
+Status FactorInformation(const Eigen::MatrixXd& H, const Eigen::VectorXd& b,
+                         const MarginalizationConfig& config, MarginalizationPrior* prior);
 
 class Marginalizer {
  public:

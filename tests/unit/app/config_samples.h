@@ -123,6 +123,7 @@ inline estimator::LidarOdometryConfig NonDefaultOdometry() {
   c.window_size = 6;
   c.max_iterations = 5;
   c.max_solver_time_s = 0.125;
+  c.condensed_lidar_rounds = 3;
   c.max_residuals_per_scan = 900;
   c.huber_m = 1.0 / 3.0;
   c.min_range_m = 2;

@@ -172,6 +172,7 @@ inline void ExpectSameLo(const estimator::LidarOdometryConfig& a, const estimato
   EXPECT_FIELD(window_size);
   EXPECT_FIELD(max_iterations);
   EXPECT_FIELD(max_solver_time_s);
+  EXPECT_FIELD(condensed_lidar_rounds);
   EXPECT_FIELD(max_residuals_per_scan);
   EXPECT_FIELD(huber_m);
   EXPECT_FIELD(min_range_m);

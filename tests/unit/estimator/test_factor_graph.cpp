@@ -148,6 +148,24 @@ TEST_P(FactorGraphSolvers, SolveAfterMarginalizationReachesTheFullSolution) {
 INSTANTIATE_TEST_SUITE_P(DenseAndCeres, FactorGraphSolvers,
                          ::testing::Values(WindowSolver::kDense, WindowSolver::kCeres));
 
+// Condensed entries (window/condensed_factor.h) are their own Gauss-Newton model, exact for linear factors:
+// one round reaches the full solution as the plain solve does.
+TEST(FactorGraph, CondensedEntriesOfALinearChainGiveTheFullSolution) {
+  MixedChain chain;
+  const Eigen::VectorXd truth = chain.FullSolution();
+  FactorGraph graph;
+  chain.AddTo(graph);
+  ASSERT_TRUE(graph.Marginalize({chain.x[0].data()}, {}).ok());
+  WindowSolveRequest request = chain.FreeFrom(1, WindowSolver::kDense);
+  request.condense = [](const Factor& f) {
+    return f.kind == FactorKind::kLidar || f.kind == FactorKind::kWheel;
+  };
+  request.condensed_rounds = 1;
+  ASSERT_TRUE(graph.Solve(request).usable);
+  EXPECT_LT(chain.MaxErrorFrom(1, truth), 0.01);
+  EXPECT_EQ(graph.Entries(FactorKind::kWheel).size(), static_cast<size_t>(kStates - 2));  // the entries stay
+}
+
 TEST(FactorGraph, MotionFactorsAloneMakeNoPrior) {
   MixedChain chain;
   chain.factors.erase(std::remove_if(chain.factors.begin(), chain.factors.end(),

@@ -19,6 +19,10 @@ Schema<LidarOdometryConfig> MakeLoSchema() {
   s.Key("window_size", &C::window_size, "scans", "scans in the sliding window (each has 1-2 states), >= 2");
   s.Key("max_iterations", &C::max_iterations, "LM iterations", "per solve (the dense LM solver)");
   s.Key("max_solver_time_s", &C::max_solver_time_s, "s", "wall-time budget per solve");
+  s.Key("condensed_lidar_rounds", &C::condensed_lidar_rounds, "solves",
+        "the window's solve takes each scan's point-to-plane factors as their Gauss-Newton model, condensed "
+        "again where the scan's poses moved past 5 mm / 0.5 mrad, at most this many solves; 0: the residuals "
+        "themselves at every iteration");
   s.Key("max_residuals_per_scan", &C::max_residuals_per_scan, "residuals",
         "point-to-plane residuals of one scan");
   s.Key("huber_m", &C::huber_m, "m", "robust loss scale, point-to-plane distance");

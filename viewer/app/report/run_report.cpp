@@ -305,6 +305,13 @@ std::string FormatRunReport(const pipeline::RunSummary& r) {
   md += "| mean [ms] | median [ms] | p95 [ms] | max [ms] |\n|---|---|---|---|\n";
   md += "| " + FormatValue("%.2f", o.timing.mean) + " | " + FormatValue("%.2f", o.timing.median) + " | " +
         FormatValue("%.2f", o.timing.p95) + " | " + FormatValue("%.2f", o.timing.max) + " |\n";
+  if (o.stage_means) {
+    const pipeline::StageTimes& s = *o.stage_means;
+    md += "\nMean per scan by stage [ms]: preparation " + FormatValue("%.2f", s.prepare) + ", association " +
+          FormatValue("%.2f", s.associate) + ", registration " + FormatValue("%.2f", s.register_scan) +
+          ", window solve " + FormatValue("%.2f", s.window) + ", map " + FormatValue("%.2f", s.map) +
+          ", marginalization " + FormatValue("%.2f", s.marginalize) + " (also in `timing.json`).\n";
+  }
   if (!o.timing_plot.empty()) md += "\n![time per " + o.step + "](" + o.timing_plot + ")\n";
   if (!o.visual.plot.empty()) md += FormatVisual(o.visual, o.step);
   if (r.map) md += "\n## Map\n\n" + r.map->summary + "\n\nFiles: " + r.map->files + "\n";

@@ -45,11 +45,16 @@ class WindowEstimator final : public RunEstimator {
   std::vector<StepTime> TakeStepTimes() override {
     std::vector<StepTime> times;
     for (const auto& stats : odometry_.TakeProcessedStats()) {
-      StepTime& step = times.emplace_back(StepTime{stats.stamp, stats.solve_ms});
+      StepTime& step = times.emplace_back();
+      step.stamp = stats.stamp;
+      step.ms = stats.solve_ms;
       if constexpr (requires { stats.landmarks; }) {
         step.landmarks = stats.landmarks;
         step.reprojection_px = stats.reprojection_px;
       }
+      if constexpr (requires { stats.window_ms; })
+        step.stages = StageTimes{stats.prepare_ms, stats.associate_ms, stats.register_ms,
+                                 stats.window_ms,  stats.map_ms,       stats.marginalize_ms};
     }
     return times;
   }

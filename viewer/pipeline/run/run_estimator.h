@@ -19,6 +19,7 @@
 #include "odometry/types/measurements.h"
 #include "odometry/types/status.h"
 #include "viewer/pipeline/run/run_mode.h"
+#include "viewer/pipeline/run_files.h"
 
 namespace uf::pipeline {
 
@@ -30,6 +31,7 @@ struct StepTime {
   // their mean reprojection error, pixels; -1 without.
   int landmarks = -1;
   double reprojection_px = -1;
+  std::optional<StageTimes> stages;  // the LiDAR window's; none in WIO
 };
 
 class RunEstimator {

@@ -55,6 +55,7 @@ struct OdometrySummary {
   // LiDAR scans fed (0 in WIO), trajectory poses, scans the odometry skipped.
   std::int64_t scans = 0, keyframes = 0, skipped = 0;
   TimingSummary timing;  // per step
+  std::optional<StageTimes> stage_means;  // the LiDAR window's stages, mean ms per scan (none in WIO)
   std::vector<ReadWarning> reader_warnings;
   std::vector<std::string> odometry_warnings;
   std::string initialization;                       // LIO and WIO: how it initialized ("" never); LO: ""
