@@ -28,7 +28,8 @@ struct LidarOdometryConfig {
   // The window's solve takes each scan's point-to-plane factors as their Gauss-Newton model, kept while the
   // scan's poses stay near its linearization point; where they moved past it after a solve, the models are
   // condensed again and the window solved again, at most this many solves in all (window/condensed_factor.h,
-  // docs/METHOD.md "Sliding window and solve"); 0: the residuals themselves at every iteration.
+  // docs/METHOD.md "Sliding window and solve"); 0: the residuals themselves at every iteration, as in a
+  // window holding a scan taken through a reliability projector.
   int condensed_lidar_rounds = 2;
   int max_residuals_per_scan = 1500;  // point-to-plane residuals of one scan (paper 1200-2000)
   double huber_m = 0.1;               // robust loss scale, m of point-to-plane distance (paper 0.5-1.0)

@@ -282,8 +282,9 @@ bool LidarOdometry::Impl::Project(ScanState& scan, const Matrix6d& P) {
     Associate(scan);
     return true;
   }
-  for (Factor& factor : graph.Entries(FactorKind::kLidar))
-    if (factor.tag == scan.id) factor.cost = std::make_unique<ProjectedFactor>(std::move(factor.cost), P);
+  graph.ReplaceCosts(FactorKind::kLidar, scan.id, [&P](std::unique_ptr<ceres::CostFunction> cost) {
+    return std::unique_ptr<ceres::CostFunction>(std::make_unique<ProjectedFactor>(std::move(cost), P));
+  });
   return true;
 }
 

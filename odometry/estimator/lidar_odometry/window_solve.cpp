@@ -54,7 +54,15 @@ bool LidarOdometry::Impl::Solve(int* iterations, bool new_scan_only, bool rigid_
   const bool camera_budget = visual && !new_scan_only;
   request.max_iterations = camera_budget ? config.visual.max_iterations : config.max_iterations;
   request.max_time_s = camera_budget ? config.visual.max_solver_time_s : config.max_solver_time_s;
-  if (!new_scan_only && config.condensed_lidar_rounds > 0) {  // see window/condensed_factor.h
+  // The scans' factors condensed (window/condensed_factor.h), unless a scan is taken through a projector
+  // (reliability scheduling): the projector drops Jacobian columns, not the residuals' dependence on the weak
+  // directions, so a solve on the residuals still weighs steps along them by the cost they change, where a
+  // model of the projected Jacobians would leave them to the other factors entirely (docs/METHOD.md "Sliding
+  // window and solve": LWIO in the corridor lost 20-80 %). Condensing only the other scans would solve the
+  // window twice on the projected ones' residuals whenever a model is renewed.
+  const bool projected =
+      std::any_of(window.begin(), window.end(), [](const ScanState& s) { return s.projector.has_value(); });
+  if (!new_scan_only && config.condensed_lidar_rounds > 0 && !projected) {
     request.condense = [](const Factor& f) { return f.kind == FactorKind::kLidar; };
     request.condensed_rounds = config.condensed_lidar_rounds;
     request.condense_config = config.marginalization;

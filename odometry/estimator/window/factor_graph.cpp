@@ -106,6 +106,18 @@ void FactorGraph::Remove(FactorKind kind, long tag) {
              list.end());
 }
 
+void FactorGraph::ReplaceCosts(
+    FactorKind kind, long tag,
+    const std::function<std::unique_ptr<ceres::CostFunction>(std::unique_ptr<ceres::CostFunction>)>& wrap) {
+  for (Factor& f : Entries(kind)) {
+    if (f.tag != tag) continue;
+    f.cost = wrap(std::move(f.cost));
+    assert(f.cost && f.blocks.size() == f.cost->parameter_block_sizes().size());
+    f.tangent = dynamic_cast<const TangentJacobianCost*>(f.cost.get());
+    f.serial = next_serial_++;
+  }
+}
+
 int FactorGraph::Count(FactorKind kind, long tag) const {
   const std::vector<Factor>& list = Entries(kind);
   return static_cast<int>(

@@ -49,7 +49,9 @@ struct Factor {
   bool anchors = false;
   // The cost as a TangentJacobianCost, or null when it is not one: cast once by Add, not at every solve.
   const TangentJacobianCost* tangent = nullptr;
-  std::uint64_t serial = 0;  // set by Add, never reused: names the entry for the condensed models' cache
+  // Set by Add (and ReplaceCosts), never reused: names the entry for the condensed models' cache. An entry's
+  // cost is changed through ReplaceCosts only.
+  std::uint64_t serial = 0;
 };
 
 enum class WindowSolver { kDense, kCeres };
@@ -96,6 +98,12 @@ class FactorGraph {
            std::unique_ptr<ceres::LossFunction> loss, std::vector<double*> blocks, bool anchors = false);
   // Removes the entries of `kind` with `tag`.
   void Remove(FactorKind kind, long tag);
+  // Replaces the cost of each entry of `kind` with `tag` by wrap(its cost) (a ProjectedFactor around it,
+  // say). The way to change an entry's cost: the entry is then one the solves have not seen (its
+  // TangentJacobianCost cast again, a new serial, so no condensed model of the old cost serves it).
+  void ReplaceCosts(
+      FactorKind kind, long tag,
+      const std::function<std::unique_ptr<ceres::CostFunction>(std::unique_ptr<ceres::CostFunction>)>& wrap);
   std::vector<Factor>& Entries(FactorKind kind) { return entries_[static_cast<int>(kind)]; }
   const std::vector<Factor>& Entries(FactorKind kind) const { return entries_[static_cast<int>(kind)]; }
   int Count(FactorKind kind, long tag) const;

@@ -10,6 +10,8 @@
 #include <random>
 
 #include "odometry/estimator/factors/point_to_plane_factor.h"
+#include "odometry/estimator/factors/pose_prior_factor.h"
+#include "odometry/estimator/factors/projected_factor.h"
 #include "odometry/estimator/state/nav_state.h"
 #include "odometry/estimator/window/condensed_factor.h"
 #include "odometry/estimator/window/dense_least_squares.h"
@@ -221,6 +223,41 @@ TEST(CondensedFactor, ReplacedEntriesAreCondensedAnew) {
   ASSERT_TRUE(exact_graph.Solve(Window::Request(exact, false)).usable);
   ASSERT_TRUE(condensed_graph.Solve(Window::Request(condensed, true)).usable);
   ExpectSamePoses(condensed, exact, kKeptModelM, kKeptModelRad);
+}
+
+// A cost changed in place (FactorGraph::ReplaceCosts, as the window's reliability scheduling wraps a scan's
+// factors in a ProjectedFactor) is what the next solves use: the entries take the new cost's tangent
+// Jacobians and new serials, so no model of the old cost serves them. Here the last scan's factors lose their
+// say along the world's x translation and a prior pulls the last pose 10 cm along x (5 cm sigma): before,
+// the room's walls hold it within 1 cm of the truth; after, only the prior says where it lies along x. (A
+// solve on the residuals themselves would not follow: the projector drops Jacobian columns, not the
+// residuals' dependence, so its steps along x raise the cost it tests them on; the window projects only
+// directions the residuals hardly see.)
+TEST(CondensedFactor, CostsReplacedInPlaceAreWhatTheNextSolvesUse) {
+  const Window window(7);
+  Poses poses = window.start;
+  FactorGraph graph;
+  window.AddTo(graph, poses);
+  const SE3 pulled(TruePose(kPoses - 1).so3(),
+                   TruePose(kPoses - 1).translation() + Eigen::Vector3d(0.1, 0, 0));
+  graph.Add(FactorKind::kStatePrior, 0, MakePosePriorFactor(pulled, 0.05, 1.0), nullptr,
+            {poses[kPoses - 1].data()});
+  ASSERT_TRUE(graph.Solve(Window::Request(poses, true)).usable);
+  const auto x_error = [&] { return poses[kPoses - 1][0] - TruePose(kPoses - 1).translation().x(); };
+  EXPECT_LT(std::abs(x_error()), 0.01);
+
+  const std::uint64_t serial_before = graph.Entries(FactorKind::kLidar).back().serial;
+  Matrix6d drop_x = Matrix6d::Identity();
+  drop_x(0, 0) = 0;
+  graph.ReplaceCosts(FactorKind::kLidar, kPoses - 2, [&](std::unique_ptr<ceres::CostFunction> cost) {
+    return std::unique_ptr<ceres::CostFunction>(std::make_unique<ProjectedFactor>(std::move(cost), drop_x));
+  });
+  const Factor& replaced = graph.Entries(FactorKind::kLidar).back();
+  EXPECT_NE(dynamic_cast<const ProjectedFactor*>(replaced.cost.get()), nullptr);
+  EXPECT_EQ(replaced.tangent, dynamic_cast<const TangentJacobianCost*>(replaced.cost.get()));
+  EXPECT_GT(replaced.serial, serial_before);
+  ASSERT_TRUE(graph.Solve(Window::Request(poses, true)).usable);
+  EXPECT_NEAR(x_error(), 0.1, 0.005);
 }
 
 }  // namespace
