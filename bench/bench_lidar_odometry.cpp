@@ -3,9 +3,8 @@
 // and time per scan (mean / median / p95 / max; wall and process CPU time), with the machine's load average.
 // Nothing is asserted.
 //   usage: bench_lidar_odometry [KITTI_FOLDER] [--window N] [--input-voxel M] [--residuals N]
-//          [--iterations N] [--condensed-rounds N] [--rounds N] [--acc A] [--ang W] [--sweep-acc S] [--huber
-//          M]
-//          [--map-insert-voxel M] [--neighbour-weight W]
+//          [--iterations N] [--condensed-rounds N] [--rounds N] [--acc A] [--ang W] [--sweep-acc S]
+//          [--huber M] [--map-insert-voxel M] [--neighbour-weight W]
 //          [--no-deskew] [--out EST.tum]
 #include <time.h>
 

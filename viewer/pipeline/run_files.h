@@ -26,6 +26,15 @@ struct TimingSummary {
 // marginalization. Per scan, or their means over a run.
 struct StageTimes {
   double prepare = 0, associate = 0, register_scan = 0, window = 0, map = 0, marginalize = 0;
+
+  StageTimes& operator+=(const StageTimes& o) {
+    prepare += o.prepare, associate += o.associate, register_scan += o.register_scan;
+    window += o.window, map += o.map, marginalize += o.marginalize;
+    return *this;
+  }
+  StageTimes operator/(double n) const {
+    return {prepare / n, associate / n, register_scan / n, window / n, map / n, marginalize / n};
+  }
 };
 
 // Mean, median, 95th percentile (nearest rank: the smallest value with >= 95 % of the values at or below

@@ -60,9 +60,10 @@ bool LidarOdometry::Impl::Solve(int* iterations, bool new_scan_only, bool rigid_
   // model of the projected Jacobians would leave them to the other factors entirely (docs/METHOD.md "Sliding
   // window and solve": LWIO in the corridor lost 20-80 %). Condensing only the other scans would solve the
   // window twice on the projected ones' residuals whenever a model is renewed.
-  const bool projected =
-      std::any_of(window.begin(), window.end(), [](const ScanState& s) { return s.projector.has_value(); });
-  if (!new_scan_only && config.condensed_lidar_rounds > 0 && !projected) {
+  const auto projected = [this] {
+    return std::any_of(window.begin(), window.end(), [](const ScanState& s) { return s.projector.has_value(); });
+  };
+  if (!new_scan_only && config.condensed_lidar_rounds > 0 && !projected()) {
     request.condense = [](const Factor& f) { return f.kind == FactorKind::kLidar; };
     request.condensed_rounds = config.condensed_lidar_rounds;
     request.condense_config = config.marginalization;

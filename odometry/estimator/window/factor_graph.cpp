@@ -170,7 +170,8 @@ bool FactorGraph::ModelHolds(const MarginalizationPrior& model, const std::vecto
 }
 
 int FactorGraph::AddCondensed(const WindowSolveRequest& request,
-                              const std::unordered_set<const double*>& free, DenseLeastSquares& problem) {
+                              const std::unordered_set<const double*>& free,
+                              const std::vector<const Factor*>& entries, DenseLeastSquares& problem) {
   int condensed = 0;
   std::vector<const Factor*> run;  // consecutive entries on the same blocks
   const auto flush = [&] {
@@ -209,13 +210,10 @@ int FactorGraph::AddCondensed(const WindowSolveRequest& request,
                              factor->prior().ParameterBlocks());
     run.clear();
   };
-  TouchTest touches_free(free);
-  for (const std::vector<Factor>& kind : entries_)
-    for (const Factor& f : kind) {
-      if (!request.condense(f) || (request.use && !request.use(f)) || !touches_free(f.blocks)) continue;
-      if (!run.empty() && run.front()->blocks != f.blocks) flush();
-      run.push_back(&f);
-    }
+  for (const Factor* f : entries) {
+    if (!run.empty() && run.front()->blocks != f->blocks) flush();
+    run.push_back(f);
+  }
   flush();
   return condensed;
 }
@@ -239,16 +237,20 @@ WindowSolveResult FactorGraph::SolveDense(const WindowSolveRequest& request,
         problem.AddEuclideanBlock(block, info.size);
       }
     }
+    std::vector<const Factor*> to_condense;
     ForEachUsed(
         request, free,
         [&](const ceres::CostFunction* cost, const TangentJacobianCost* tangent,
             const ceres::LossFunction* loss, const std::vector<double*>& blocks, const Factor* entry) {
-          if (!entry || !request.condense || !request.condense(*entry))
+          if (entry && request.condense && request.condense(*entry)) {
+            to_condense.push_back(entry);
+          } else {
             problem.AddResidualBlock(cost, tangent, loss, blocks);
+          }
         });
     // After the first solve, another only where a model was condensed anew (its blocks had moved past
     // the thresholds): else the last solve was on models that all still hold.
-    const int condensed = request.condense ? AddCondensed(request, free, problem) : 0;
+    const int condensed = request.condense ? AddCondensed(request, free, to_condense, problem) : 0;
     if (round > 0 && condensed == 0) break;
     DenseSolverOptions options;
     options.max_iterations = request.max_iterations;

@@ -141,11 +141,11 @@ class FactorGraph {
     std::unique_ptr<MarginalizationFactor> factor;
     bool used = false;  // in the current solve
   };
-  // Adds the used entries passing request.condense to `problem` as their models (kept ones, or condensed
-  // anew at the current values), or as themselves where a run could not be condensed. Returns how many
-  // models were condensed anew.
+  // Adds `entries` (the used ones passing request.condense, in solve order) to `problem` as their runs'
+  // models (kept ones, or condensed anew at the current values), or as themselves where a run could not be
+  // condensed. Returns how many models were condensed anew.
   int AddCondensed(const WindowSolveRequest& request, const std::unordered_set<const double*>& free,
-                   DenseLeastSquares& problem);
+                   const std::vector<const Factor*>& entries, DenseLeastSquares& problem);
   // Whether a kept model still serves: the same free blocks, each within the request's thresholds.
   bool ModelHolds(const MarginalizationPrior& model, const std::vector<double*>& blocks,
                   const std::unordered_set<const double*>& free, const WindowSolveRequest& request) const;

@@ -24,8 +24,7 @@ struct Collected {
   SegmentedVector<SE3> poses;
   SegmentedVector<Stamp> stamps;
   SegmentedVector<double> ms;
-  StageTimes stage_sums;  // the LiDAR window's stages over its steps (stage_steps of them)
-  std::int64_t stage_steps = 0;
+  std::optional<StageTimes> stage_sums;  // the LiDAR window's stages summed over its steps (each has them)
   SegmentedVector<std::optional<SE3>> T_enu_world_at_pose;
   // The keyframes with a LiDAR degeneracy (registered scans), a wheel score (wheel scheduling) or GNSS
   // fixes checked.
@@ -67,14 +66,8 @@ Status CollectFinished(const OdometryStageInput& in, OdometryStageOutput& out, C
     collected.stamps.push_back(step.stamp);
     collected.ms.push_back(step.ms);
     if (step.stages) {
-      StageTimes& sum = collected.stage_sums;
-      sum.prepare += step.stages->prepare;
-      sum.associate += step.stages->associate;
-      sum.register_scan += step.stages->register_scan;
-      sum.window += step.stages->window;
-      sum.map += step.stages->map;
-      sum.marginalize += step.stages->marginalize;
-      ++collected.stage_steps;
+      if (!collected.stage_sums) collected.stage_sums.emplace();
+      *collected.stage_sums += *step.stages;
     }
     if (step.landmarks >= 0) collected.visual.push_back(step);
   }
@@ -378,12 +371,8 @@ Expected<OdometryStageOutput> RunOdometryStage(const OdometryStageInput& in, Sta
   summary.keyframes = static_cast<std::int64_t>(out.estimated.size());
   summary.skipped = summary.step == "scan" ? scans - keyframes : 0;  // WIO nodes are not skipped
   summary.timing = SummarizeTimings({collected.ms.begin(), collected.ms.end()});
-  if (collected.stage_steps > 0) {
-    const double n = static_cast<double>(collected.stage_steps);
-    const StageTimes& sum = collected.stage_sums;
-    summary.stage_means = StageTimes{sum.prepare / n, sum.associate / n, sum.register_scan / n,
-                                     sum.window / n,  sum.map / n,       sum.marginalize / n};
-  }
+  if (collected.stage_sums)
+    summary.stage_means = *collected.stage_sums / static_cast<double>(collected.ms.size());
   summary.reader_warnings = in.stream->warnings();
   summary.odometry_warnings = odometry.warnings();
   for (std::string& warning : collected.camera_warnings)
