@@ -24,8 +24,9 @@
 //   0.2 deg: the window's span grows until it does (the direction comes from the LO positions' second
 //   difference: its error falls as the LO noise / span^2).
 // - accel_bias_sigma 0.02 m/s^2: a MEMS turn-on bias (as wio.init_accel_bias_sigma).
-// - map_settle_scans 3: on a 5 m/s start (16 beams) the first three scans of the map are 4-12 cm off the
-//   later ones' consensus, the fourth 6 mm.
+// - map_settle_scans 2: the map's first sweep is mapped as if at rest until the next scans give its motion
+//   (docs/METHOD.md "Sliding window and solve", the first sweep of a map); the two scans registered before
+//   that are off by centimetres. On 30 simulated moving starts 2 gave 0.54 deg worst, 1 gave 1.6 deg.
 // - max_scans 20: the paper's LiDAR init frames; 2 s at 10 Hz.
 // - max_chi2_per_dof 3: the IMU's velocity changes against the admitted state, whitened by the estimator's
 //   IMU noise (10x the simulated IMU's): consistent windows give 0.004-0.3 per dof; a static start with its
@@ -39,9 +40,9 @@ namespace uf::estimator {
 struct InertialInitConfig {
   // M needs this many registered scans in its window (the paper's N_min^lidar).
   int min_scans = 3;
-  // M leaves out a local map's first scans: the first sweep is mapped as if at rest, so on a moving start the
-  // scans registered against it are off by centimetres (4-12 cm at 5 m/s) until later sweeps fill the map in.
-  int map_settle_scans = 3;
+  // M leaves out a local map's first scans: its first sweep is mapped as if at rest until the next scans give
+  // its motion, so on a moving start the scans registered against it first are off by centimetres.
+  int map_settle_scans = 2;
   // The initialization window holds at most this many scans, the older ones after they left the odometry
   // window (the paper initializes over 20 LiDAR frames).
   int max_scans = 20;

@@ -54,6 +54,7 @@ void InertialInitializer::Start(Stamp first_imu) {
   first_allowed_id_ = std::numeric_limits<long>::min();
   settled_id_ = std::numeric_limits<long>::max();
   map_scans_ = 0;
+  previous_gravity_.reset();
 }
 
 // Takes the odometry window's scans (new ones appended, those still in it updated to their current poses,
@@ -161,6 +162,7 @@ InertialInitializer::Outcome InertialInitializer::Attempt(const ImuBuffer& imu, 
     }
   }
   std::vector<ImuPreintegration> preintegrations;
+  bool m_estimated = false;  // M made an estimate: the next attempt compares with it
   for (std::size_t k = 1; k < stamps.size() && decision.mode != InitMode::kDeferred; ++k) {
     Expected<ImuPreintegration> pre = imu_.Preintegrate(stamps[k - 1], stamps[k], nullptr);
     if (!pre) {  // a gap (or a hole) in the IMU: the window starts again after it
@@ -177,12 +179,19 @@ InertialInitializer::Outcome InertialInitializer::Attempt(const ImuBuffer& imu, 
                                                 : ShortWindowMapAlignment(poses, preintegrations, config_);
     if (alignment) {
       check = CheckAdmission(decision.mode, *alignment, poses, preintegrations, config_, gravity);
+      if (decision.mode == InitMode::kLidarAided) {
+        const Eigen::Vector3d direction = GravityDirectionLo(*alignment);
+        CheckGravitySettled(previous_gravity_, direction, config_, check);
+        previous_gravity_ = direction;
+        m_estimated = true;
+      }
       out.alignment = std::move(*alignment);
     } else {
       check.verdict = Verdict::kRejected;
       check.reason = alignment.status().message();
     }
   }
+  if (!m_estimated) previous_gravity_.reset();
   out.verdict = check.verdict;
   const char mode = InitModeLetter(decision.mode);
   if (check.verdict == Verdict::kDeferred) {

@@ -128,6 +128,9 @@ class InertialInitializer {
   long first_allowed_id_ = 0;   // scans before it were dropped after a rejection
   long settled_id_ = 0;         // M uses the scans from this one on: the map's first map_settle_scans are not
   int map_scans_ = 0;           // scans of the current local map seen
+  // M's gravity direction in "lo" at the previous attempt, when it was M with an estimate
+  // (CheckGravitySettled).
+  std::optional<Eigen::Vector3d> previous_gravity_;
 };
 
 }  // namespace uf::estimator

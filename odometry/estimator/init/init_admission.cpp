@@ -55,4 +55,26 @@ AdmissionCheck CheckAdmission(InitMode mode, const InertialAlignment& alignment,
   return check;
 }
 
+Eigen::Vector3d GravityDirectionLo(const InertialAlignment& alignment) {
+  return alignment.R_gravity_lo.inverse() * Eigen::Vector3d(0, 0, -1);
+}
+
+void CheckGravitySettled(const std::optional<Eigen::Vector3d>& before, const Eigen::Vector3d& now,
+                         const InertialInitConfig& config, AdmissionCheck& check) {
+  if (check.verdict != AdmissionCheck::Verdict::kAdmitted) return;
+  const double moved_deg =
+      before ? std::acos(std::clamp(before->dot(now), -1.0, 1.0)) * 180.0 / std::numbers::pi : 180.0;
+  if (moved_deg <= config.max_tilt_sigma_deg) return;
+  std::ostringstream why;
+  why.precision(3);
+  why << "gravity direction not settled: ";
+  if (before)
+    why << "the newest scan moved it by " << moved_deg << " deg > max_tilt_sigma_deg "
+        << config.max_tilt_sigma_deg;
+  else
+    why << "no estimate from one scan less to compare with";
+  check.verdict = AdmissionCheck::Verdict::kDeferred;
+  check.reason = why.str();
+}
+
 }  // namespace uf::estimator

@@ -16,8 +16,12 @@
 //    IMU noise at the default densities), and so does a wrong velocity. The position residuals are not part
 //    of it: their noise is the LO's, which is not known in advance (2-4 mm between scans in the simulated
 //    streets, 1-4 cm on the rough wild terrain); S's speed test and M's a posteriori noise factor use them.
+// 4. M only, settled (CheckGravitySettled): the newest scan moved the gravity direction by at most
+//    max_tilt_sigma_deg from the previous attempt's estimate (one scan less); else deferred.
 #pragma once
 
+#include <Eigen/Core>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -43,5 +47,17 @@ struct AdmissionCheck {
 AdmissionCheck CheckAdmission(InitMode mode, const InertialAlignment& alignment, std::span<const SE3> poses,
                               std::vector<ImuPreintegration> preintegrations,
                               const InertialInitConfig& config, double gravity);
+
+// The direction of gravity in "lo" that an alignment estimates (a unit vector, "down").
+Eigen::Vector3d GravityDirectionLo(const InertialAlignment& alignment);
+
+// Step 4, on a check CheckAdmission admitted for M: deferred unless `before` (the previous attempt's
+// GravityDirectionLo, none when it made no estimate) lies within max_tilt_sigma_deg of `now`. M's predicted
+// sigma takes the LO's position errors for white; they are correlated from scan to scan, and an estimate
+// that one scan more still moves by more than that sigma is not done (simulated moving starts: estimates
+// admitted at a sigma of 0.23 deg and 0.8-0.9 deg off had moved by 0.46 deg with their last scan). When the
+// model holds, nested estimates differ by sqrt(sigma_before^2 - sigma_now^2), about 0.14 deg there.
+void CheckGravitySettled(const std::optional<Eigen::Vector3d>& before, const Eigen::Vector3d& now,
+                         const InertialInitConfig& config, AdmissionCheck& check);
 
 }  // namespace uf::estimator

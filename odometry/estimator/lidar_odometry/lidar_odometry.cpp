@@ -89,6 +89,7 @@ void LidarOdometry::Impl::ProcessScan(const LidarScan& input) {
     window.push_back(std::move(scan));
     if (RegisterNewScan(window.back())) {
       InsertIntoMap(window.back());
+      RemapFirstSweep();
     } else if (consecutive_rejections >= config.max_rejected_scans) {
       Restart();
     }

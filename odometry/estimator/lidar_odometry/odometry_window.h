@@ -230,7 +230,10 @@ struct LidarOdometry::Impl {
   bool LeverExcited() const;
 
   // Scans (window_scans.cpp).
-  SweepPoses Sweep(const ScanState& scan);
+  SweepPoses Sweep(const ScanState& scan) const;
+  std::optional<std::pair<SE3, SE3>> ExtrapolatedSweepEnds(const ScanState& scan) const;
+  void RemapFirstSweep();
+  void RebuildMap();
   void Associate(ScanState& scan, Rounds rounds = {});
   const VoxelHashMap& CoarseMap();
   void InsertIntoMap(ScanState& scan);

@@ -205,11 +205,7 @@ void LidarOdometry::Impl::ApplyInertialAlignment(const InertialAlignment& alignm
     AddImuFactor(id, std::make_unique<ImuFactor>(std::move(*pre)));
   }
   graph.DropPrior();  // a prior from before would live in the old frame
-  map.Clear();
-  for (ScanState& scan : window)
-    if (scan.in_map) InsertIntoMap(scan);
-  for (ScanState& scan : window)
-    if (scan.in_map && scan.begin_node != scan.end_node) Associate(scan);
+  RebuildMap();
 }
 
 // Re-initialization: the window, the prior and the map start over (the next scan is a first scan), at the

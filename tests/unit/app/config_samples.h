@@ -149,7 +149,7 @@ inline estimator::LidarOdometryConfig NonDefaultOdometry() {
   c.lidar_translation_min_turn_deg = 1.5;
   c.wheel_carries_weak_translations = false;
   c.imu = {0.03, 0.002, 0.004, 2.5e-5, 9.81, 0.2, 0.02, 34.9, 156.9};
-  c.init = {4, 2, 25, 0.15, 0.03, 0.4, 0.06, 0.5, 0.15, 0.3, 0.004, 0.03, 2.5};
+  c.init = {4, 3, 25, 0.15, 0.03, 0.4, 0.06, 0.5, 0.15, 0.3, 0.004, 0.03, 2.5};
   c.wheel = {.forward_velocity_density = 0.07,
              .yaw_rate_density = 0.02,
              .nonholonomic_velocity_density = 0.3,

@@ -5,8 +5,10 @@
 #include <tbb/global_control.h>
 #include <tbb/info.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <iostream>
 #include <limits>
 
 #include "odometry/estimator/lidar_odometry/lidar_odometry.h"
@@ -89,9 +91,46 @@ TEST(LidarOdometry, TracksContinuousSweepsInABoxRoom) {
     worst = std::max(worst, (keyframes[k].T_world_body.translation() - truth).norm());
     EXPECT_LT(keyframes[k].T_world_body.so3().angle(), 0.01) << k;
   }
-  // Measured 0.013 m: the first sweep is mapped as if at rest (its motion is unknown then, up to 0.05 m
-  // off at its ends) and the later sweeps register against that map.
-  EXPECT_LT(worst, 0.03);
+  std::cout << "worst keyframe position error " << worst << " m\n";
+  // Measured 0.008 m; 0.013 m while the first sweep stayed mapped as if at rest (up to 0.05 m off at its
+  // ends, the later sweeps registered against it), before it was deskewed once the next scans gave its
+  // motion.
+  EXPECT_LT(worst, 0.02);
+}
+
+// Distance from p to the nearest face of the box room [lo, hi] (a point inside it; the pillar's faces are
+// not counted, so the few points on them stay far).
+double DistanceToRoom(const Eigen::Vector3d& p, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  return std::min((p - lo).cwiseAbs().minCoeff(), (hi - p).cwiseAbs().minCoeff());
+}
+
+// The first sweep of a map has one node and no known motion when it is mapped; once the next scan gives its
+// motion, it is deskewed by it (extrapolated at constant velocity) and the map rebuilt. At 3 m/s the sweep
+// moves 0.3 m: mapped as if at rest, its points lie up to 0.15 m off the walls. The first keyframe's points
+// against the true room (the world is the body at the first sweep's middle): the 90th percentile of their
+// distances to a wall measured 3.7 mm (34 mm without the deskew; floor and ceiling are right either way,
+// the motion being level, so the median says little: 0.6 mm, 0 without).
+TEST(LidarOdometry, TheFirstSweepIsDeskewedOnceTheNextGivesItsMotion) {
+  const Eigen::Vector3d v(3.0, 1.0, 0.0), start(-3, -1, 0);
+  auto lo = LidarOdometry::Create({});
+  ASSERT_TRUE(lo.ok());
+  for (int k = 0; k < 6; ++k)
+    ASSERT_TRUE(lo->AddScan(BoxRoomScan(k * 100'000'000LL, start + v * (0.1 * k), v)).ok());
+  lo->Finish();
+  const std::vector<Keyframe> keyframes = lo->TakeFinished();
+  ASSERT_EQ(keyframes.size(), 6u);
+  const Eigen::Vector3d origin = start + v * 0.05;  // the world's origin in the room
+  const Eigen::Vector3d lo_corner = Eigen::Vector3d(-10, -6, -1.5) - origin;
+  const Eigen::Vector3d hi_corner = Eigen::Vector3d(10, 6, 2.5) - origin;
+  std::vector<double> distances;
+  for (const Eigen::Vector3f& p : keyframes[0].scan_world)
+    distances.push_back(DistanceToRoom(p.cast<double>(), lo_corner, hi_corner));
+  ASSERT_GT(distances.size(), 1000u);
+  std::sort(distances.begin(), distances.end());
+  const double p90 = distances[distances.size() * 9 / 10];
+  std::cout << "first keyframe: 90th percentile of the distances to the room's walls " << p90 * 1000
+            << " mm\n";
+  EXPECT_LT(p90, 0.01);
 }
 
 // The plane association and the solver's evaluation run on all cores; the residuals are taken in visiting

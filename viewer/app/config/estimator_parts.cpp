@@ -69,7 +69,8 @@ Schema<InertialInitConfig> InitSchema(bool lidar) {
              "lo.window_size");
   if (lidar)
     init.Key("map_settle_scans", &I::map_settle_scans, "scans",
-             "M leaves out a local map's first scans (its first sweep is mapped as if at rest), in [0, 20]");
+             "M leaves out a local map's first scans (registered before its first sweep could be deskewed), "
+             "in [0, 20]");
   if (lidar)
     init.Key(
         "max_scans", &I::max_scans, "scans",
@@ -94,7 +95,8 @@ Schema<InertialInitConfig> InitSchema(bool lidar) {
             : "static and wheel-aided initialization are admitted when abs(|g| - gravity) <= this * gravity");
   if (!lidar) return init;
   init.Key("max_tilt_sigma_deg", &I::max_tilt_sigma_deg, "deg",
-           "M is admitted once the predicted standard deviation of its gravity direction is this small");
+           "M is admitted once the predicted standard deviation of its gravity direction is this small and "
+           "the newest scan moved that direction by no more");
   init.Key(
       "lidar_position_sigma_m", &I::lidar_position_sigma_m, "m",
       "least noise of an LO scan position (S's speed test, M; M takes more where its residuals show it)");
