@@ -8,8 +8,6 @@
 namespace uf::estimator {
 namespace {
 
-constexpr double kMaxSmoothingSigmaPx = 5;  // wider blurs away the corners themselves
-
 Status FieldError(const char* field, double value, const char* rule) {
   return Status::Error(std::string(field) + ": " + rule + PrintfText(", got %g", value));
 }
@@ -39,8 +37,9 @@ Status ValidateFeatureTrackerConfig(const FeatureTrackerConfig& c) {
     return FieldError("grid_cells", c.grid_cells, "must be in [1, 64]");
   if (!(c.min_contrast_dn >= 0) || !std::isfinite(c.min_contrast_dn))
     return FieldError("min_contrast_dn", c.min_contrast_dn, "must be finite and >= 0");
-  if (!(c.smoothing_sigma_px >= 0 && c.smoothing_sigma_px <= kMaxSmoothingSigmaPx))
-    return FieldError("smoothing_sigma_px", c.smoothing_sigma_px, "must be in [0, 5]");
+  if (!(c.smoothing_sigma_px >= 0 && c.smoothing_sigma_px <= FeatureTrackerConfig::kMaxSmoothingSigmaPx))
+    return FieldError("smoothing_sigma_px", c.smoothing_sigma_px,
+                      PrintfText("must be in [0, %g]", FeatureTrackerConfig::kMaxSmoothingSigmaPx).c_str());
   return Status();
 }
 

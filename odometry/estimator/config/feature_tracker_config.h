@@ -26,8 +26,10 @@ struct FeatureTrackerConfig {
   // aliases, one that samples the scene at points (the simulator's, one ray per pixel: configs/run-sim.yaml
   // sets 0.8): its aliases move against the scene, and smoothing damps them more than the coarser texture
   // the tracks should follow (docs/METHOD.md "Visual front end", step 0). Off for a camera whose optics
-  // blur within a pixel, as real ones mostly do.
+  // blur within a pixel, as real ones mostly do. At most kMaxSmoothingSigmaPx: wider blurs away the corners
+  // themselves.
   double smoothing_sigma_px = 0;
+  static constexpr double kMaxSmoothingSigmaPx = 5;
 };
 
 // The first bad field, e.g. "max_features: must be at least 1, got 0"; ok otherwise.

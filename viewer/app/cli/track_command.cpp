@@ -138,7 +138,7 @@ Subcommand AddTrackCommand(CLI::App& app) {
           "--smoothing", a->tracker.smoothing_sigma_px,
           "Gaussian smoothing of every frame before tracking, px (0: none; for a camera that aliases, "
           "as the simulator's: 0.8)")
-      ->check(CLI::Range(0.0, 5.0))
+      ->check(CLI::Range(0.0, estimator::FeatureTrackerConfig::kMaxSmoothingSigmaPx))
       ->capture_default_str();
   return {command, [a] { return RunTrackCommand(*a); }};
 }

@@ -5,7 +5,7 @@
 // for the georeference after the run. Writes trajectory.tum and trajectory_kitti.txt (in the run's trajectory
 // frame, RunFrames::OutputTrajectory; in ENU when the estimator georeferenced the run, with
 // trajectory_wgs84.csv and trajectory.geojson), timing.json and plots/timing_per_scan.png
-// (timing_per_node.png in WIO).
+// (timing_per_node.png in WIO): odometry_files.h.
 #pragma once
 
 #include <cstdint>
