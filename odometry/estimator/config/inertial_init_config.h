@@ -26,7 +26,8 @@
 // - accel_bias_sigma 0.02 m/s^2: a MEMS turn-on bias (as wio.init_accel_bias_sigma).
 // - map_settle_scans 2: the map's first sweep is mapped as if at rest until the next scans give its motion
 //   (docs/METHOD.md "Sliding window and solve", the first sweep of a map); the two scans registered before
-//   that are off by centimetres. On 30 simulated moving starts 2 gave 0.54 deg worst, 1 gave 1.6 deg.
+//   that are off by centimetres. On 30 simulated moving starts M's gravity was off by 0.22 deg RMS with 2,
+//   0.26 deg with 1 (0.1 s sooner), 1.6 deg worst with 1 before the settling test (CheckGravitySettled).
 // - max_scans 20: the paper's LiDAR init frames; 2 s at 10 Hz.
 // - max_chi2_per_dof 3: the IMU's velocity changes against the admitted state, whitened by the estimator's
 //   IMU noise (10x the simulated IMU's): consistent windows give 0.004-0.3 per dof; a static start with its

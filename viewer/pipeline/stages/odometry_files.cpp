@@ -1,5 +1,8 @@
 #include "viewer/pipeline/stages/odometry_files.h"
 
+#include <algorithm>
+#include <filesystem>
+
 #include "odometry/eval/series_plot.h"
 #include "odometry/io/geo_trajectory_file.h"
 
