@@ -5,6 +5,7 @@
 #include <limits>
 #include <numbers>
 #include <sstream>
+#include <utility>
 
 #include "odometry/estimator/init/short_window_map.h"
 
@@ -162,7 +163,8 @@ InertialInitializer::Outcome InertialInitializer::Attempt(const ImuBuffer& imu, 
     }
   }
   std::vector<ImuPreintegration> preintegrations;
-  bool m_estimated = false;  // M made an estimate: the next attempt compares with it
+  // An attempt that makes no M estimate forgets the previous one.
+  const std::optional<Eigen::Vector3d> previous_gravity = std::exchange(previous_gravity_, std::nullopt);
   for (std::size_t k = 1; k < stamps.size() && decision.mode != InitMode::kDeferred; ++k) {
     Expected<ImuPreintegration> pre = imu_.Preintegrate(stamps[k - 1], stamps[k], nullptr);
     if (!pre) {  // a gap (or a hole) in the IMU: the window starts again after it
@@ -180,10 +182,8 @@ InertialInitializer::Outcome InertialInitializer::Attempt(const ImuBuffer& imu, 
     if (alignment) {
       check = CheckAdmission(decision.mode, *alignment, poses, preintegrations, config_, gravity);
       if (decision.mode == InitMode::kLidarAided) {
-        const Eigen::Vector3d direction = GravityDirectionLo(*alignment);
-        CheckGravitySettled(previous_gravity_, direction, config_, check);
-        previous_gravity_ = direction;
-        m_estimated = true;
+        previous_gravity_ = GravityDirectionLo(*alignment);
+        CheckGravitySettled(previous_gravity, *previous_gravity_, config_, check);
       }
       out.alignment = std::move(*alignment);
     } else {
@@ -191,7 +191,6 @@ InertialInitializer::Outcome InertialInitializer::Attempt(const ImuBuffer& imu, 
       check.reason = alignment.status().message();
     }
   }
-  if (!m_estimated) previous_gravity_.reset();
   out.verdict = check.verdict;
   const char mode = InitModeLetter(decision.mode);
   if (check.verdict == Verdict::kDeferred) {

@@ -251,28 +251,28 @@ TEST(InitAdmission, MDefersWhileTheNewestScanStillMovesGravity) {
   const double gravity = ImuNoiseParams().gravity;
   const Window w = MovingWindow(16, 0.003, 5);
   const auto estimate = [&](const std::vector<SE3>& poses, std::size_t scans) {
-    auto aligned = ShortWindowMapAlignment(
-        std::span(poses).first(scans),
-        std::vector(w.preintegrations.begin(), w.preintegrations.begin() + (scans - 1)), config);
+    const std::span<const SE3> first = std::span(poses).first(scans);
+    const std::vector<ImuPreintegration> between(w.preintegrations.begin(),
+                                                 w.preintegrations.begin() + (scans - 1));
+    auto aligned = ShortWindowMapAlignment(first, between, config);
     EXPECT_TRUE(aligned.ok()) << aligned.error();
-    AdmissionCheck check = CheckAdmission(
-        InitMode::kLidarAided, *aligned, std::span(poses).first(scans),
-        std::vector(w.preintegrations.begin(), w.preintegrations.begin() + (scans - 1)), config, gravity);
+    AdmissionCheck check = CheckAdmission(InitMode::kLidarAided, *aligned, first, between, config, gravity);
     EXPECT_EQ(check.verdict, AdmissionCheck::Verdict::kAdmitted) << check.reason;
     return std::make_pair(GravityDirectionLo(*aligned), check);
   };
   const auto [before, admitted_before] = estimate(w.poses, 15);
   auto [now, check] = estimate(w.poses, 16);
-  const double moved_deg = Degrees(std::acos(std::clamp(before.dot(now), -1.0, 1.0)));
-  std::cout << "white LO noise: the 16th scan moved gravity by " << moved_deg << " deg\n";
+  const auto moved_deg = [&](const Eigen::Vector3d& d) {
+    return Degrees(std::acos(std::clamp(before.dot(d), -1.0, 1.0)));
+  };
+  std::cout << "white LO noise: the 16th scan moved gravity by " << moved_deg(now) << " deg\n";
   CheckGravitySettled(before, now, config, check);
   EXPECT_EQ(check.verdict, AdmissionCheck::Verdict::kAdmitted) << check.reason;
 
   std::vector<SE3> off = w.poses;
   off.back() = SE3(off.back().so3(), off.back().translation() + Eigen::Vector3d(0.08, 0, 0));
   auto [jumped, jumped_check] = estimate(off, 16);
-  std::cout << "the 16th scan 8 cm off: moved by "
-            << Degrees(std::acos(std::clamp(before.dot(jumped), -1.0, 1.0))) << " deg\n";
+  std::cout << "the 16th scan 8 cm off: moved by " << moved_deg(jumped) << " deg\n";
   CheckGravitySettled(before, jumped, config, jumped_check);
   EXPECT_EQ(jumped_check.verdict, AdmissionCheck::Verdict::kDeferred);
   EXPECT_NE(jumped_check.reason.find("not settled: the newest scan moved it by"), std::string::npos)
