@@ -304,7 +304,10 @@ bool LidarOdometry::Impl::RegisterNewScan(ScanState& current) {
     Relinearize();
     solved = Solve(&stats.iterations);  // the whole window, once
     if (!solved || !AllFinite(nodes)) why = solved ? "non-finite window state" : "window solver failure";
-    if (!why && visual) visual->DropOutliers(graph);
+    if (!why && visual) {
+      visual->DropOutliers(graph);
+      visual->RecordWindowTimeOffset();
+    }
   }
   stats.residuals = current.residuals;
   current.plane_cache = {};  // the map changes next

@@ -302,13 +302,8 @@ void GnssProvider::Report(SensorFactorStats& stats) const {
   if (horizontal_innovations_.empty()) return;
   std::vector<double> sorted = horizontal_innovations_;
   std::sort(sorted.begin(), sorted.end());
-  // Nearest rank: the smallest value with at least the fraction of the values at or below it.
-  auto rank = [&](double fraction) {
-    const auto k = static_cast<std::size_t>(std::ceil(fraction * static_cast<double>(sorted.size())));
-    return sorted[std::clamp<std::size_t>(k, 1, sorted.size()) - 1];
-  };
-  innovations.horizontal_median_m = rank(0.5);
-  innovations.horizontal_p95_m = rank(0.95);
+  innovations.horizontal_median_m = NearestRank(sorted, 0.5);
+  innovations.horizontal_p95_m = NearestRank(sorted, 0.95);
   innovations.mean_d2 = d2_sum_ / static_cast<double>(sorted.size());
 }
 

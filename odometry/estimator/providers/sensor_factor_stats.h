@@ -1,12 +1,36 @@
 // What the optional factors did over a run so far, as the windows that use the providers report it.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "odometry/types/se3.h"
 
 namespace uf::estimator {
+
+// Nearest rank of ascending values (not empty): the smallest value with at least `fraction` of them at or
+// below it.
+inline double NearestRank(const std::vector<double>& sorted, double fraction) {
+  const auto k = static_cast<std::size_t>(std::ceil(fraction * static_cast<double>(sorted.size())));
+  return sorted[std::clamp<std::size_t>(k, 1, sorted.size()) - 1];
+}
+
+// The same over weighted values (weights > 0): the smallest value with at least `fraction` of the total
+// weight at or below it (0.5: the weighted median).
+struct WeightedValue {
+  double value = 0, weight = 0;
+};
+inline double WeightedRank(const std::vector<WeightedValue>& ascending, double fraction) {
+  double total = 0;
+  for (const WeightedValue& v : ascending) total += v.weight;
+  double sum = 0;
+  for (const WeightedValue& v : ascending)
+    if ((sum += v.weight) >= fraction * total) return v.value;
+  return ascending.back().value;
+}
 
 // Factors added, measurements skipped (bad values, no data over the interval, no node near), and rejected
 // by an integrity check.
@@ -30,10 +54,15 @@ struct SensorFactorStats {
   } gnss_innovations;
   std::string gnss_alignment;  // how the world -> ENU alignment started, or why not yet ("" without GNSS)
   // Camera (VIO, LVIO): reprojection factors added, features seen from enough nodes that left the window
-  // without triangulating (skipped), landmarks dropped as outliers (rejected); the camera time offset t_d at
-  // the end (camera stamp + t_d = IMU time).
+  // without triangulating (skipped), landmarks dropped as outliers (rejected); the camera time offset t_d
+  // (camera stamp + t_d = IMU time): the run's estimate and the window's at the end. They are the same but
+  // in LVIO with t_d estimated, where the run's is the median of the window's estimates after each solve
+  // (camera_time_offset_estimates of them, with their interquartile range; VisualProvider::
+  // RecordWindowTimeOffset).
   FactorCount visual;
-  double camera_time_offset_s = 0;
+  double camera_time_offset_s = 0, camera_time_offset_window_s = 0;
+  int camera_time_offset_estimates = 0;
+  double camera_time_offset_iqr_s = 0;
   int visual_map_depths = 0;            // LVIO: landmarks whose depth came from the LiDAR map
   int visual_map_planes = 0;            // LVIO: of those, held on the map's plane (visual.hold_map_depth)
   // Stereo: frame pairs matched, landmarks whose depth came from their anchor's pair, and the right

@@ -230,9 +230,33 @@ int VisualProvider::landmarks_in_graph() const {
       std::count_if(landmarks_.begin(), landmarks_.end(), [](const auto& l) { return l.second.in_graph; }));
 }
 
+// The weight of the window's t_d: the information its landmarks' observations give t_d with every other
+// block held, sum (s |v|)^2 over them (dr/dt_d = s v, s = focal / pixel sigma, v the feature's image velocity
+// in normalized coordinates per second). A window at rest or crawling, whose features barely move, says
+// little about t_d, and its estimate counts for as little.
+void VisualProvider::RecordWindowTimeOffset() {
+  if (!config_.estimate_time_offset) return;
+  double information = 0;
+  for (const auto& [id, landmark] : landmarks_) {
+    if (!landmark.in_graph) continue;
+    const std::size_t linked = std::min<std::size_t>(landmark.linked, landmark.observations.size());
+    for (std::size_t k = 0; k < linked; ++k)
+      information += landmark.observations[k].feature.velocity.squaredNorm();
+  }
+  information *= sqrt_information_ * sqrt_information_;
+  if (information > 0) window_time_offsets_.push_back({time_offset_, information});
+}
+
 void VisualProvider::Report(SensorFactorStats& stats) const {
   stats.visual = {added_, untriangulated_, rejected_};
-  stats.camera_time_offset_s = time_offset_;
+  stats.camera_time_offset_s = stats.camera_time_offset_window_s = time_offset_;
+  stats.camera_time_offset_estimates = static_cast<int>(window_time_offsets_.size());
+  if (!window_time_offsets_.empty()) {
+    std::vector<WeightedValue> sorted = window_time_offsets_;
+    std::sort(sorted.begin(), sorted.end(), [](const auto& a, const auto& b) { return a.value < b.value; });
+    stats.camera_time_offset_s = WeightedRank(sorted, 0.5);
+    stats.camera_time_offset_iqr_s = WeightedRank(sorted, 0.75) - WeightedRank(sorted, 0.25);
+  }
   stats.visual_map_depths = map_depths_;
   stats.visual_map_planes = map_planes_;
   stats.stereo_pairs = stereo_pairs_;

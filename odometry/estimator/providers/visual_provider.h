@@ -164,6 +164,11 @@ class VisualProvider {
   std::vector<LandmarkView> Landmarks();
 
   double time_offset_s() const { return time_offset_; }
+  // A window that drops its landmarks with their anchors (LVIO) calls this after each solve: the window's
+  // t_d, when it was estimated and landmarks held it, joins the run's record, whose median Report gives as
+  // the run's estimate. Each rests on the window's last ~1 s of landmarks alone; VIO's prior keeps their
+  // information, so its window's t_d is the run's estimate (docs/METHOD.md "LiDAR-visual-inertial odometry").
+  void RecordWindowTimeOffset();
   // The mean reprojection error of the factors at the last DropOutliers (before the drops), pixels.
   double mean_reprojection_px() const { return mean_reprojection_px_; }
   int landmarks_in_graph() const;
@@ -251,6 +256,7 @@ class VisualProvider {
   SE3 given_extrinsic_;                    // T_body_camera as configured
   PoseArray extrinsic_;                    // T_body_camera, pose layout (free with estimate_extrinsic)
   double time_offset_;                     // t_d, s
+  std::vector<WeightedValue> window_time_offsets_;  // RecordWindowTimeOffset's: t_d, s, and its weight
   std::map<Stamp, WaitingFrame> waiting_;  // by node stamp
   std::map<long, Landmark> landmarks_;     // by feature id; std::map keeps the blocks' addresses
   MapDepthOf map_depth_;

@@ -45,7 +45,13 @@ Status WriteWindowCalibrationEstimate(const RunPlan& plan, const OdometryStageOu
                   " the camera time offset t_d = %.4f s (camera stamp + t_d = IMU time), added to the offset "
                   "the run read with",
                   t_d) +
-              (visual.estimate_time_offset ? "" : " (held, not estimated)") + "; its T_body_sensor " +
+              (visual.estimate_time_offset ? "" : " (held, not estimated)") +
+              (factors.camera_time_offset_estimates > 0
+                   ? PrintfText(" (the median of the window's %.0f estimates over the run, weighted by their "
+                                "features' image motion)",
+                                factors.camera_time_offset_estimates)
+                   : "") +
+              "; its T_body_sensor " +
               (factors.camera_extrinsic ? "estimated" : "the given one (not estimated)") + ".";
   }
   if (Status s = WriteCalibrationFile(out / "calibration_estimated.yaml", calibration, header); !s.ok())

@@ -80,6 +80,12 @@ std::string VisualNote(const RunPlan& plan, const estimator::SensorFactorStats& 
                          factors.visual.added, factors.visual.skipped, factors.visual.rejected,
                          factors.camera_time_offset_s) +
                      (visual.estimate_time_offset ? " (estimated)" : " (fixed)");
+  if (factors.camera_time_offset_estimates > 0)
+    note += PrintfText(
+        ": the median of the window's %.0f estimates weighted by their features' image motion, interquartile "
+        "range %.1f ms, the last %.4f s",
+        factors.camera_time_offset_estimates, 1e3 * factors.camera_time_offset_iqr_s,
+        factors.camera_time_offset_window_s);
   if (factors.camera_extrinsic) {
     const SE3 moved = plan.T_imu_camera().inverse() * *factors.camera_extrinsic;
     note += PrintfText("; camera extrinsic estimated: %.3f deg and %.4f m from the given one",
