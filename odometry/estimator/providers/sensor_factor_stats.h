@@ -56,8 +56,8 @@ struct SensorFactorStats {
   // Camera (VIO, LVIO): reprojection factors added, features seen from enough nodes that left the window
   // without triangulating (skipped), landmarks dropped as outliers (rejected); the camera time offset t_d
   // (camera stamp + t_d = IMU time): the run's estimate and the window's at the end. They are the same but
-  // in LVIO with t_d estimated, where the run's is the median of the window's estimates after each solve
-  // (camera_time_offset_estimates of them, with their interquartile range; VisualProvider::
+  // in LVIO with t_d estimated, where the run's is the weighted median of the window's estimates after each
+  // solve (camera_time_offset_estimates of them, with their weighted interquartile range; VisualProvider::
   // RecordWindowTimeOffset).
   FactorCount visual;
   double camera_time_offset_s = 0, camera_time_offset_window_s = 0;

@@ -165,9 +165,10 @@ class VisualProvider {
 
   double time_offset_s() const { return time_offset_; }
   // A window that drops its landmarks with their anchors (LVIO) calls this after each solve: the window's
-  // t_d, when it was estimated and landmarks held it, joins the run's record, whose median Report gives as
-  // the run's estimate. Each rests on the window's last ~1 s of landmarks alone; VIO's prior keeps their
-  // information, so its window's t_d is the run's estimate (docs/METHOD.md "LiDAR-visual-inertial odometry").
+  // t_d, when it was estimated and landmarks held it, joins the run's record (16 bytes a solve), whose median
+  // weighted by the image motion behind each Report gives as the run's estimate. Each rests on the window's
+  // last ~1 s of landmarks alone; VIO's prior keeps their information, so its window's t_d is the run's
+  // estimate (docs/METHOD.md "LiDAR-visual-inertial odometry").
   void RecordWindowTimeOffset();
   // The mean reprojection error of the factors at the last DropOutliers (before the drops), pixels.
   double mean_reprojection_px() const { return mean_reprojection_px_; }
