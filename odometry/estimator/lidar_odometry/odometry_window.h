@@ -230,7 +230,15 @@ struct LidarOdometry::Impl {
   bool LeverExcited() const;
 
   // Scans (window_scans.cpp).
-  SweepPoses Sweep(const ScanState& scan) const;
+  // A sweep's begin and end poses: its nodes', or extrapolated for a first sweep whose motion the next scans
+  // give (ExtrapolatedSweepEnds); single when it has one pose.
+  struct SweepEnds {
+    SE3 begin, end;
+    bool single = false;
+  };
+  SweepEnds EndsOf(const ScanState& scan) const;
+  SweepPoses Sweep(const SweepEnds& ends) const;
+  SweepPoses Sweep(const ScanState& scan) const { return Sweep(EndsOf(scan)); }
   std::optional<std::pair<SE3, SE3>> ExtrapolatedSweepEnds(const ScanState& scan) const;
   void RemapFirstSweep();
   void RebuildMap();

@@ -20,11 +20,14 @@ constexpr double kOnPlaneSigmas = 2;  // a point this many plane sigmas from its
 
 }  // namespace
 
-SweepPoses LidarOdometry::Impl::Sweep(const ScanState& scan) const {
+LidarOdometry::Impl::SweepEnds LidarOdometry::Impl::EndsOf(const ScanState& scan) const {
   if (const std::optional<std::pair<SE3, SE3>> ends = ExtrapolatedSweepEnds(scan))
-    return SweepPoses(ends->first, ends->second, config.T_body_lidar, false);
-  return SweepPoses(NodePose(scan.begin_node), NodePose(scan.end_node), config.T_body_lidar,
-                    scan.begin_node == scan.end_node);
+    return {ends->first, ends->second, false};
+  return {NodePose(scan.begin_node), NodePose(scan.end_node), scan.begin_node == scan.end_node};
+}
+
+SweepPoses LidarOdometry::Impl::Sweep(const SweepEnds& ends) const {
+  return SweepPoses(ends.begin, ends.end, config.T_body_lidar, ends.single);
 }
 
 // A sweep with one node (the first of a local map) was mapped as if at rest: its motion was not known. Once
@@ -213,10 +216,8 @@ void LidarOdometry::Impl::Release(ScanState& scan) {
   keyframe.stamp = scan.stamp + (scan.end - scan.stamp) / 2;
   const double alpha =
       scan.end > scan.stamp ? static_cast<double>(keyframe.stamp - scan.stamp) / (scan.end - scan.stamp) : 0;
-  const std::optional<std::pair<SE3, SE3>> extrapolated = ExtrapolatedSweepEnds(scan);
-  const SE3 begin = extrapolated ? extrapolated->first : NodePose(scan.begin_node);
-  const SE3 end = extrapolated ? extrapolated->second : NodePose(scan.end_node);
-  keyframe.T_world_body = PoseAt(begin, end, alpha);
+  const SweepEnds ends = EndsOf(scan);
+  keyframe.T_world_body = PoseAt(ends.begin, ends.end, alpha);
   if (inertial) {
     const NavState b = NodeState(scan.begin_node), e = NodeState(scan.end_node);
     keyframe.velocity = (1 - alpha) * b.velocity + alpha * e.velocity;
@@ -225,14 +226,15 @@ void LidarOdometry::Impl::Release(ScanState& scan) {
     keyframe.inertial = true;
     if (LeverFactors()) keyframe.lidar_translation = config.T_body_lidar.translation();
   } else if (scan.end > scan.stamp) {
-    keyframe.velocity = (end.translation() - begin.translation()) / ToSeconds(scan.end - scan.stamp);
+    keyframe.velocity =
+        (ends.end.translation() - ends.begin.translation()) / ToSeconds(scan.end - scan.stamp);
   }
   // A scan whose registration was rejected keeps its predicted pose but brings no points: where they lie is
   // not known.
   const std::size_t n = scan.in_map ? scan.points.size() : 0;
   keyframe.scan_world.resize(n);
   keyframe.scan_intensity.resize(n);
-  const SweepPoses sweep = Sweep(scan);
+  const SweepPoses sweep = Sweep(ends);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& range) {
     for (std::size_t i = range.begin(); i < range.end(); ++i) {
       const PreparedPoint& p = scan.points[i];
