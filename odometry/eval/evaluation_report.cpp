@@ -61,8 +61,9 @@ void PrintEvalTable(std::ostream& out, const EvalContext& context, const EvalRes
       out << "KITTI drift: none (the reference path is shorter than 100 m)\n";
     else {
       std::snprintf(line, sizeof(line),
-                    "KITTI drift: %.4f %% translation, %.4f deg/100 m rotation (%zu segments)\n", d.t_pct,
-                    d.r_deg_per_100m, d.segments);
+                    "KITTI drift: %.4f %% translation, %.4f deg/100 m rotation, path scale %+.1f ppm (%zu "
+                    "segments)\n",
+                    d.t_pct, d.r_deg_per_100m, d.scale_ppm, d.segments);
       out << line;
     }
   }
@@ -100,6 +101,7 @@ Status WriteEvalJson(const std::string& path, const EvalContext& context, const 
     json["kitti_drift"] = {
         {"t_pct", defined ? nlohmann::json(d.t_pct) : nlohmann::json(nullptr)},
         {"r_deg_per_100m", defined ? nlohmann::json(d.r_deg_per_100m) : nlohmann::json(nullptr)},
+        {"scale_ppm", defined ? nlohmann::json(d.scale_ppm) : nlohmann::json(nullptr)},
         {"segments", d.segments}};
   }
   AtomicFileWriter file(path);

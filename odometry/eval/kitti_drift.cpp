@@ -25,7 +25,7 @@ KittiDrift ComputeKittiDrift(const std::vector<SE3>& reference, const std::vecto
   for (std::size_t i = 1; i < reference.size(); ++i)
     distance[i] = distance[i - 1] + (reference[i].translation() - reference[i - 1].translation()).norm();
 
-  double sum_t = 0, sum_r = 0;
+  double sum_t = 0, sum_r = 0, reference_chords = 0, estimate_chords = 0;
   KittiDrift drift;
   for (std::size_t first = 0; first < reference.size(); first += kStepFrames) {
     for (double length : kSegmentLengths) {
@@ -36,6 +36,8 @@ KittiDrift ComputeKittiDrift(const std::vector<SE3>& reference, const std::vecto
       const SE3 error = estimate_delta.inverse() * reference_delta;
       sum_r += error.so3().angle() / length;  // acos of the clamped trace, as the devkit
       sum_t += error.translation().norm() / length;
+      reference_chords += reference_delta.translation().norm();
+      estimate_chords += estimate_delta.translation().norm();
       ++drift.segments;
     }
   }
@@ -43,6 +45,7 @@ KittiDrift ComputeKittiDrift(const std::vector<SE3>& reference, const std::vecto
   const double n = static_cast<double>(drift.segments);
   drift.t_pct = 100.0 * sum_t / n;
   drift.r_deg_per_100m = 100.0 * (180.0 / std::numbers::pi) * sum_r / n;
+  drift.scale_ppm = 1e6 * (estimate_chords / reference_chords - 1.0);
   return drift;
 }
 

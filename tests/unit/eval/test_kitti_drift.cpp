@@ -1,5 +1,6 @@
 // KITTI drift against hand-computed cases: a 1 % scale error gives 1 % translational drift and no rotation;
-// a constant heading error accumulates no relative rotation, a per-metre yaw rate does.
+// a constant heading error accumulates no relative rotation, a per-metre yaw rate does; the path scale is the
+// chords' ratio whatever rigid motion the estimate is off by.
 #include <gtest/gtest.h>
 
 #include "odometry/eval/kitti_drift.h"
@@ -27,6 +28,24 @@ TEST(KittiDrift, ScaleErrorIsTheTranslationalDrift) {
   EXPECT_EQ(drift.segments, segments);
   EXPECT_NEAR(drift.t_pct, expected / segments, 1e-9);
   EXPECT_NEAR(drift.r_deg_per_100m, 0, 1e-9);
+  EXPECT_NEAR(drift.scale_ppm, 1e4, 1e-6);  // every chord 1.01 times the reference's
+}
+
+TEST(KittiDrift, PathScaleHasASignAndIgnoresARigidMotion) {
+  // A circle of radius 100 m, one frame per metre, and the same circle 0.5 % smaller, turned by 30 deg about
+  // z and moved: every chord of the estimate is 0.995 times the reference's.
+  std::vector<SE3> reference, estimate;
+  const SE3 rigid(SO3::Exp(Eigen::Vector3d(0, 0, M_PI / 6)), Eigen::Vector3d(5, -3, 2));
+  for (int i = 0; i <= 600; ++i) {
+    const double a = i / 100.0;
+    const SE3 pose(SO3::Exp(Eigen::Vector3d(0, 0, a)), 100.0 * Eigen::Vector3d(std::cos(a), std::sin(a), 0));
+    reference.push_back(pose);
+    estimate.push_back(rigid * SE3(pose.so3(), 0.995 * pose.translation()));
+  }
+  const KittiDrift drift = ComputeKittiDrift(reference, estimate);
+  ASSERT_GT(drift.segments, 0u);
+  EXPECT_NEAR(drift.scale_ppm, -5000, 1e-6);
+  EXPECT_NEAR(ComputeKittiDrift(reference, reference).scale_ppm, 0, 1e-9);
 }
 
 TEST(KittiDrift, YawErrorPerMetre) {
