@@ -19,7 +19,7 @@ namespace uf {
 struct KittiDrift {
   double t_pct = 0;           // mean translational error, % of segment length
   double r_deg_per_100m = 0;  // mean rotational error, degrees per 100 m
-  double scale_ppm = 0;       // path scale: the estimate's chords over the reference's, less 1, 1e-6
+  double scale_ppm = 0;       // path scale: the estimate's chords over the reference's, less 1, in ppm
   std::size_t segments = 0;   // 0 when the reference path is shorter than 100 m: the figures are undefined
 };
 
