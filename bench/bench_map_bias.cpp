@@ -1,23 +1,26 @@
-// bench_map_bias: the along-track bias of one registration against the LiDAR map, apart from the odometry
-// (docs/METHOD.md "Along-track scale of the registration"). Every scan of a recording with ground truth is
-// placed at its true poses (each point at the pose of its own time: no deskew error), its registration
-// points are matched to the map of the scans before it (lo.map's planes, the window's correspondence gate
-// and Huber loss), and one Gauss-Newton step of the rigid scan is taken from the truth:
+// bench_map_bias: the pull of one registration against the LiDAR map along the track and about the
+// vertical, apart from the odometry (docs/METHOD.md "Along-track scale of the registration"). Every scan of
+// a recording with ground truth is placed at its true poses (each point at the pose of its own time: no
+// deskew error), its registration points are matched to the map of the scans before it (lo.map's planes,
+// the window's correspondence gate and Huber loss), and one Gauss-Newton step of the rigid scan is taken
+// from the truth:
 //   r_i = n_i^T (p_i - q_i),   J_i = [n_i^T, ((p_i - c) x n_i)^T]      (translation, rotation about c)
 //   w_i = min(1, huber / |r_i|) / sigma_i^2,   delta = -H^-1 sum_i w_i r_i J_i,   H = sum_i w_i J_i^T J_i
-// with c the scan's middle position. On an unbiased map delta is zero on average; its component along the
-// direction of travel, summed over the scans over the distance travelled, is the scale one registration
-// pulls towards (ppm). The odometry drifts by a fraction of it: each scan registers against map points
-// placed by earlier registrations, which carry the same pull. The sum is split by the surface the point's
-// plane belongs to (by its normal: ground, facing the direction of travel, lateral to it, oblique) and by
-// range, each part mapped through the whole scan's H, so the parts add up to the total.
-// Figures are printed, not asserted.
+// with c the scan's middle position. On an unbiased map delta is zero on average. Its component along the
+// direction of travel, summed over the scans and divided by the distance travelled, is the scale one
+// registration pulls towards (ppm); its rotation about the world's vertical, likewise, the heading (urad per
+// scan and per m). The odometry drifts by a fraction of them: each scan registers against map points placed
+// by earlier registrations, which carry the same pull. Both are split by the surface the point's plane
+// belongs to (by its normal: ground, facing the direction of travel, lateral to it, oblique) and by range,
+// each part mapped through the whole scan's H, so the parts add up. Figures are printed, not asserted.
 //   usage: bench_map_bias SEQUENCE [--voxel M] [--insert-voxel M] [--max-points N] [--neighbour-weight W]
-//                         [--eigen-ratio R] [--huber M] [--rings N] [--downsample first|last|random|nearest]
-//                         [--view-bins N]
-// --downsample: which point of a voxel the scan keeps (the estimator keeps the first); --view-bins N: the
-// map split into N maps by the horizontal direction a point was seen from, each query answered by the map of
-// its own direction (else by the whole map): a map that keeps each surface's sides apart.
+//            [--eigen-ratio R] [--huber M] [--rings N] [--downsample random|first|last|shuffled|nearest]
+//            [--view-bins N]
+// --downsample: which point of a voxel the scan keeps: random (the estimator's DownsamplePrepared), the
+// first or the last in acquisition order, another random draw (shuffled), or the one nearest the voxel's
+// centre. --view-bins N: the map split into N maps by the horizontal direction a point was seen from, each
+// query answered by the map of its own direction (else by the whole map): a map that keeps each surface's
+// sides apart.
 #include <Eigen/Dense>
 #include <array>
 #include <cmath>
@@ -46,7 +49,7 @@ struct Options {
   double input_voxel_m = 0.5, insert_voxel_m = 0.5;  // configs/run-sim.yaml
   double huber_m = 0.1, max_plane_distance_m = 1.0, min_range_m = 1.0, max_range_m = 100.0;
   uf::estimator::VoxelMapConfig map;
-  std::string downsample = "first";
+  std::string downsample = "random";
   int view_bins = 0;
 };
 
@@ -78,8 +81,9 @@ bool Parse(int argc, char** argv, Options* options) {
       return false;
     }
   }
-  const bool rule = options->downsample == "first" || options->downsample == "last" ||
-                    options->downsample == "random" || options->downsample == "nearest";
+  const bool rule = options->downsample == "random" || options->downsample == "first" ||
+                    options->downsample == "last" || options->downsample == "shuffled" ||
+                    options->downsample == "nearest";
   return !options->sequence.empty() && rule && options->view_bins >= 0 && options->input_voxel_m > 0 &&
          options->insert_voxel_m > 0 && options->huber_m > 0 && options->map.Validate().ok();
 }
@@ -87,7 +91,7 @@ bool Parse(int argc, char** argv, Options* options) {
 // One point per voxel of the lidar frame, by `rule` (Options::downsample).
 std::vector<PreparedPoint> Downsample(const std::vector<PreparedPoint>& points, double voxel_m,
                                       const std::string& rule, std::mt19937& engine) {
-  if (rule == "first") return uf::estimator::DownsamplePrepared(points, voxel_m);
+  if (rule == "random") return uf::estimator::DownsamplePrepared(points, voxel_m);
   std::unordered_map<std::uint64_t, std::vector<std::size_t>> cells;
   std::vector<std::uint64_t> order;  // of first appearance
   for (std::size_t i = 0; i < points.size(); ++i) {
@@ -101,8 +105,8 @@ std::vector<PreparedPoint> Downsample(const std::vector<PreparedPoint>& points, 
   out.reserve(order.size());
   for (const std::uint64_t key : order) {
     const auto& cell = cells[key];
-    std::size_t pick = cell.back();  // "last"
-    if (rule == "random") {
+    std::size_t pick = rule == "first" ? cell.front() : cell.back();
+    if (rule == "shuffled") {
       pick = cell[std::uniform_int_distribution<std::size_t>(0, cell.size() - 1)(engine)];
     } else if (rule == "nearest") {
       double best = INFINITY;
@@ -175,7 +179,7 @@ int main(int argc, char** argv) {
     std::fprintf(stderr,
                  "usage: bench_map_bias SEQUENCE [--voxel M] [--insert-voxel M] [--max-points N] "
                  "[--neighbour-weight W] [--eigen-ratio R] [--huber M] [--rings N] "
-                 "[--downsample first|last|random|nearest] [--view-bins N]\n");
+                 "[--downsample random|first|last|shuffled|nearest] [--view-bins N]\n");
     return 2;
   }
   auto reader = uf::OpenDataset(options.sequence);
@@ -200,8 +204,8 @@ int main(int argc, char** argv) {
 
   Maps maps(options);
   std::mt19937 engine(1);
-  double part[kSurfaces][kBands] = {}, residuals[kSurfaces][kBands] = {};
-  double pull_sum = 0, pull_square_sum = 0, travelled = 0;
+  double part[kSurfaces][kBands] = {}, yaw_part[kSurfaces][kBands] = {}, residuals[kSurfaces][kBands] = {};
+  double pull_sum = 0, pull_square_sum = 0, travelled = 0, yaw_sum = 0;
   int scans = 0, registered = 0;
   std::optional<Eigen::Vector3d> previous_centre;
   while (true) {
@@ -249,15 +253,19 @@ int main(int argc, char** argv) {
       }
       const Eigen::LDLT<Matrix6d> solver(H);
       if (solver.info() == Eigen::Success && H.trace() > 0) {
-        double pull = 0;
+        double pull = 0, yaw = 0;
         for (int surface = 0; surface < kSurfaces; ++surface) {
           for (int band = 0; band < kBands; ++band) {
-            const double along = -forward.dot(solver.solve(gradient[surface * kBands + band]).head<3>());
+            const Vector6d step_part = -solver.solve(gradient[surface * kBands + band]);
+            const double along = forward.dot(step_part.head<3>());
             part[surface][band] += along;
+            yaw_part[surface][band] += step_part(5);
             pull += along;
+            yaw += step_part(5);
           }
         }
         pull_sum += pull;
+        yaw_sum += yaw;
         pull_square_sum += pull * pull;
         travelled += step.norm();
         ++registered;
@@ -285,12 +293,21 @@ int main(int argc, char** argv) {
               options.sequence.c_str(), scans, registered, travelled);
   std::printf("  along-track pull: %+.1f um per scan (scan to scan spread %.1f um), scale %+.1f ppm\n",
               1e6 * mean, 1e6 * spread, 1e6 * pull_sum / travelled);
+  std::printf("  yaw pull: %+.2f urad per scan, %+.2f urad per m (about the world's z)\n",
+              1e6 * yaw_sum / registered, 1e6 * yaw_sum / travelled);
   std::printf("  its parts in ppm (residuals), by the plane's surface and the point's range:\n");
   std::printf("    %-24s %22s %22s %22s\n", "", "< 10 m", "10-30 m", ">= 30 m");
   for (int surface = 0; surface < kSurfaces; ++surface) {
     std::printf("    %-24s", kSurfaceNames[surface]);
     for (int band = 0; band < kBands; ++band)
       std::printf(" %+9.1f (%10.0f)", 1e6 * part[surface][band] / travelled, residuals[surface][band]);
+    std::printf("\n");
+  }
+  std::printf("  the yaw pull's parts in urad per m:\n");
+  for (int surface = 0; surface < kSurfaces; ++surface) {
+    std::printf("    %-24s", kSurfaceNames[surface]);
+    for (int band = 0; band < kBands; ++band)
+      std::printf(" %+22.2f", 1e6 * yaw_part[surface][band] / travelled);
     std::printf("\n");
   }
   return 0;

@@ -56,9 +56,9 @@ void LidarOdometry::Impl::ProcessScan(const LidarScan& input) {
     const StageTimer timer(stats.prepare_ms);
     scan.points = PrepareScan(input, config.min_range_m, config.max_range_m);
     scan.map_points = DownsamplePrepared(scan.points, config.map_insert_voxel_m);
-    // When the map's voxels nest in the registration voxels, the first point of a registration voxel is the
-    // first of its map voxel too: downsampling the (far fewer) map points gives the same registration
-    // points.
+    // When the map's voxels nest in the registration voxels, the registration points are drawn from the (far
+    // fewer) map points: a random point of a random occupied map voxel of each registration voxel, unrelated
+    // to the acquisition order as a draw over all its points would be (DownsamplePrepared).
     const double ratio = config.input_voxel_m / config.map_insert_voxel_m;
     const bool nested = ratio >= 1 && std::abs(ratio - std::round(ratio)) < 1e-9;
     scan.registration_points =

@@ -1,7 +1,9 @@
 #include "odometry/estimator/lidar_odometry/scan_preparation.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 
 #include "odometry/estimator/lidar/voxel_key.h"
 
@@ -25,11 +27,32 @@ std::vector<PreparedPoint> PrepareScan(const LidarScan& scan, double min_range_m
 }
 
 std::vector<PreparedPoint> DownsamplePrepared(const std::vector<PreparedPoint>& points, double voxel_m) {
-  VoxelKeySet seen(points.size());
+  // Open addressing over the voxel keys (at most half full, as VoxelKeySet): per voxel the index of its
+  // kept point in `out` and how many of its points were seen.
+  constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
+  const std::size_t capacity = std::bit_ceil(std::max<std::size_t>(16, 2 * points.size()));
+  const std::size_t mask = capacity - 1;
+  std::vector<std::uint64_t> keys(capacity, kEmpty);
+  std::vector<std::uint32_t> kept(capacity), seen(capacity);
   std::vector<PreparedPoint> out;
+  out.reserve(points.size() / 4);
   const double inverse = 1.0 / voxel_m;
   for (const PreparedPoint& p : points) {
-    if (seen.Insert(PackVoxelKey(VoxelOf(p.point_lidar, inverse)))) out.push_back(p);
+    const std::uint64_t key = PackVoxelKey(VoxelOf(p.point_lidar, inverse));
+    std::size_t i = VoxelKeyHash()(key) & mask;
+    while (keys[i] != key && keys[i] != kEmpty) i = (i + 1) & mask;
+    if (keys[i] == kEmpty) {
+      keys[i] = key;
+      kept[i] = static_cast<std::uint32_t>(out.size());
+      seen[i] = 1;
+      out.push_back(p);
+      continue;
+    }
+    // A reservoir of one: the n-th point of a voxel replaces the kept one with probability 1 / n, so each of
+    // its points is kept with the same probability. The draw is a hash of the voxel and n, so a scan always
+    // gives the same points.
+    const std::uint64_t n = ++seen[i];
+    if (VoxelKeyHash()(key ^ (n * 0x9e3779b97f4a7c15ULL)) % n == 0) out[kept[i]] = p;
   }
   return out;
 }

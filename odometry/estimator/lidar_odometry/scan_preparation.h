@@ -20,7 +20,11 @@ struct PreparedPoint {
 
 std::vector<PreparedPoint> PrepareScan(const LidarScan& scan, double min_range_m, double max_range_m);
 
-// Voxel downsampling (first point per voxel, voxel_m > 0) of prepared points, in the lidar frame.
+// Voxel downsampling of prepared points in the lidar frame (voxel_m > 0): one point per voxel, drawn at
+// random among the voxel's points (each with the same probability; the same scan always gives the same
+// points), in the order the voxels first appear. Not the first point: the first in acquisition order lies
+// where the spin enters the voxel, which turns with the viewpoint and pulls the registration's heading
+// (docs/METHOD.md "Scan registration").
 std::vector<PreparedPoint> DownsamplePrepared(const std::vector<PreparedPoint>& points, double voxel_m);
 
 }  // namespace uf::estimator

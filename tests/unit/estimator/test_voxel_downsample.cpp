@@ -1,15 +1,18 @@
 // VoxelDownsample against a constructed cloud whose voxel occupancy is known by construction: one point per
 // voxel (the first seen), exact counts, whole LidarPoints kept (offset_ns, ring, intensity), floor (not
-// truncation) at negative coordinates, non-finite points dropped; and nested downsampling of prepared points
-// (map voxels inside registration voxels) equals one pass.
+// truncation) at negative coordinates, non-finite points dropped; and the estimator's downsampling of
+// prepared points: one of each voxel's own points, drawn alike whatever the acquisition order, also through
+// nested voxels (map voxels inside registration voxels).
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <random>
 
 #include "odometry/estimator/lidar/voxel_downsample.h"
+#include "odometry/estimator/lidar/voxel_key.h"
 #include "odometry/estimator/lidar_odometry/scan_preparation.h"
 
 namespace uf::estimator {
@@ -80,10 +83,9 @@ TEST(VoxelDownsample, EmptyAndDenseClouds) {
   EXPECT_EQ(kept[0].offset_ns, 0);
 }
 
-// LO downsamples a scan for the map (0.5 m) and, from those points, for registration (1.0 m): nested grids
-// give the same points as downsampling all points at 1.0 m (the first point of a coarse voxel is the first
-// of its fine voxel). Points on a 0.05 m lattice shuffled, so that voxel borders are hit exactly.
-TEST(DownsamplePrepared, NestedVoxelsGiveTheSamePointsAsOnePass) {
+// A lattice of prepared points, 0.05 m apart, shuffled so that voxel borders are hit exactly and the
+// acquisition order (alpha) is unrelated to the position.
+std::vector<PreparedPoint> ShuffledLattice() {
   std::vector<PreparedPoint> points;
   for (int i = -60; i < 60; ++i)
     for (int j = -60; j < 60; j += 3)
@@ -91,14 +93,61 @@ TEST(DownsamplePrepared, NestedVoxelsGiveTheSamePointsAsOnePass) {
         points.push_back({Eigen::Vector3d(0.05 * i, 0.05 * j, 0.05 * k), 0, 0});
   std::shuffle(points.begin(), points.end(), std::mt19937_64(9));
   for (std::size_t i = 0; i < points.size(); ++i) points[i].alpha = static_cast<double>(i) / points.size();
+  return points;
+}
+
+VoxelIndex VoxelOfPoint(const PreparedPoint& p, double voxel_m) {
+  return VoxelOf(p.point_lidar, 1.0 / voxel_m);
+}
+
+// One point per occupied voxel, each one of that voxel's own points, in order of the voxels' first
+// appearance; and the same points again for the same scan.
+TEST(DownsamplePrepared, KeepsOneOfEachVoxelsOwnPoints) {
+  const std::vector<PreparedPoint> points = ShuffledLattice();
+  const std::vector<PreparedPoint> kept = DownsamplePrepared(points, 1.0);
+  ASSERT_EQ(kept.size(), 6u * 6u * 2u);  // x, y in [-3, 3), z in [-1, 0.75]: 1 m voxels
+  std::vector<std::uint64_t> order;      // voxels by first appearance in the input
+  for (const PreparedPoint& p : points) {
+    const std::uint64_t key = PackVoxelKey(VoxelOfPoint(p, 1.0));
+    if (std::find(order.begin(), order.end(), key) == order.end()) order.push_back(key);
+  }
+  for (std::size_t v = 0; v < kept.size(); ++v) {
+    EXPECT_EQ(PackVoxelKey(VoxelOfPoint(kept[v], 1.0)), order[v]) << v;
+    const bool own = std::any_of(points.begin(), points.end(), [&](const PreparedPoint& p) {
+      return p.point_lidar == kept[v].point_lidar && p.alpha == kept[v].alpha;
+    });
+    EXPECT_TRUE(own) << v;
+  }
+  const std::vector<PreparedPoint> again = DownsamplePrepared(points, 1.0);
+  ASSERT_EQ(again.size(), kept.size());
+  for (std::size_t v = 0; v < kept.size(); ++v) EXPECT_EQ(again[v].alpha, kept[v].alpha) << v;
+}
+
+// The kept point is drawn alike among a voxel's points, whatever their order: 4000 voxels of 8 points each,
+// acquired in order along x, keep their n-th point 500 times each on average (binomial sd 21; the first
+// point, as a first-point rule would keep, is no likelier than the last).
+TEST(DownsamplePrepared, DrawsEveryPointOfAVoxelAlike) {
+  std::vector<PreparedPoint> points;
+  for (int v = 0; v < 4000; ++v)
+    for (int n = 0; n < 8; ++n) points.push_back({Eigen::Vector3d(v + 0.1 * n + 0.05, 0.5, 0.5), n / 8.0, 0});
+  const std::vector<PreparedPoint> kept = DownsamplePrepared(points, 1.0);
+  ASSERT_EQ(kept.size(), 4000u);
+  std::array<int, 8> times{};
+  for (const PreparedPoint& p : kept) ++times[static_cast<int>(std::lround(p.alpha * 8))];
+  for (int n = 0; n < 8; ++n) EXPECT_NEAR(times[n], 500, 5 * 21) << "point " << n << " of each voxel";
+}
+
+// LO downsamples a scan for the map (0.5 m) and, from those points, for registration (1.0 m): nested grids
+// give one point per occupied registration voxel as a single pass does, each one of the voxel's own points.
+TEST(DownsamplePrepared, NestedVoxelsKeepOnePointPerRegistrationVoxel) {
+  const std::vector<PreparedPoint> points = ShuffledLattice();
   const std::vector<PreparedPoint> direct = DownsamplePrepared(points, 1.0);
   const std::vector<PreparedPoint> nested = DownsamplePrepared(DownsamplePrepared(points, 0.5), 1.0);
   ASSERT_EQ(nested.size(), direct.size());
-  EXPECT_EQ(direct.size(), 6u * 6u * 2u);  // x, y in [-3, 3), z in [-1, 0.75]: 1 m voxels
-  for (std::size_t i = 0; i < direct.size(); ++i) {
-    EXPECT_EQ(nested[i].point_lidar, direct[i].point_lidar) << i;
-    EXPECT_EQ(nested[i].alpha, direct[i].alpha) << i;
-  }
+  std::vector<std::uint64_t> keys;
+  for (const PreparedPoint& p : nested) keys.push_back(PackVoxelKey(VoxelOfPoint(p, 1.0)));
+  std::sort(keys.begin(), keys.end());
+  EXPECT_EQ(std::unique(keys.begin(), keys.end()), keys.end());
 }
 
 }  // namespace
