@@ -286,7 +286,7 @@ bool LidarOdometry::Impl::RegisterNewScan(ScanState& current) {
     Restore(saved, nodes);  // the guesses start from the nodes as they were before the rounds
     const bool poor = why || ratio < kPoorRatio || beyond_basin;
     try_guesses(FallbackGuesses(current, poor, /*first_done=*/far));
-    if ((!best && poor) || beyond_basin) try_guesses(TurnedGuesses());
+    if ((!best && poor) || beyond_basin || off_from_rest) try_guesses(TurnedGuesses());
     if (best) {
       Restore(*best, nodes);
       Associate(current);  // the factors of the kept result (the graph holds the last attempt's)
