@@ -15,7 +15,8 @@ using estimator::VoxelMapConfig;
 Schema<LidarOdometryConfig> MakeLoSchema() {
   using C = LidarOdometryConfig;
   Schema<C> s("lo");
-  s.Key("input_voxel_m", &C::input_voxel_m, "m", "downsampling of each scan for registration");
+  s.Key("input_voxel_m", &C::input_voxel_m, "m",
+        "downsampling of each scan for registration (one point per voxel, drawn at random among its points)");
   s.Key("window_size", &C::window_size, "scans", "scans in the sliding window (each has 1-2 states), >= 2");
   s.Key("max_iterations", &C::max_iterations, "LM iterations", "per solve (the dense LM solver)");
   s.Key("max_solver_time_s", &C::max_solver_time_s, "s", "wall-time budget per solve");
@@ -29,7 +30,7 @@ Schema<LidarOdometryConfig> MakeLoSchema() {
   s.Key("min_range_m", &C::min_range_m, "m", "nearer points are dropped");
   s.Key("max_range_m", &C::max_range_m, "m", "farther points are dropped");
   s.Key("map_insert_voxel_m", &C::map_insert_voxel_m, "m",
-        "downsampling of the deskewed scan inserted into the map");
+        "downsampling of the deskewed scan inserted into the map (one point per voxel, drawn at random)");
   s.Key("association_rounds", &C::association_rounds, "rounds",
         "at most this many solve + re-query rounds per scan (until the pose moves < 5 mm / 1 mrad)");
   s.Key("min_match_ratio", &C::min_match_ratio, "",
