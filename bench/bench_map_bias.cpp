@@ -220,8 +220,8 @@ int main(int argc, char** argv) {
     const auto middle = truth->PoseAt(scan->stamp + (scan->end - scan->stamp) / 2);
     if (!middle) continue;
     const Eigen::Vector3d centre = (*middle * T_body_lidar).translation();
+    const double sweep_ns = static_cast<double>(scan->end - scan->stamp);
     const auto world_of = [&](const PreparedPoint& p) -> std::optional<Eigen::Vector3d> {
-      const double sweep_ns = static_cast<double>(scan->end - scan->stamp);
       const auto pose = truth->PoseAt(scan->stamp + static_cast<uf::Stamp>(p.alpha * sweep_ns));
       if (!pose) return std::nullopt;
       return *pose * (T_body_lidar * p.point_lidar);

@@ -58,15 +58,23 @@ class VoxelKeySet {
     mask_ = capacity - 1;
   }
   // True when the key was not in the set yet (and is now). At most `expected` keys may be inserted.
-  bool Insert(std::uint64_t key) {
+  bool Insert(std::uint64_t key) { return InsertSlot(key).inserted; }
+  // The same, with the key's slot in [0, capacity()): fixed while the set lives, so callers can keep per-key
+  // data in arrays of capacity() entries.
+  struct Slot {
+    std::size_t index;
+    bool inserted;
+  };
+  Slot InsertSlot(std::uint64_t key) {
     for (std::size_t i = VoxelKeyHash()(key) & mask_;; i = (i + 1) & mask_) {
-      if (slots_[i] == key) return false;
+      if (slots_[i] == key) return {i, false};
       if (slots_[i] == kEmpty) {
         slots_[i] = key;
-        return true;
+        return {i, true};
       }
     }
   }
+  std::size_t capacity() const { return slots_.size(); }
 
  private:
   static constexpr std::uint64_t kEmpty = ~std::uint64_t{0};

@@ -1,7 +1,6 @@
 #include "odometry/estimator/lidar_odometry/scan_preparation.h"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <cstdint>
 
@@ -27,22 +26,17 @@ std::vector<PreparedPoint> PrepareScan(const LidarScan& scan, double min_range_m
 }
 
 std::vector<PreparedPoint> DownsamplePrepared(const std::vector<PreparedPoint>& points, double voxel_m) {
-  // Open addressing over the voxel keys (at most half full, as VoxelKeySet): per voxel the index of its
-  // kept point in `out` and how many of its points were seen.
-  constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
-  const std::size_t capacity = std::bit_ceil(std::max<std::size_t>(16, 2 * points.size()));
-  const std::size_t mask = capacity - 1;
-  std::vector<std::uint64_t> keys(capacity, kEmpty);
-  std::vector<std::uint32_t> kept(capacity), seen(capacity);
+  // Per voxel (by its slot in the key set): the index of its kept point in `out` and how many of its points
+  // were seen.
+  VoxelKeySet voxels(points.size());
+  std::vector<std::uint32_t> kept(voxels.capacity()), seen(voxels.capacity());
   std::vector<PreparedPoint> out;
   out.reserve(points.size() / 4);
   const double inverse = 1.0 / voxel_m;
   for (const PreparedPoint& p : points) {
     const std::uint64_t key = PackVoxelKey(VoxelOf(p.point_lidar, inverse));
-    std::size_t i = VoxelKeyHash()(key) & mask;
-    while (keys[i] != key && keys[i] != kEmpty) i = (i + 1) & mask;
-    if (keys[i] == kEmpty) {
-      keys[i] = key;
+    const auto [i, inserted] = voxels.InsertSlot(key);
+    if (inserted) {
       kept[i] = static_cast<std::uint32_t>(out.size());
       seen[i] = 1;
       out.push_back(p);
